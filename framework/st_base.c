@@ -1,0 +1,93 @@
+#define _POSIX_C_SOURCE 200809L
+#include "st_base.h"
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+bool st_fail(st_err *err, st_err_kind kind, const char *fmt, ...) {
+    if (!err) return false;
+    err->kind = kind;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+    return false;
+}
+
+void st_err_prefix(st_err *err, const char *fmt, ...) {
+    if (!err) return;
+    char pre[512], old[sizeof err->msg];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(pre, sizeof pre, fmt, ap);
+    va_end(ap);
+    memcpy(old, err->msg, sizeof old);
+    snprintf(err->msg, sizeof err->msg, "%s%s", pre, old);
+}
+
+int st_err_exit_code(const st_err *err) {
+    if (!err || err->kind == ST_ERR_NONE) return ST_EXIT_OK;
+    return err->kind == ST_ERR_INPUT ? ST_EXIT_INPUT : ST_EXIT_RUNTIME;
+}
+
+char *st_read_file(const char *path, size_t *len, st_err *err) {
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        st_fail(err, ST_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    char *buf = NULL;
+    size_t cap = 0, n = 0;
+    for (;;) {
+        if (n + 4096 + 1 > cap) {
+            cap = cap ? cap * 2 : 65536;
+            char *nb = realloc(buf, cap);
+            if (!nb) {
+                free(buf);
+                fclose(f);
+                st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
+                return NULL;
+            }
+            buf = nb;
+        }
+        size_t r = fread(buf + n, 1, cap - n - 1, f);
+        n += r;
+        if (r == 0) break;
+    }
+    bool bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        free(buf);
+        st_fail(err, ST_ERR_INPUT, "%s: read error", path);
+        return NULL;
+    }
+    buf[n] = 0;
+    if (len) *len = n;
+    return buf;
+}
+
+void st_path_join(char *out, size_t n, const char *dir, const char *rel) {
+    if (rel[0] == '/' || !dir || !dir[0])
+        snprintf(out, n, "%s", rel);
+    else
+        snprintf(out, n, "%s/%s", dir, rel);
+}
+
+void st_path_dir(char *out, size_t n, const char *path) {
+    const char *s = strrchr(path, '/');
+    if (!s)
+        snprintf(out, n, ".");
+    else if (s == path)
+        snprintf(out, n, "/");
+    else
+        snprintf(out, n, "%.*s", (int)(s - path), path);
+}
+
+double st_now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}

@@ -1,0 +1,56 @@
+// strahl: float images (linear radiance), EXR and PNG I/O, error metrics.
+// Rows are stored top row first (j = 0 is the top of the picture).
+#ifndef ST_IMAGE_H
+#define ST_IMAGE_H
+#include "st_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct st_image {
+    int width, height, channels; // channels: 1, 3 or 4
+    float *data;                 // width * height * channels
+} st_image;
+
+bool st_image_alloc(st_image *img, int width, int height, int channels, st_err *err);
+void st_image_free(st_image *img);
+static inline float *st_image_px(const st_image *img, int i, int j) {
+    return img->data + ((size_t)j * img->width + i) * img->channels;
+}
+// Counts NaN/Inf values.
+size_t st_image_count_nonfinite(const st_image *img);
+
+// Writes atomically: to a temporary file beside `path`, renamed on success, so
+// a failure leaves no partial output. EXR: 32-bit float, channels R,G,B(,A).
+// Extra single channels (e.g. per-pixel standard error) can be added with
+// st_image_write_exr_layers.
+bool st_image_write_exr(const char *path, const st_image *img, st_err *err);
+// `names[k]` names channel k of `img` (e.g. "R","G","B","stderr.R",...).
+bool st_image_write_exr_named(const char *path, const st_image *img, const char *const *names,
+                              st_err *err);
+bool st_image_read_exr(const char *path, st_image *out, st_err *err); // RGB(A) as float
+// PNG: radiance * 2^exposure, clamped, sRGB-encoded, 8 bit.
+bool st_image_write_png(const char *path, const st_image *img, float exposure, st_err *err);
+// Writes by extension (.exr or .png); anything else is an ST_ERR_INPUT error.
+bool st_image_write(const char *path, const st_image *img, float exposure, st_err *err);
+
+// Error metrics between two images of equal size (first 3 channels).
+typedef struct st_metrics {
+    double rmse[4];      // per channel R,G,B and [3] = all
+    double relmse[4];    // mean((a-b)^2 / (b^2 + 1e-2)), b the reference
+    double psnr[4];      // 20 log10(peak / rmse), peak = max of the reference
+    double max_abs[4];
+    double scale;        // s minimising |s a - b|^2 (for non-physical methods)
+    double scaled_rmse[4];
+    double mean_a[4], mean_b[4];
+} st_metrics;
+
+bool st_image_compare(const st_image *a, const st_image *b, st_metrics *m, st_err *err);
+// Heat map of |a - b| (mean over channels) mapped to a colour ramp, 8-bit PNG.
+bool st_image_write_heatmap(const char *path, const st_image *a, const st_image *b, st_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

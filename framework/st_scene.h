@@ -1,0 +1,116 @@
+// strahl: the scene description (JSON v1, see DESIGN.md) parsed into plain
+// structs. Geometry is resolved (procedural shapes tessellated, glTF loaded)
+// so the GPU world and the CPU reference read the same data.
+#ifndef ST_SCENE_H
+#define ST_SCENE_H
+#include "st_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ST_NAME_MAX 64
+
+typedef struct st_camera_desc {
+    float position[3], target[3], up[3];
+    float fov_y; // full vertical field of view, degrees
+    float near_z, far_z;
+} st_camera_desc;
+
+typedef struct st_light_desc {
+    float position[3];
+    float intensity[3]; // radiant intensity, W/sr per channel
+} st_light_desc;
+
+typedef enum { ST_PHASE_ISOTROPIC = 0, ST_PHASE_RAYLEIGH, ST_PHASE_HG } st_phase_kind;
+
+typedef struct st_medium_desc {
+    bool present;
+    float sigma_s[3], sigma_a[3]; // 1/m
+    st_phase_kind phase;
+    float g; // HG asymmetry, clamped to |g| <= 0.999 by the parser
+} st_medium_desc;
+
+// One triangle mesh. Positions/normals are in object space; `model` (column
+// major, as cglm/GL) places it in the world. Normals are per vertex.
+typedef struct st_mesh {
+    char name[ST_NAME_MAX];
+    float *positions; // 3 * num_vertices
+    float *normals;   // 3 * num_vertices
+    float *uv1;       // 2 * num_vertices (lightmap UVs, TEXCOORD_1) or NULL
+    uint32_t *indices; // 3 * num_triangles
+    uint32_t num_vertices, num_triangles;
+    float model[16];
+    float albedo[3];
+    float emission[3]; // outgoing radiance of a Lambertian emitter
+    bool double_sided;
+} st_mesh;
+
+typedef enum { ST_VALUE_NUMBER = 0, ST_VALUE_BOOL, ST_VALUE_STRING } st_value_type;
+
+typedef struct st_value {
+    st_value_type type;
+    double number; // also 0/1 for bools
+    char str[ST_NAME_MAX];
+} st_value;
+
+typedef struct st_param_setting {
+    char name[ST_NAME_MAX];
+    st_value value;
+} st_param_setting;
+
+typedef struct st_module_setting {
+    char name[ST_NAME_MAX];
+    st_param_setting *params;
+    int num_params;
+} st_module_setting;
+
+typedef struct st_scene {
+    char path[1024]; // the scene file
+    char dir[1024];  // its folder; relative asset paths resolve here
+    int width, height;
+    st_camera_desc camera;
+    st_light_desc *lights;
+    int num_lights;
+    st_mesh *meshes;
+    int num_meshes;
+    st_medium_desc medium;
+    st_module_setting *modules;
+    int num_modules;
+} st_scene;
+
+// Parses and validates a scene file. Strict: unknown keys, wrong types,
+// NaN/Inf, out-of-range values and missing files fail with an ST_ERR_INPUT
+// message naming the file and key path ("scene.json: geometry[2].quad.u: ...").
+bool st_scene_load(const char *path, st_scene *out, st_err *err);
+// Same from a string already in memory; `path` is used for messages and as
+// the base of relative asset paths.
+bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *out, st_err *err);
+void st_scene_free(st_scene *scene);
+
+// Applies "MODULE.PARAM=VALUE" (command line --set). The module must be in the
+// scene. VALUE is a number, true/false, or a string.
+bool st_scene_set(st_scene *scene, const char *assignment, st_err *err);
+
+// Looks up a module setting by name (NULL if the scene does not load it).
+st_module_setting *st_scene_module(st_scene *scene, const char *name);
+
+// Appends a copy of a mesh (takes ownership of its arrays).
+bool st_scene_add_mesh(st_scene *scene, const st_mesh *mesh, st_err *err);
+
+// Procedural shapes (world-space vertices, identity model matrix).
+void st_mesh_quad(st_mesh *m, const float corner[3], const float u[3], const float v[3]);
+void st_mesh_box(st_mesh *m, const float mn[3], const float mx[3], bool inward);
+void st_mesh_free(st_mesh *m);
+uint64_t st_scene_triangle_count(const st_scene *scene);
+
+// glTF 2.0 (tinygltf behind a C API, st_gltf.cpp): appends meshes, and the
+// file's first camera and its point lights (KHR_lights_punctual, candela / 683
+// -> W/sr) when `camera`/`lights` are not NULL. *has_camera tells whether the
+// file had one.
+bool st_gltf_load(const char *path, st_scene *scene, bool *has_camera, st_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
