@@ -3,7 +3,9 @@
 // "N passed, N failed" and exits non-zero on any failure.
 #ifndef ST_TEST_H
 #define ST_TEST_H
+#ifndef _GNU_SOURCE
 #define _GNU_SOURCE
+#endif
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,0 +1,158 @@
+#include "st_gpu.h"
+#include <stdlib.h>
+#include <string.h>
+
+static size_t g_bytes;
+static GLuint g_empty_vao;
+
+size_t st_gpu_bytes(void) { return g_bytes; }
+
+static size_t format_bytes(GLenum f) {
+    switch (f) {
+    case GL_RGBA32F: return 16;
+    case GL_RGBA16F: return 8;
+    case GL_RG32F: return 8;
+    case GL_R32F: return 4;
+    case GL_RGBA8: return 4;
+    case GL_R8: return 1;
+    default: return 16;
+    }
+}
+
+bool st_buffer_create(st_buffer *b, GLenum target, size_t size, const void *data, bool dynamic,
+                      st_err *err) {
+    memset(b, 0, sizeof *b);
+    glCreateBuffers(1, &b->id);
+    glNamedBufferStorage(b->id, (GLsizeiptr)(size ? size : 16), data,
+                         dynamic ? GL_DYNAMIC_STORAGE_BIT : 0);
+    b->target = target;
+    b->size = size;
+    g_bytes += size;
+    return st_gl_check("buffer storage", err);
+}
+
+bool st_buffer_update(st_buffer *b, size_t offset, size_t size, const void *data, st_err *err) {
+    if (offset + size > b->size)
+        return st_fail(err, ST_ERR_RUNTIME, "buffer update out of range (%zu+%zu > %zu)", offset,
+                       size, b->size);
+    glNamedBufferSubData(b->id, (GLintptr)offset, (GLsizeiptr)size, data);
+    return st_gl_check("buffer update", err);
+}
+
+void st_buffer_destroy(st_buffer *b) {
+    if (!b->id) return;
+    glDeleteBuffers(1, &b->id);
+    g_bytes -= b->size;
+    memset(b, 0, sizeof *b);
+}
+
+bool st_target_create(st_target *t, int w, int h, int num_color, GLenum fmt, bool with_depth,
+                      st_err *err) {
+    memset(t, 0, sizeof *t);
+    if (w < 1 || h < 1 || num_color < 0 || num_color > ST_TARGET_MAX_COLOR)
+        return st_fail(err, ST_ERR_RUNTIME, "bad render target %dx%d x%d", w, h, num_color);
+    t->width = w;
+    t->height = h;
+    t->num_color = num_color;
+    t->color_format = fmt;
+    glCreateFramebuffers(1, &t->fbo);
+    GLenum bufs[ST_TARGET_MAX_COLOR];
+    for (int i = 0; i < num_color; i++) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &t->color[i]);
+        glTextureStorage2D(t->color[i], 1, fmt, w, h);
+        glTextureParameteri(t->color[i], GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(t->color[i], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(t->color[i], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(t->color[i], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0 + i, t->color[i], 0);
+        bufs[i] = GL_COLOR_ATTACHMENT0 + i;
+        g_bytes += (size_t)w * h * format_bytes(fmt);
+    }
+    glNamedFramebufferDrawBuffers(t->fbo, num_color, bufs);
+    if (with_depth) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &t->depth);
+        glTextureStorage2D(t->depth, 1, GL_DEPTH_COMPONENT32F, w, h);
+        glTextureParameteri(t->depth, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t->depth, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glNamedFramebufferTexture(t->fbo, GL_DEPTH_ATTACHMENT, t->depth, 0);
+        g_bytes += (size_t)w * h * 4;
+    }
+    GLenum st = glCheckNamedFramebufferStatus(t->fbo, GL_FRAMEBUFFER);
+    if (st != GL_FRAMEBUFFER_COMPLETE) {
+        st_target_destroy(t);
+        return st_fail(err, ST_ERR_RUNTIME, "framebuffer %dx%d incomplete (0x%x)", w, h, st);
+    }
+    return st_gl_check("render target", err);
+}
+
+void st_target_destroy(st_target *t) {
+    if (t->fbo) glDeleteFramebuffers(1, &t->fbo);
+    for (int i = 0; i < t->num_color; i++) {
+        if (t->color[i]) {
+            glDeleteTextures(1, &t->color[i]);
+            g_bytes -= (size_t)t->width * t->height * format_bytes(t->color_format);
+        }
+    }
+    if (t->depth) {
+        glDeleteTextures(1, &t->depth);
+        g_bytes -= (size_t)t->width * t->height * 4;
+    }
+    memset(t, 0, sizeof *t);
+}
+
+void st_target_bind(const st_target *t) {
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glViewport(0, 0, t->width, t->height);
+}
+
+bool st_cube_target_create(st_cube_target *t, int size, st_err *err) {
+    memset(t, 0, sizeof *t);
+    t->size = size;
+    glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &t->cube);
+    glTextureStorage2D(t->cube, 1, GL_R32F, size, size);
+    glTextureParameteri(t->cube, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t->cube, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t->cube, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t->cube, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t->cube, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glCreateRenderbuffers(1, &t->depth_rb);
+    glNamedRenderbufferStorage(t->depth_rb, GL_DEPTH_COMPONENT32F, size, size);
+    glCreateFramebuffers(1, &t->fbo);
+    glNamedFramebufferRenderbuffer(t->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth_rb);
+    g_bytes += (size_t)size * size * 4 * 7;
+    return st_gl_check("cube shadow target", err);
+}
+
+void st_cube_target_bind_face(const st_cube_target *t, int face) {
+    glNamedFramebufferTextureLayer(t->fbo, GL_COLOR_ATTACHMENT0, t->cube, 0, face);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glViewport(0, 0, t->size, t->size);
+}
+
+void st_cube_target_destroy(st_cube_target *t) {
+    if (!t->fbo) return;
+    glDeleteFramebuffers(1, &t->fbo);
+    glDeleteTextures(1, &t->cube);
+    glDeleteRenderbuffers(1, &t->depth_rb);
+    g_bytes -= (size_t)t->size * t->size * 4 * 7;
+    memset(t, 0, sizeof *t);
+}
+
+bool st_target_read(const st_target *t, int index, float *rgba, st_err *err) {
+    size_t row = (size_t)t->width * 4;
+    float *tmp = malloc(row * t->height * sizeof(float));
+    if (!tmp) return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width, t->height);
+    glGetTextureImage(t->color[index], 0, GL_RGBA, GL_FLOAT,
+                      (GLsizei)(row * t->height * sizeof(float)), tmp);
+    // GL's row 0 is the bottom; images are stored top row first.
+    for (int j = 0; j < t->height; j++)
+        memcpy(rgba + row * j, tmp + row * (t->height - 1 - j), row * sizeof(float));
+    free(tmp);
+    return st_gl_check("read back", err);
+}
+
+void st_draw_fullscreen(void) {
+    if (!g_empty_vao) glCreateVertexArrays(1, &g_empty_vao);
+    glBindVertexArray(g_empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}

@@ -1,0 +1,233 @@
+// Plugin loading: find by name, dlopen, ABI checks, parameter helpers.
+#define _GNU_SOURCE
+#include "st_module.h"
+#include <dirent.h>
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+struct st_plugin_lib {
+    void *handle;
+    st_plugin desc; // zero-extended copy
+    char path[1024];
+};
+
+void st_plugin_dirs(char *out, size_t n) {
+    const char *env = getenv("STRAHL_MODULE_PATH");
+    snprintf(out, n, "%s%s%s:%s", env ? env : "", env && env[0] ? ":" : "", ST_MODULE_BUILD_DIR,
+             ST_MODULE_INSTALL_DIR);
+}
+
+static bool valid_name(const char *name) {
+    if (!name[0] || strlen(name) >= ST_NAME_MAX) return false;
+    for (const char *p = name; *p; p++)
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') || *p == '_')) return false;
+    return true;
+}
+
+st_plugin_lib *st_plugin_open(const char *name, st_err *err) {
+    // A scene names a module, never a path.
+    if (!valid_name(name)) {
+        st_fail(err, ST_ERR_INPUT, "module '%s': not a module name (lowercase letters, digits, '_')", name);
+        return NULL;
+    }
+    char dirs[4096];
+    st_plugin_dirs(dirs, sizeof dirs);
+    for (char *save = NULL, *d = strtok_r(dirs, ":", &save); d; d = strtok_r(NULL, ":", &save)) {
+        char path[1200];
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s.so", d, name);
+        if (stat(path, &st) == 0) {
+            st_plugin_lib *lib = st_plugin_open_file(path, err);
+            if (lib && strcmp(lib->desc.name, name)) {
+                st_fail(err, ST_ERR_INPUT, "%s: declares name '%s', expected '%s'", path,
+                        lib->desc.name, name);
+                st_plugin_close(lib);
+                return NULL;
+            }
+            return lib;
+        }
+    }
+    st_plugin_dirs(dirs, sizeof dirs);
+    st_fail(err, ST_ERR_INPUT, "unknown module '%s' (searched %s)", name, dirs);
+    return NULL;
+}
+
+st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
+    dlerror();
+    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char *e = dlerror();
+        st_fail(err, ST_ERR_INPUT, "%s: cannot load: %s", path, e ? e : "unknown error");
+        return NULL;
+    }
+    st_plugin_fn fn;
+    *(void **)&fn = dlsym(h, ST_PLUGIN_SYMBOL);
+    if (!fn) {
+        st_fail(err, ST_ERR_INPUT, "%s: no '%s' symbol: not a strahl module", path, ST_PLUGIN_SYMBOL);
+        dlclose(h);
+        return NULL;
+    }
+    const st_plugin *d = fn();
+    if (!d) {
+        st_fail(err, ST_ERR_INPUT, "%s: '%s' returned no descriptor", path, ST_PLUGIN_SYMBOL);
+        dlclose(h);
+        return NULL;
+    }
+    const char *nm = d->struct_size >= offsetof(st_plugin, description) && d->name ? d->name : "?";
+    if (d->abi_major != ST_ABI_MAJOR || d->abi_minor > ST_ABI_MINOR) {
+        st_fail(err, ST_ERR_INPUT,
+                "module '%s' (%s): built for plugin ABI %u.%u, this strahl supports %d.0..%d.%d", nm,
+                path, d->abi_major, d->abi_minor, ST_ABI_MAJOR, ST_ABI_MAJOR, ST_ABI_MINOR);
+        dlclose(h);
+        return NULL;
+    }
+    st_plugin_lib *lib = calloc(1, sizeof *lib);
+    if (!lib) {
+        dlclose(h);
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
+    size_t n = d->struct_size < sizeof lib->desc ? d->struct_size : sizeof lib->desc;
+    memcpy(&lib->desc, d, n);
+    lib->handle = h;
+    snprintf(lib->path, sizeof lib->path, "%s", path);
+    // Name every missing required field at once.
+    char missing[256] = "";
+    const struct {
+        const void *p;
+        const char *name;
+    } req[] = {{lib->desc.name, "name"},         {(void *)lib->desc.create, "create"},
+               {(void *)lib->desc.destroy, "destroy"}, {(void *)lib->desc.num_passes, "num_passes"},
+               {(void *)lib->desc.pass_info, "pass_info"}};
+    for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
+        if (req[i].p) continue;
+        size_t l = strlen(missing);
+        snprintf(missing + l, sizeof missing - l, "%s%s", l ? ", " : "", req[i].name);
+    }
+    if (missing[0]) {
+        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm, path, missing);
+        dlclose(h);
+        free(lib);
+        return NULL;
+    }
+    if (lib->desc.num_params < 0 || lib->desc.num_params > ST_MAX_PARAMS ||
+        (lib->desc.num_params > 0 && !lib->desc.params)) {
+        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
+        dlclose(h);
+        free(lib);
+        return NULL;
+    }
+    return lib;
+}
+
+const st_plugin *st_plugin_desc(const st_plugin_lib *lib) { return &lib->desc; }
+
+void st_plugin_close(st_plugin_lib *lib) {
+    if (!lib) return;
+    if (lib->desc.cleanup) lib->desc.cleanup();
+    dlclose(lib->handle);
+    free(lib);
+}
+
+static int cmp_names(const void *a, const void *b) { return strcmp(a, b); }
+
+int st_plugin_list(char names[][ST_NAME_MAX], int max) {
+    char dirs[4096];
+    int n = 0;
+    st_plugin_dirs(dirs, sizeof dirs);
+    for (char *save = NULL, *d = strtok_r(dirs, ":", &save); d; d = strtok_r(NULL, ":", &save)) {
+        DIR *dir = opendir(d);
+        if (!dir) continue;
+        for (struct dirent *e; (e = readdir(dir));) {
+            size_t l = strlen(e->d_name);
+            if (l < 4 || l - 3 >= ST_NAME_MAX || strcmp(e->d_name + l - 3, ".so")) continue;
+            char nm[ST_NAME_MAX];
+            snprintf(nm, sizeof nm, "%.*s", (int)(l - 3), e->d_name);
+            if (!valid_name(nm)) continue;
+            bool dup = false;
+            for (int i = 0; i < n; i++) dup |= !strcmp(names[i], nm);
+            if (!dup && n < max) snprintf(names[n++], ST_NAME_MAX, "%s", nm);
+        }
+        closedir(dir);
+    }
+    qsort(names, (size_t)n, ST_NAME_MAX, cmp_names);
+    return n;
+}
+
+int st_param_index(const st_plugin *p, const char *name) {
+    for (int i = 0; i < p->num_params; i++)
+        if (!strcmp(p->params[i].name, name)) return i;
+    return -1;
+}
+
+static int choice_index(const char *choices, const char *s) {
+    int i = 0;
+    size_t l = strlen(s);
+    for (const char *c = choices; c && *c; i++) {
+        const char *bar = strchr(c, '|');
+        size_t n = bar ? (size_t)(bar - c) : strlen(c);
+        if (n == l && !strncmp(c, s, n)) return i;
+        if (!bar) break;
+        c = bar + 1;
+    }
+    return -1;
+}
+
+bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out, st_err *err) {
+    const st_param_def *d = &p->params[index];
+    switch (d->type) {
+    case ST_PARAM_BOOL:
+        if (v->type == ST_VALUE_BOOL || (v->type == ST_VALUE_NUMBER && (v->number == 0 || v->number == 1))) {
+            *out = v->number != 0;
+            return true;
+        }
+        return st_fail(err, ST_ERR_INPUT, "%s.%s: expected true or false", p->name, d->name);
+    case ST_PARAM_ENUM: {
+        if (v->type != ST_VALUE_STRING)
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: expected one of %s", p->name, d->name, d->choices);
+        int k = choice_index(d->choices, v->str);
+        if (k < 0)
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: '%s' is not one of %s", p->name, d->name, v->str,
+                           d->choices);
+        *out = k;
+        return true;
+    }
+    case ST_PARAM_INT:
+    case ST_PARAM_FLOAT:
+        if (v->type != ST_VALUE_NUMBER || !isfinite(v->number))
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: expected a number", p->name, d->name);
+        if (d->type == ST_PARAM_INT && v->number != floor(v->number))
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is not an integer", p->name, d->name, v->number);
+        if (v->number < d->min || v->number > d->max)
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", p->name, d->name,
+                           v->number, d->min, d->max);
+        *out = v->number;
+        return true;
+    }
+    return st_fail(err, ST_ERR_INPUT, "%s.%s: bad parameter type", p->name, d->name);
+}
+
+void st_param_format(const st_param_def *d, double v, char *out, size_t n) {
+    if (d->type == ST_PARAM_BOOL) {
+        snprintf(out, n, "%s", v != 0 ? "true" : "false");
+    } else if (d->type == ST_PARAM_ENUM) {
+        int k = (int)v, i = 0;
+        for (const char *c = d->choices; c && *c; i++) {
+            const char *bar = strchr(c, '|');
+            size_t l = bar ? (size_t)(bar - c) : strlen(c);
+            if (i == k) {
+                snprintf(out, n, "%.*s", (int)l, c);
+                return;
+            }
+            if (!bar) break;
+            c = bar + 1;
+        }
+        snprintf(out, n, "%d", k);
+    } else {
+        snprintf(out, n, "%g", v);
+    }
+}

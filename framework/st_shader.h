@@ -1,0 +1,63 @@
+// strahl: GLSL programs from files under shaders/, with `#include "dir/file"`
+// resolved against the shader root and compile/link errors reported with the
+// original file and line.
+#ifndef ST_SHADER_H
+#define ST_SHADER_H
+#include "st_gl.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ST_SHADER_CACHE 64
+
+typedef struct st_shader {
+    GLuint program;
+    char vs[128], fs[128], cs[128]; // paths relative to the shader root
+    char defines[2048];             // "NAME VALUE" lines after #version; `#include "f"` lines
+                                    // are expanded there in fragment/compute stages
+    int next_unit;                  // next free texture unit while in use
+    int num_cached;
+    struct {
+        char name[64];
+        GLint loc;
+    } cache[ST_SHADER_CACHE];
+} st_shader;
+
+// The shader root: $STRAHL_SHADER_PATH, else the source tree, else the
+// install dir (the first that has common/).
+const char *st_shader_root(void);
+
+// Vertex + fragment program. `defines` may be NULL.
+st_shader *st_shader_load(const char *vs, const char *fs, const char *defines, st_err *err);
+st_shader *st_shader_load_compute(const char *cs, const char *defines, st_err *err);
+// Recompiles from the files; on failure the old program stays and err says why.
+bool st_shader_reload(st_shader *sh, st_err *err);
+void st_shader_destroy(st_shader *sh);
+
+// Binds the program and resets texture units.
+void st_shader_use(st_shader *sh);
+GLint st_shader_loc(st_shader *sh, const char *name); // cached; -1 if unused
+// Binds `tex` to the next free unit and sets sampler `name`; no-op if unused.
+void st_shader_texture(st_shader *sh, const char *name, GLenum target, GLuint tex);
+void st_shader_set_int(st_shader *sh, const char *name, int v);
+void st_shader_set_float(st_shader *sh, const char *name, float v);
+void st_shader_set_vec2(st_shader *sh, const char *name, float x, float y);
+void st_shader_set_vec3(st_shader *sh, const char *name, const float *v);
+void st_shader_set_vec4(st_shader *sh, const char *name, const float *v);
+void st_shader_set_mat4(st_shader *sh, const char *name, const float *m);
+
+// Preprocesses one file (exposed for tests): resolves includes, inserts
+// #line directives; file ids index `names` (at most 32).
+char *st_shader_preprocess(const char *path, const char *defines, char names[][128], int *num_names,
+                           st_err *err);
+// Same for one stage: defines ST_VERTEX/ST_FRAGMENT/ST_COMPUTE, and expands
+// `#include "file"` lines of `defines` (module includes) in the fragment and
+// compute stages only.
+char *st_shader_preprocess_stage(const char *path, const char *defines, GLenum stage,
+                                 char names[][128], int *num_names, st_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,803 @@
+// The World: owns the scene's GPU data, the camera, the loaded modules and
+// the frame graph. Each frame: pre-passes, the regular pass, then the
+// PostProcessor chain; passes nobody consumes are culled, passes whose
+// inputs did not change are skipped (their cached output stays valid).
+#define _POSIX_C_SOURCE 200809L
+#include "st_world.h"
+#include <cglm/cglm.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_MODULES 16
+#define MAX_SLOTS 128
+
+typedef struct st_module_inst {
+    st_plugin_lib *lib;
+    const st_plugin *p;
+    void *self;
+    double params[ST_MAX_PARAMS];
+    const st_uniform *uniforms;
+    int num_uniforms;
+    bool params_dirty;
+} st_module_inst;
+
+// One pass in frame order. module < 0 is the world's regular pass.
+typedef struct st_slot {
+    int module, pass;
+    st_pass_info info;
+    unsigned pending; // changes since the pass last ran
+    bool needed, live;
+    GLuint query;
+    int stats;
+} st_slot;
+
+struct st_world {
+    const st_scene *scene;
+    st_world_opts opts;
+    st_camera cam;
+    st_model_type type;
+    st_model *models;
+    int num_models;
+    st_shader *regular;
+    st_module_inst mods[MAX_MODULES];
+    int num_mods;
+    st_slot slots[MAX_SLOTS];
+    int num_slots;
+    st_pass_stats *stats;
+    int num_stats, cap_stats;
+    uint64_t frame;
+    unsigned changes; // accumulated since the last frame
+    float light_pos[ST_MAX_LIGHTS][3], light_int[ST_MAX_LIGHTS][3];
+    int num_lights;
+    char regular_reads[512]; // what the regular pass consumes
+};
+
+// ---- builtin uniforms (thesis: Camera and Light are uniform providers) ----
+
+#define W(self) ((st_world *)(self))
+static void u_view(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->view); }
+static void u_proj(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->proj); }
+static void u_vp(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->view_proj); }
+static void u_ivp(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->inv_view_proj); }
+static void u_cam(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->cam_pos); }
+static void u_near(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, f->near_z); }
+static void u_far(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, f->far_z); }
+static void u_fov(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, glm_rad(f->fov_y)); }
+static void u_res(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform2f(l, (float)f->width, (float)f->height); }
+static void u_frame(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, (int)(f->index & 0x7fffffff)); }
+static void u_nl(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, W(s)->num_lights); }
+static void u_lp(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_pos[0][0]);
+}
+static void u_li(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_int[0][0]);
+}
+static void u_hasmed(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, f->scene->medium.present); }
+static void u_ss(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->scene->medium.sigma_s); }
+static void u_sa(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->scene->medium.sigma_a); }
+static void u_pk(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, (int)f->scene->medium.phase); }
+static void u_pg(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, f->scene->medium.g); }
+
+static const st_uniform builtin_uniforms[] = {
+    {"st_view", u_view},           {"st_proj", u_proj},         {"st_view_proj", u_vp},
+    {"st_inv_view_proj", u_ivp},   {"st_cam_pos", u_cam},       {"st_near", u_near},
+    {"st_far", u_far},             {"st_fov_y", u_fov},         {"st_resolution", u_res},
+    {"st_frame_index", u_frame},   {"st_num_lights", u_nl},     {"st_light_pos", u_lp},
+    {"st_light_intensity", u_li},  {"st_has_medium", u_hasmed}, {"st_sigma_s", u_ss},
+    {"st_sigma_a", u_sa},          {"st_phase_kind", u_pk},     {"st_phase_g", u_pg},
+};
+
+void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
+    for (size_t i = 0; i < sizeof builtin_uniforms / sizeof builtin_uniforms[0]; i++) {
+        GLint l = st_shader_loc(sh, builtin_uniforms[i].name);
+        if (l >= 0) builtin_uniforms[i].set(w, sh, l, f);
+    }
+    for (int m = 0; m < w->num_mods; m++) {
+        for (int i = 0; i < w->mods[m].num_uniforms; i++) {
+            const st_uniform *u = &w->mods[m].uniforms[i];
+            GLint l = st_shader_loc(sh, u->name);
+            if (l >= 0) u->set(w->mods[m].self, sh, l, f);
+        }
+    }
+}
+
+// ---- helpers ----------------------------------------------------------------
+
+// Is `name` one of the comma-separated names in `list`?
+static bool list_has(const char *list, const char *name) {
+    size_t l = strlen(name);
+    for (const char *p = list; p && *p;) {
+        while (*p == ' ' || *p == ',') p++;
+        const char *e = p;
+        while (*e && *e != ',') e++;
+        const char *t = e;
+        while (t > p && t[-1] == ' ') t--;
+        if ((size_t)(t - p) == l && !strncmp(p, name, l)) return true;
+        p = e;
+    }
+    return false;
+}
+
+// Do two comma-separated lists share a name?
+static bool lists_meet(const char *a, const char *b) {
+    char tmp[ST_NAME_MAX];
+    for (const char *p = a; p && *p;) {
+        while (*p == ' ' || *p == ',') p++;
+        const char *e = p;
+        while (*e && *e != ',') e++;
+        const char *t = e;
+        while (t > p && t[-1] == ' ') t--;
+        if (t > p && (size_t)(t - p) < sizeof tmp) {
+            snprintf(tmp, sizeof tmp, "%.*s", (int)(t - p), p);
+            if (list_has(b, tmp)) return true;
+        }
+        p = e;
+    }
+    return false;
+}
+
+static st_pass_stats *stats_for(st_world *w, const char *module, const char *pass) {
+    for (int i = 0; i < w->num_stats; i++)
+        if (!strcmp(w->stats[i].module, module) && !strcmp(w->stats[i].pass, pass)) return &w->stats[i];
+    if (w->num_stats == w->cap_stats) {
+        int cap = w->cap_stats ? w->cap_stats * 2 : 16;
+        st_pass_stats *n = realloc(w->stats, (size_t)cap * sizeof *n);
+        if (!n) return NULL;
+        w->stats = n;
+        w->cap_stats = cap;
+    }
+    st_pass_stats *s = &w->stats[w->num_stats++];
+    memset(s, 0, sizeof *s);
+    snprintf(s->module, sizeof s->module, "%s", module);
+    snprintf(s->pass, sizeof s->pass, "%s", pass);
+    return s;
+}
+
+// ---- frame graph --------------------------------------------------------
+
+static bool add_slot(st_world *w, int module, int pass, const st_pass_info *info, st_err *err) {
+    if (w->num_slots >= MAX_SLOTS) return st_fail(err, ST_ERR_RUNTIME, "too many passes (max %d)", MAX_SLOTS);
+    st_slot *s = &w->slots[w->num_slots];
+    memset(s, 0, sizeof *s);
+    s->module = module;
+    s->pass = pass;
+    s->info = *info;
+    if (!s->info.name) s->info.name = "pass";
+    if (!s->info.reads) s->info.reads = "";
+    if (!s->info.writes) s->info.writes = "";
+    s->pending = ST_CHANGE_ALL;
+    const char *mname = module < 0 ? "world" : w->mods[module].p->name;
+    char pname[ST_NAME_MAX];
+    snprintf(pname, sizeof pname, "%s", s->info.name);
+    // Passes of one module sharing a name (one per light) are numbered.
+    if (module >= 0) {
+        const st_module_inst *mi = &w->mods[module];
+        int total = 0, ordinal = 0, n = mi->p->num_passes(mi->self);
+        for (int k = 0; k < n; k++) {
+            const st_pass_info *o = mi->p->pass_info(mi->self, k);
+            if (!o || !o->name || strcmp(o->name, s->info.name)) continue;
+            if (k < pass) ordinal++;
+            total++;
+        }
+        if (total > 1) snprintf(pname, sizeof pname, "%s[%d]", s->info.name, ordinal);
+    }
+    st_pass_stats *ps = stats_for(w, mname, pname);
+    if (!ps) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    s->stats = (int)(ps - w->stats);
+    if (w->opts.timing) glCreateQueries(GL_TIME_ELAPSED, 1, &s->query);
+    w->num_slots++;
+    return true;
+}
+
+static void free_slots(st_world *w) {
+    for (int i = 0; i < w->num_slots; i++)
+        if (w->slots[i].query) glDeleteQueries(1, &w->slots[i].query);
+    w->num_slots = 0;
+}
+
+// Rebuilds the pass list: pre-passes in module order, the regular pass,
+// post passes in module order. Pending changes of surviving passes carry over.
+static bool build_slots(st_world *w, st_err *err) {
+    unsigned keep[MAX_SLOTS];
+    int keep_mod[MAX_SLOTS], keep_pass[MAX_SLOTS], nkeep = w->num_slots;
+    for (int i = 0; i < nkeep; i++) {
+        keep[i] = w->slots[i].pending;
+        keep_mod[i] = w->slots[i].module;
+        keep_pass[i] = w->slots[i].pass;
+    }
+    const st_plugin *keep_p[MAX_SLOTS];
+    for (int i = 0; i < nkeep; i++) keep_p[i] = keep_mod[i] >= 0 ? w->mods[keep_mod[i]].p : NULL;
+    free_slots(w);
+    w->regular_reads[0] = 0;
+    for (int m = 0; m < w->num_mods; m++) {
+        const st_plugin *p = w->mods[m].p;
+        if (p->regular_include && p->provides) {
+            size_t l = strlen(w->regular_reads);
+            snprintf(w->regular_reads + l, sizeof w->regular_reads - l, "%s%s", l ? "," : "", p->provides);
+        }
+    }
+    for (int stage = 0; stage < 3; stage++) {
+        if (stage == 1) {
+            st_pass_info reg = {"regular", ST_STAGE_PRE, w->regular_reads, "hdr,gbuffer,albedo,depth", 0};
+            if (!add_slot(w, -1, 0, &reg, err)) return false;
+            continue;
+        }
+        for (int m = 0; m < w->num_mods; m++) {
+            st_module_inst *mi = &w->mods[m];
+            int n = mi->p->num_passes(mi->self);
+            for (int k = 0; k < n; k++) {
+                const st_pass_info *info = mi->p->pass_info(mi->self, k);
+                if (!info) return st_fail(err, ST_ERR_RUNTIME, "module '%s': no info for pass %d", mi->p->name, k);
+                if ((stage == 0) != (info->stage == ST_STAGE_PRE)) continue;
+                if (!add_slot(w, m, k, info, err)) return false;
+            }
+        }
+    }
+    // A pass that existed before keeps what it had pending.
+    for (int i = 0; i < w->num_slots; i++) {
+        st_slot *s = &w->slots[i];
+        const st_plugin *p = s->module >= 0 ? w->mods[s->module].p : NULL;
+        for (int k = 0; k < nkeep; k++)
+            if (keep_p[k] == p && keep_pass[k] == s->pass) s->pending = keep[k];
+    }
+    return true;
+}
+
+static void make_frame(st_world *w, st_frame *f) {
+    memset(f, 0, sizeof *f);
+    f->world = w;
+    f->scene = w->scene;
+    f->index = w->frame;
+    f->width = w->cam.width;
+    f->height = w->cam.height;
+    f->view = w->cam.view;
+    f->proj = w->cam.proj;
+    f->view_proj = w->cam.view_proj;
+    f->inv_view_proj = w->cam.inv_view_proj;
+    f->cam_pos = w->cam.position;
+    f->fov_y = w->cam.fov_y;
+    f->near_z = w->cam.near_z;
+    f->far_z = w->cam.far_z;
+    f->gbuffer = w->cam.scene.color[1];
+    f->albedo = w->cam.scene.color[2];
+    f->depth = w->cam.scene.depth;
+    f->hdr_in = w->cam.current;
+}
+
+static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
+    st_target_bind(&w->cam.scene);
+    const float zero[4] = {0, 0, 0, 0}, nogeo[4] = {0, 0, 0, -1};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_COLOR, 1, nogeo);
+    glClearBufferfv(GL_COLOR, 2, zero);
+    glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    st_shader_use(w->regular);
+    st_world_apply_uniforms(w, w->regular, f);
+    st_world_draw(w, w->regular);
+    glDisable(GL_DEPTH_TEST);
+    w->cam.current = w->cam.scene.color[0];
+    w->cam.post_out = 0;
+    return st_gl_check("regular pass", err);
+}
+
+static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
+    if (s->module < 0) return regular_pass(w, f, err);
+    st_module_inst *mi = &w->mods[s->module];
+    const st_plugin *p = mi->p;
+    bool to_hdr = s->info.stage == ST_STAGE_POST && list_has(s->info.writes, "hdr");
+    GLuint fbo = p->rendertarget ? p->rendertarget(mi->self, s->pass) : 0;
+    f->hdr_in = w->cam.current;
+    if (fbo) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    } else if (to_hdr) {
+        st_target_bind(&w->cam.post[w->cam.post_out]);
+    }
+    if (to_hdr) glViewport(0, 0, w->cam.width, w->cam.height);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    if (s->info.flags & ST_PASS_SCENE) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+    } else {
+        glDisable(GL_DEPTH_TEST);
+    }
+    st_shader *sh = p->shader ? p->shader(mi->self, s->pass) : NULL;
+    if (sh) {
+        st_shader_use(sh);
+        st_world_apply_uniforms(w, sh, f);
+        st_shader_texture(sh, "st_hdr_in", GL_TEXTURE_2D, f->hdr_in);
+        st_shader_texture(sh, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
+        st_shader_texture(sh, "st_albedo_tex", GL_TEXTURE_2D, f->albedo);
+    }
+    if (p->on_pass && !p->on_pass(mi->self, s->pass, f, err)) {
+        st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);
+        return false;
+    }
+    if (sh && (s->info.flags & ST_PASS_SCENE)) st_world_draw(w, sh);
+    if (sh && (s->info.flags & ST_PASS_FULLSCREEN)) st_draw_fullscreen();
+    if (p->after_pass) p->after_pass(mi->self, s->pass, f);
+    glDisable(GL_DEPTH_TEST);
+    if (to_hdr) {
+        w->cam.current = w->cam.post[w->cam.post_out].color[0];
+        w->cam.post_out ^= 1;
+    }
+    char what[160];
+    snprintf(what, sizeof what, "module '%s', pass '%s'", p->name, s->info.name);
+    return st_gl_check(what, err);
+}
+
+bool st_world_frame(st_world *w, st_err *err) {
+    // Distribute this frame's changes to every pass.
+    for (int i = 0; i < w->num_slots; i++) {
+        st_slot *s = &w->slots[i];
+        s->pending |= w->changes;
+        if (s->module >= 0 && w->mods[s->module].params_dirty) s->pending |= ST_CHANGE_PARAMS;
+    }
+    for (int m = 0; m < w->num_mods; m++) w->mods[m].params_dirty = false;
+    w->changes = 0;
+
+    st_frame f;
+    make_frame(w, &f);
+    // Forward: which passes want to run; a pass that will rewrite a resource
+    // marks its readers' inputs as changed.
+    for (int i = 0; i < w->num_slots; i++) {
+        st_slot *s = &w->slots[i];
+        const st_plugin *p = s->module >= 0 ? w->mods[s->module].p : NULL;
+        f.changes = s->pending;
+        s->needed = !p || !p->needed || p->needed(w->mods[s->module].self, s->pass, &f);
+        if (!s->needed) continue;
+        for (int j = i + 1; j < w->num_slots; j++)
+            if (lists_meet(s->info.writes, w->slots[j].info.reads)) w->slots[j].pending |= ST_CHANGE_INPUTS;
+    }
+    // Backward: the final image is the root; a pass is live if a later live
+    // pass reads what it writes. A skipped pass reads nothing this frame.
+    char live[1024] = "hdr";
+    for (int i = w->num_slots - 1; i >= 0; i--) {
+        st_slot *s = &w->slots[i];
+        s->live = (s->info.flags & ST_PASS_SIDE_EFFECT) || lists_meet(s->info.writes, live);
+        if (s->live && s->needed && s->info.reads[0]) {
+            size_t l = strlen(live);
+            snprintf(live + l, sizeof live - l, ",%s", s->info.reads);
+        }
+    }
+    for (int i = 0; i < w->num_slots; i++) {
+        st_slot *s = &w->slots[i];
+        st_pass_stats *ps = &w->stats[s->stats];
+        ps->ran_last_frame = false;
+        ps->culled_last_frame = !s->live;
+        if (!s->live) {
+            ps->culled++;
+            continue;
+        }
+        if (!s->needed) {
+            ps->skipped++;
+            continue;
+        }
+        f.changes = s->pending;
+        double t0 = st_now_ms();
+        if (s->query) glBeginQuery(GL_TIME_ELAPSED, s->query);
+        bool ok = run_slot(w, s, &f, err);
+        if (s->query) glEndQuery(GL_TIME_ELAPSED);
+        if (!ok) return false;
+        double t1 = st_now_ms();
+        s->pending = 0;
+        ps->runs++;
+        ps->ran_last_frame = true;
+        if (ps->num_samples < ST_STATS_MAX_SAMPLES) {
+            ps->cpu_ms[ps->num_samples] = (float)(t1 - t0);
+            ps->gpu_ms[ps->num_samples] = -1;
+            ps->num_samples++;
+        }
+    }
+    if (w->opts.timing) {
+        for (int i = 0; i < w->num_slots; i++) {
+            st_slot *s = &w->slots[i];
+            st_pass_stats *ps = &w->stats[s->stats];
+            if (!s->query || !ps->ran_last_frame) continue;
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(s->query, GL_QUERY_RESULT, &ns);
+            ps->gpu_ms[ps->num_samples - 1] = (float)(ns * 1e-6);
+        }
+    }
+    w->frame++;
+    return st_gl_check("frame", err);
+}
+
+bool st_world_read(st_world *w, st_image *out, st_err *err) {
+    int W_ = w->cam.width, H = w->cam.height;
+    st_target tmp = {0};
+    // The latest image may be a post target or the scene target's colour 0.
+    const st_target *src = &w->cam.scene;
+    for (int i = 0; i < 2; i++)
+        if (w->cam.post[i].color[0] == w->cam.current) src = &w->cam.post[i];
+    float *rgba = malloc((size_t)W_ * H * 4 * sizeof(float));
+    if (!rgba) return st_fail(err, ST_ERR_RUNTIME, "out of memory reading %dx%d", W_, H);
+    bool ok = st_target_read(src, 0, rgba, err);
+    (void)tmp;
+    if (ok) ok = st_image_alloc(out, W_, H, 3, err);
+    if (ok) {
+        for (size_t k = 0; k < (size_t)W_ * H; k++)
+            for (int c = 0; c < 3; c++) out->data[3 * k + c] = rgba[4 * k + c];
+    }
+    free(rgba);
+    return ok;
+}
+
+void st_world_draw(st_world *w, st_shader *sh) {
+    st_model_type_draw(&w->type, w->models, w->num_models, sh);
+}
+
+// ---- modules ----------------------------------------------------------------
+
+static int find_module(const st_world *w, const char *name) {
+    for (int i = 0; i < w->num_mods; i++)
+        if (!strcmp(w->mods[i].p->name, name)) return i;
+    return -1;
+}
+
+// Applies the scene's parameter settings for `name` onto defaults.
+static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
+    const st_plugin *p = mi->p;
+    for (int i = 0; i < p->num_params; i++) mi->params[i] = p->params[i].def;
+    const st_module_setting *ms = NULL;
+    int idx = -1;
+    for (int i = 0; i < w->scene->num_modules; i++)
+        if (!strcmp(w->scene->modules[i].name, p->name)) ms = &w->scene->modules[idx = i];
+    if (!ms) return true;
+    for (int k = 0; k < ms->num_params; k++) {
+        int pi = st_param_index(p, ms->params[k].name);
+        if (pi < 0) {
+            char names[512] = "";
+            for (int i = 0; i < p->num_params; i++) {
+                size_t l = strlen(names);
+                snprintf(names + l, sizeof names - l, "%s%s", i ? ", " : "", p->params[i].name);
+            }
+            return st_fail(err, ST_ERR_INPUT, "%s: modules[%d].params.%s: module '%s' has no parameter '%s' (it has: %s)",
+                           w->scene->path, idx, ms->params[k].name, p->name, ms->params[k].name,
+                           p->num_params ? names : "none");
+        }
+        if (!st_param_from_value(p, pi, &ms->params[k].value, &mi->params[pi], err)) {
+            st_err_prefix(err, "%s: modules[%d].params.%s: ", w->scene->path, idx, ms->params[k].name);
+            return false;
+        }
+    }
+    return true;
+}
+
+static void unload(st_world *w, int m) {
+    st_module_inst *mi = &w->mods[m];
+    if (mi->self) mi->p->destroy(mi->self);
+    st_plugin_close(mi->lib);
+    memmove(&w->mods[m], &w->mods[m + 1], (size_t)(w->num_mods - m - 1) * sizeof *mi);
+    w->num_mods--;
+}
+
+static bool build_regular(st_world *w, st_err *err);
+
+// Loads module `name` with its parameters; `order` check happens in resolve.
+static bool load(st_world *w, const char *name, st_err *err) {
+    if (w->num_mods >= MAX_MODULES) return st_fail(err, ST_ERR_INPUT, "too many modules (max %d)", MAX_MODULES);
+    st_module_inst *mi = &w->mods[w->num_mods];
+    memset(mi, 0, sizeof *mi);
+    mi->lib = st_plugin_open(name, err);
+    if (!mi->lib) return false;
+    mi->p = st_plugin_desc(mi->lib);
+    if (!init_params(w, mi, err)) {
+        st_plugin_close(mi->lib);
+        return false;
+    }
+    w->num_mods++;
+    return true;
+}
+
+// Orders modules so each comes after the providers of what it requires.
+static bool resolve(st_world *w, st_err *err) {
+    st_module_inst sorted[MAX_MODULES];
+    bool placed[MAX_MODULES] = {0};
+    int n = 0;
+    while (n < w->num_mods) {
+        bool progress = false;
+        for (int i = 0; i < w->num_mods; i++) {
+            if (placed[i]) continue;
+            const char *req = w->mods[i].p->requires;
+            bool ok = true;
+            char tmp[ST_NAME_MAX];
+            for (const char *r = req; r && *r && ok;) {
+                while (*r == ' ' || *r == ',') r++;
+                const char *e = r;
+                while (*e && *e != ',') e++;
+                if (e > r) {
+                    snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
+                    bool found = false, any = false;
+                    for (int j = 0; j < w->num_mods; j++) {
+                        if (j == i || !list_has(w->mods[j].p->provides, tmp)) continue;
+                        any = true;
+                        found |= placed[j];
+                    }
+                    if (!any)
+                        return st_fail(err, ST_ERR_INPUT,
+                                       "%s: module '%s' requires '%s', which no module in the scene provides "
+                                       "(add {\"name\": \"%s\"} to modules)",
+                                       w->scene->path, w->mods[i].p->name, tmp, tmp);
+                    ok = found;
+                }
+                r = e;
+            }
+            if (!ok) continue;
+            sorted[n++] = w->mods[i];
+            placed[i] = true;
+            progress = true;
+        }
+        if (!progress) return st_fail(err, ST_ERR_INPUT, "%s: modules require each other in a cycle", w->scene->path);
+    }
+    memcpy(w->mods, sorted, (size_t)n * sizeof sorted[0]);
+    return true;
+}
+
+static bool instantiate(st_world *w, int m, st_err *err) {
+    st_module_inst *mi = &w->mods[m];
+    if (mi->self) return true;
+    mi->self = mi->p->create(w, mi->params, err);
+    if (!mi->self) {
+        st_err_prefix(err, "module '%s': ", mi->p->name);
+        return false;
+    }
+    mi->num_uniforms = mi->p->uniforms ? mi->p->uniforms(mi->self, &mi->uniforms) : 0;
+    mi->params_dirty = true;
+    return true;
+}
+
+// ---- creation ----------------------------------------------------------------
+
+static bool build_regular(st_world *w, st_err *err) {
+    char defines[1024];
+    int n = snprintf(defines, sizeof defines, "ST_MAX_LIGHTS %d\n", ST_MAX_LIGHTS);
+    for (int m = 0; m < w->num_mods; m++)
+        if (w->mods[m].p->regular_include)
+            n += snprintf(defines + n, sizeof defines - (size_t)n, "#include \"%s\"\n",
+                          w->mods[m].p->regular_include);
+    st_shader *sh = st_shader_load("common/regular.vert", "common/regular.frag", defines, err);
+    if (!sh) return false;
+    st_shader_destroy(w->regular);
+    w->regular = sh;
+    return true;
+}
+
+static bool create_targets(st_world *w, st_err *err) {
+    st_camera *c = &w->cam;
+    st_target_destroy(&c->scene);
+    st_target_destroy(&c->post[0]);
+    st_target_destroy(&c->post[1]);
+    return st_target_create(&c->scene, c->width, c->height, 3, GL_RGBA32F, true, err) &&
+           st_target_create(&c->post[0], c->width, c->height, 1, GL_RGBA32F, false, err) &&
+           st_target_create(&c->post[1], c->width, c->height, 1, GL_RGBA32F, false, err);
+}
+
+st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_err *err) {
+    st_world *w = calloc(1, sizeof *w);
+    if (!w) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
+    w->scene = scene;
+    if (opts) w->opts = *opts;
+    if (scene->num_lights > ST_MAX_LIGHTS) {
+        st_fail(err, ST_ERR_INPUT, "%s: lights: %d point lights, at most %d are supported", scene->path,
+                scene->num_lights, ST_MAX_LIGHTS);
+        free(w);
+        return NULL;
+    }
+    w->num_lights = scene->num_lights;
+    for (int i = 0; i < scene->num_lights; i++) {
+        memcpy(w->light_pos[i], scene->lights[i].position, sizeof w->light_pos[i]);
+        memcpy(w->light_int[i], scene->lights[i].intensity, sizeof w->light_int[i]);
+    }
+    st_camera *c = &w->cam;
+    memcpy(c->position, scene->camera.position, sizeof c->position);
+    memcpy(c->target, scene->camera.target, sizeof c->target);
+    memcpy(c->up, scene->camera.up, sizeof c->up);
+    c->fov_y = scene->camera.fov_y;
+    c->near_z = scene->camera.near_z;
+    c->far_z = scene->camera.far_z;
+    c->width = w->opts.width > 0 ? w->opts.width : scene->width;
+    c->height = w->opts.height > 0 ? w->opts.height : scene->height;
+    st_camera_update(c);
+    w->changes = ST_CHANGE_ALL;
+
+    w->num_models = scene->num_meshes;
+    w->models = calloc(w->num_models ? (size_t)w->num_models : 1, sizeof *w->models);
+    bool ok = w->models && st_model_type_build(&w->type, "lit", scene->meshes, scene->num_meshes,
+                                                NULL, w->models, err);
+    if (!w->models) st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    ok = ok && create_targets(w, err);
+    for (int i = 0; ok && i < scene->num_modules; i++) ok = load(w, scene->modules[i].name, err);
+    ok = ok && resolve(w, err);
+    for (int m = 0; ok && m < w->num_mods; m++) ok = instantiate(w, m, err);
+    ok = ok && build_regular(w, err) && build_slots(w, err);
+    if (!ok) {
+        st_world_destroy(w);
+        return NULL;
+    }
+    w->cam.current = w->cam.scene.color[0];
+    return w;
+}
+
+void st_world_destroy(st_world *w) {
+    if (!w) return;
+    // Teardown order: instances, then each plugin's cleanup, then dlclose.
+    for (int m = 0; m < w->num_mods; m++)
+        if (w->mods[m].self) w->mods[m].p->destroy(w->mods[m].self), w->mods[m].self = NULL;
+    while (w->num_mods) unload(w, w->num_mods - 1);
+    free_slots(w);
+    st_shader_destroy(w->regular);
+    st_model_type_destroy(&w->type);
+    st_target_destroy(&w->cam.scene);
+    st_target_destroy(&w->cam.post[0]);
+    st_target_destroy(&w->cam.post[1]);
+    free(w->models);
+    free(w->stats);
+    free(w);
+}
+
+// ---- accessors and interactive changes ----------------------------------
+
+const st_scene *st_world_scene(const st_world *w) { return w->scene; }
+st_camera *st_world_camera(st_world *w) { return &w->cam; }
+const st_model *st_world_models(const st_world *w, int *n) {
+    if (n) *n = w->num_models;
+    return w->models;
+}
+
+void st_world_set_camera(st_world *w, const float pos[3], const float target[3], const float up[3]) {
+    memcpy(w->cam.position, pos, sizeof w->cam.position);
+    memcpy(w->cam.target, target, sizeof w->cam.target);
+    memcpy(w->cam.up, up, sizeof w->cam.up);
+    st_camera_update(&w->cam);
+    w->changes |= ST_CHANGE_CAMERA;
+}
+
+bool st_world_resize(st_world *w, int width, int height, st_err *err) {
+    if (width == w->cam.width && height == w->cam.height) return true;
+    if (width < 1 || height < 1) return st_fail(err, ST_ERR_INPUT, "bad size %dx%d", width, height);
+    w->cam.width = width;
+    w->cam.height = height;
+    st_camera_update(&w->cam);
+    w->changes |= ST_CHANGE_SIZE | ST_CHANGE_CAMERA;
+    if (!create_targets(w, err)) return false;
+    w->cam.current = w->cam.scene.color[0];
+    return true;
+}
+
+bool st_world_has_module(const st_world *w, const char *module) { return find_module(w, module) >= 0; }
+
+bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
+    int m = find_module(w, module);
+    if (on == (m >= 0)) return true;
+    if (on) {
+        if (!load(w, module, err)) return false;
+        // Load what it requires first (turning on toth turns on shadow_map).
+        const char *req = w->mods[w->num_mods - 1].p->requires;
+        char tmp[ST_NAME_MAX];
+        for (const char *r = req; r && *r;) {
+            while (*r == ' ' || *r == ',') r++;
+            const char *e = r;
+            while (*e && *e != ',') e++;
+            if (e > r) {
+                snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
+                bool have = false;
+                for (int j = 0; j < w->num_mods; j++) have |= list_has(w->mods[j].p->provides, tmp);
+                if (!have && !load(w, tmp, err)) {
+                    unload(w, w->num_mods - 1);
+                    return false;
+                }
+            }
+            r = e;
+        }
+    } else {
+        // Refuse to remove a provider others still need.
+        const char *prov = w->mods[m].p->provides;
+        for (int j = 0; j < w->num_mods; j++)
+            if (j != m && lists_meet(prov, w->mods[j].p->requires))
+                return st_fail(err, ST_ERR_INPUT, "module '%s' is required by '%s'", module, w->mods[j].p->name);
+        w->mods[m].p->destroy(w->mods[m].self);
+        w->mods[m].self = NULL;
+        unload(w, m);
+    }
+    bool ok = resolve(w, err);
+    for (int i = 0; ok && i < w->num_mods; i++) ok = instantiate(w, i, err);
+    ok = ok && build_regular(w, err) && build_slots(w, err);
+    w->changes |= ST_CHANGE_CAMERA;
+    return ok;
+}
+
+bool st_world_set_param(st_world *w, const char *module, const char *param, double value, st_err *err) {
+    int m = find_module(w, module);
+    if (m < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' is not loaded", module);
+    st_module_inst *mi = &w->mods[m];
+    int k = st_param_index(mi->p, param);
+    if (k < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s'", module, param);
+    const st_param_def *d = &mi->p->params[k];
+    if (!isfinite(value)) return st_fail(err, ST_ERR_INPUT, "%s.%s: not a finite number", module, param);
+    if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT) {
+        if (value < d->min || value > d->max)
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", module, param, value, d->min, d->max);
+        if (d->type == ST_PARAM_INT) value = floor(value + 0.5);
+    } else if (d->type == ST_PARAM_BOOL) {
+        value = value != 0;
+    } else {
+        int nchoices = 1;
+        for (const char *c = d->choices; c && *c; c++) nchoices += *c == '|';
+        if (value < 0 || value >= nchoices || value != floor(value))
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %g out of range", module, param, value);
+    }
+    if (mi->params[k] == value) return true;
+    mi->params[k] = value;
+    mi->params_dirty = true;
+    if (mi->p->param_changed) mi->p->param_changed(mi->self, k);
+    // A parameter may change a module's pass list (e.g. interleave on/off).
+    return build_slots(w, err);
+}
+
+bool st_world_get_param(const st_world *w, const char *module, const char *param, double *value) {
+    int m = find_module(w, module);
+    if (m < 0) return false;
+    int k = st_param_index(w->mods[m].p, param);
+    if (k < 0) return false;
+    *value = w->mods[m].params[k];
+    return true;
+}
+
+bool st_world_reload_shaders(st_world *w, st_err *err) {
+    if (!st_shader_reload(w->regular, err)) return false;
+    for (int m = 0; m < w->num_mods; m++) {
+        st_module_inst *mi = &w->mods[m];
+        if (mi->p->reload && !mi->p->reload(mi->self, err)) {
+            st_err_prefix(err, "module '%s': ", mi->p->name);
+            return false;
+        }
+    }
+    w->changes |= ST_CHANGE_CAMERA;
+    return true;
+}
+
+int st_world_num_modules(const st_world *w) { return w->num_mods; }
+st_module_info st_world_module(const st_world *w, int i) {
+    st_module_info mi = {w->mods[i].p, (double *)w->mods[i].params};
+    return mi;
+}
+
+int st_world_num_pass_stats(const st_world *w) { return w->num_stats; }
+const st_pass_stats *st_world_pass_stats(const st_world *w, int i) { return &w->stats[i]; }
+void st_world_reset_stats(st_world *w) {
+    for (int i = 0; i < w->num_stats; i++) {
+        st_pass_stats *s = &w->stats[i];
+        s->runs = s->skipped = s->culled = 0;
+        s->num_samples = 0;
+    }
+}
+
+void st_world_reset_samples(st_world *w) {
+    for (int i = 0; i < w->num_stats; i++) w->stats[i].num_samples = 0;
+}
+
+static int cmp_f(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+double st_median_f(const float *v, int n) {
+    if (n <= 0) return 0;
+    float *t = malloc((size_t)n * sizeof *t);
+    if (!t) return 0;
+    memcpy(t, v, (size_t)n * sizeof *t);
+    qsort(t, (size_t)n, sizeof *t, cmp_f);
+    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    free(t);
+    return m;
+}

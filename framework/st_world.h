@@ -1,0 +1,154 @@
+// strahl: the World (models, modules, uniforms, frame), ModelType/Model,
+// Camera with its PostProcessor, Light. Mirrors the thesis' framework roles.
+#ifndef ST_WORLD_H
+#define ST_WORLD_H
+#include "st_image.h"
+#include "st_module.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+// ---- ModelType / Model ----------------------------------------------------
+
+// Where one attribute lives in an interleaved vertex (thesis: VertexAttribute).
+typedef struct st_vertex_attr {
+    const char *name; // shader variable, e.g. "st_position"
+    GLuint location;
+    int components;   // floats
+    size_t offset;    // bytes into the vertex
+} st_vertex_attr;
+
+// Per-instance attribute (thesis: InstanceAttribute), divisor 1.
+typedef struct st_instance_attr {
+    const char *name;
+    GLuint location;
+    int components;
+    size_t offset;
+} st_instance_attr;
+
+#define ST_MAX_ATTRS 8
+
+// Models of one type share one vertex buffer and one index buffer.
+typedef struct st_model_type {
+    char name[ST_NAME_MAX];
+    st_vertex_attr attrs[ST_MAX_ATTRS];
+    int num_attrs;
+    size_t stride;
+    st_instance_attr inst_attrs[ST_MAX_ATTRS];
+    int num_inst_attrs;
+    size_t inst_stride;
+    GLenum primitive;
+    st_buffer vbo, ibo, instances;
+    GLuint vao;
+} st_model_type;
+
+typedef struct st_model {
+    st_model_type *type;
+    const st_mesh *mesh; // the scene mesh it came from
+    int32_t base_vertex;
+    uint32_t first_index, index_count;
+    float model[16], normal_matrix[9];
+    float albedo[3], emission[3];
+    bool double_sided;
+} st_model;
+
+// The standard layout: st_position (0, vec3), st_normal (1, vec3), st_uv1 (2, vec2).
+enum { ST_ATTR_POSITION = 0, ST_ATTR_NORMAL = 1, ST_ATTR_UV1 = 2 };
+
+// Builds one model type with the standard layout from meshes; `uv1` may
+// override each mesh's lightmap UVs (2 floats per vertex, concatenated in mesh
+// order) for modules that generate their own atlas. models[i] gets mesh i.
+bool st_model_type_build(st_model_type *t, const char *name, const st_mesh *meshes, int n,
+                         const float *uv1, st_model *models, st_err *err);
+void st_model_type_destroy(st_model_type *t);
+// Draws models with `sh` bound, setting st_model, st_normal_matrix, st_albedo,
+// st_emission, st_double_sided per model.
+void st_model_type_draw(const st_model_type *t, const st_model *models, int n, st_shader *sh);
+
+// ---- Camera / PostProcessor ---------------------------------------------
+
+typedef struct st_camera {
+    float position[3], target[3], up[3];
+    float fov_y, near_z, far_z;
+    int width, height;
+    float view[16], proj[16], view_proj[16], inv_view_proj[16];
+    // The regular pass draws into `scene` (0 radiance, 1 gbuffer, 2 albedo,
+    // depth); the PostProcessor ping-pongs between post[0] and post[1].
+    st_target scene, post[2];
+    int post_out;   // index of the post target the next pass writes
+    GLuint current; // texture holding the latest image
+} st_camera;
+
+void st_camera_update(st_camera *c); // recompute matrices from pose and size
+
+// ---- World ----------------------------------------------------------------
+
+typedef struct st_world_opts {
+    int width, height; // 0: the scene's image size
+    bool timing;       // GPU timer queries per pass (for --stats)
+} st_world_opts;
+
+// Creates GL resources for the scene and loads its modules (in dependency
+// order; a module whose `requires` nobody provides is an error naming both).
+// The scene must outlive the world. Needs a current GL context.
+st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_err *err);
+void st_world_destroy(st_world *w);
+
+// Renders one frame: pre-passes, regular pass, PostProcessor chain.
+bool st_world_frame(st_world *w, st_err *err);
+// Reads the final image (RGB float, top row first).
+bool st_world_read(st_world *w, st_image *out, st_err *err);
+
+// Draws every model of the scene with `sh` (bound by the caller).
+void st_world_draw(st_world *w, st_shader *sh);
+// Sets every registered uniform (camera, lights, medium, modules) on `sh`,
+// which must be bound. The world does this for shaders it binds itself.
+void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f);
+const st_scene *st_world_scene(const st_world *w);
+st_camera *st_world_camera(st_world *w);
+const st_model *st_world_models(const st_world *w, int *n);
+
+// Interactive changes; each marks what the next frame must redo.
+void st_world_set_camera(st_world *w, const float pos[3], const float target[3], const float up[3]);
+bool st_world_resize(st_world *w, int width, int height, st_err *err);
+// Loads a module by name into a running world (viewer), after its
+// dependencies; or unloads it. Parameters from the scene apply on load.
+bool st_world_enable(st_world *w, const char *module, bool on, st_err *err);
+bool st_world_has_module(const st_world *w, const char *module);
+// Sets a parameter of a loaded module (range-checked).
+bool st_world_set_param(st_world *w, const char *module, const char *param, double value, st_err *err);
+bool st_world_get_param(const st_world *w, const char *module, const char *param, double *value);
+// Recompiles every shader; on failure the old ones stay and err says why.
+bool st_world_reload_shaders(st_world *w, st_err *err);
+
+// ---- Modules and stats ---------------------------------------------------
+
+typedef struct st_module_info {
+    const st_plugin *plugin;
+    double *params; // plugin->num_params values
+} st_module_info;
+int st_world_num_modules(const st_world *w);
+st_module_info st_world_module(const st_world *w, int i);
+
+#define ST_STATS_MAX_SAMPLES 4096
+
+typedef struct st_pass_stats {
+    char module[ST_NAME_MAX], pass[ST_NAME_MAX];
+    uint32_t runs, skipped, culled;
+    bool ran_last_frame, culled_last_frame;
+    int num_samples;
+    float gpu_ms[ST_STATS_MAX_SAMPLES], cpu_ms[ST_STATS_MAX_SAMPLES];
+} st_pass_stats;
+
+int st_world_num_pass_stats(const st_world *w);
+const st_pass_stats *st_world_pass_stats(const st_world *w, int i);
+void st_world_reset_stats(st_world *w);
+// Drops timing samples (after warm-up) but keeps run/skip/cull counts.
+void st_world_reset_samples(st_world *w);
+double st_median_f(const float *v, int n);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,209 @@
+// shadow_map: omnidirectional shadows for point lights. One cube map per
+// light (layers of one cube-map array) storing the distance to the light;
+// the regular pass and volumetric modules test visibility against it with a
+// slope-scaled bias and optional PCF. View-independent: a camera-only frame
+// re-renders nothing.
+#include "st_world.h"
+#include <cglm/cglm.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { P_RESOLUTION, P_BIAS, P_SLOPE_BIAS, P_PCF, P_PCF_RADIUS, P_COUNT };
+
+static const st_param_def params[P_COUNT] = {
+    {"resolution", ST_PARAM_INT, 1024, 16, 8192, NULL, "cube face size in texels"},
+    {"bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL, "constant depth bias, in shadow-map texels at the receiver's distance"},
+    {"slope_bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL, "bias per unit tan(angle of incidence), in texels (clamped at tan = 20)"},
+    {"pcf", ST_PARAM_BOOL, 0, 0, 1, NULL, "percentage-closer filtering over 16 taps"},
+    {"pcf_radius", ST_PARAM_FLOAT, 1.5, 0.5, 16, NULL, "PCF kernel radius in texels"},
+};
+
+typedef struct shadow_map {
+    st_world *w;
+    const double *p;
+    GLuint cube_array, fbo, depth_rb;
+    int size, layers;
+    float far_z;
+    st_shader *depth;
+    st_pass_info info;
+} shadow_map;
+
+static void release(shadow_map *s) {
+    if (s->fbo) glDeleteFramebuffers(1, &s->fbo);
+    if (s->cube_array) glDeleteTextures(1, &s->cube_array);
+    if (s->depth_rb) glDeleteRenderbuffers(1, &s->depth_rb);
+    s->fbo = s->cube_array = s->depth_rb = 0;
+    s->size = 0;
+}
+
+// (Re)allocates the cube-map array when the resolution or light count changes.
+static bool allocate(shadow_map *s, st_err *err) {
+    int size = (int)s->p[P_RESOLUTION];
+    int lights = st_world_scene(s->w)->num_lights;
+    if (size == s->size && lights == s->layers && s->fbo) return true;
+    release(s);
+    s->size = size;
+    s->layers = lights;
+    int n = lights > 0 ? lights : 1;
+    glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &s->cube_array);
+    glTextureStorage3D(s->cube_array, 1, GL_R32F, size, size, 6 * n);
+    glTextureParameteri(s->cube_array, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(s->cube_array, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(s->cube_array, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(s->cube_array, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(s->cube_array, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glCreateRenderbuffers(1, &s->depth_rb);
+    glNamedRenderbufferStorage(s->depth_rb, GL_DEPTH_COMPONENT32F, size, size);
+    glCreateFramebuffers(1, &s->fbo);
+    glNamedFramebufferRenderbuffer(s->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->depth_rb);
+    return st_gl_check("shadow cube-map array", err);
+}
+
+// Far plane: past the farthest scene vertex from any light.
+static float scene_far(const st_scene *sc) {
+    float far2 = 1e-6f;
+    for (int m = 0; m < sc->num_meshes; m++) {
+        const st_mesh *me = &sc->meshes[m];
+        mat4 model; // cglm wants aligned matrices; the mesh's may not be
+        memcpy(model, me->model, sizeof model);
+        for (uint32_t v = 0; v < me->num_vertices; v++) {
+            vec4 p = {me->positions[3 * v], me->positions[3 * v + 1], me->positions[3 * v + 2], 1}, wp;
+            glm_mat4_mulv(model, p, wp);
+            for (int l = 0; l < sc->num_lights; l++) {
+                vec3 lp = {sc->lights[l].position[0], sc->lights[l].position[1], sc->lights[l].position[2]};
+                float d2 = glm_vec3_distance2(wp, lp);
+                if (d2 > far2) far2 = d2;
+            }
+        }
+    }
+    return sqrtf(far2) * 1.01f + 1e-3f;
+}
+
+static void *create(st_world *w, const double *p, st_err *err) {
+    shadow_map *s = calloc(1, sizeof *s);
+    if (!s) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
+    s->w = w;
+    s->p = p;
+    s->far_z = scene_far(st_world_scene(w));
+    s->depth = st_shader_load("shadow_map/depth.vert", "shadow_map/depth.frag", NULL, err);
+    if (!s->depth || !allocate(s, err)) {
+        st_shader_destroy(s->depth);
+        release(s);
+        free(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void destroy(void *self) {
+    shadow_map *s = self;
+    release(s);
+    st_shader_destroy(s->depth);
+    free(s);
+}
+
+// One pass per light; nothing to do without lights.
+static int num_passes(void *self) { return st_world_scene(((shadow_map *)self)->w)->num_lights; }
+
+static const st_pass_info *pass_info(void *self, int pass) {
+    shadow_map *s = self;
+    s->info = (st_pass_info){"cube", ST_STAGE_PRE, "", "shadow_map", 0};
+    return &s->info;
+}
+
+// Only geometry, lights or our parameters invalidate the cube maps.
+static bool needed(void *self, int pass, const st_frame *f) {
+    return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_PARAMS);
+}
+
+static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
+    shadow_map *s = self;
+    if (!allocate(s, err)) return false;
+    const float *lp = f->scene->lights[pass].position;
+    // Cube face directions and up vectors of the GL cube-map convention.
+    static const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const float ups[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    mat4 proj;
+    glm_perspective(glm_rad(90.0f), 1.0f, s->far_z * 1e-4f, s->far_z, proj);
+    st_shader_use(s->depth);
+    st_shader_set_vec3(s->depth, "u_light_pos", lp);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glViewport(0, 0, s->size, s->size);
+    const float cleared[4] = {1e30f, 0, 0, 0};
+    for (int face = 0; face < 6; face++) {
+        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->cube_array, 0, 6 * pass + face);
+        glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
+        glClearBufferfv(GL_COLOR, 0, cleared);
+        glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
+        vec3 eye, center, up;
+        memcpy(eye, lp, sizeof eye);
+        memcpy(up, ups[face], sizeof up);
+        glm_vec3_add(eye, (float *)dirs[face], center);
+        mat4 view, vp;
+        glm_lookat(eye, center, up, view);
+        glm_mat4_mul(proj, view, vp);
+        st_shader_set_mat4(s->depth, "u_view_proj", (float *)vp);
+        st_world_draw(s->w, s->depth);
+    }
+    return st_gl_check("shadow cube faces", err);
+}
+
+// Uniforms every shader including shadow_map/visibility.glsl receives.
+static void u_cubes(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    st_shader_texture(sh, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, ((shadow_map *)self)->cube_array);
+}
+static void u_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1f(loc, (float)((shadow_map *)self)->size);
+}
+static void u_bias(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1f(loc, (float)((shadow_map *)self)->p[P_BIAS]);
+}
+static void u_slope(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1f(loc, (float)((shadow_map *)self)->p[P_SLOPE_BIAS]);
+}
+static void u_pcf(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1i(loc, ((shadow_map *)self)->p[P_PCF] != 0);
+}
+static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1f(loc, (float)((shadow_map *)self)->p[P_PCF_RADIUS]);
+}
+
+static const st_uniform uniforms_table[] = {
+    {"st_shadow_cubes", u_cubes}, {"st_shadow_res", u_res},       {"st_shadow_bias", u_bias},
+    {"st_shadow_slope", u_slope}, {"st_shadow_pcf", u_pcf},       {"st_shadow_pcf_radius", u_pcf_radius},
+};
+
+static int uniforms(void *self, const st_uniform **out) {
+    *out = uniforms_table;
+    return (int)(sizeof uniforms_table / sizeof uniforms_table[0]);
+}
+
+static bool reload(void *self, st_err *err) { return st_shader_reload(((shadow_map *)self)->depth, err); }
+
+static const st_plugin plugin = {
+    .abi_major = ST_ABI_MAJOR,
+    .abi_minor = ST_ABI_MINOR,
+    .struct_size = sizeof(st_plugin),
+    .name = "shadow_map",
+    .description = "omnidirectional shadow maps for point lights (distance cube maps, slope-scaled bias, optional PCF)",
+    .params = params,
+    .num_params = P_COUNT,
+    .requires = "",
+    .provides = "shadow_map",
+    .regular_include = "shadow_map/visibility.glsl",
+    .create = create,
+    .destroy = destroy,
+    .num_passes = num_passes,
+    .pass_info = pass_info,
+    .uniforms = uniforms,
+    .needed = needed,
+    .on_pass = on_pass,
+    .reload = reload,
+};
+
+ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }

@@ -1,0 +1,57 @@
+// Regular pass: Lambertian direct light from point lights (design units:
+// L = rho/pi * I * cos / d^2 * V) plus emission, plus indirect light when a
+// module provides it. Modules hook in through their regular_include, which
+// the world expands before this file.
+#include "common/uniforms.glsl"
+#include "common/physics.glsl"
+in vec3 v_world;
+in vec3 v_normal;
+in vec2 v_uv1;
+uniform vec3 st_albedo;
+uniform vec3 st_emission;
+uniform int st_double_sided;
+layout(location = 0) out vec4 o_radiance;
+layout(location = 1) out vec4 o_gbuffer; // world normal, distance to the camera
+layout(location = 2) out vec4 o_albedo;
+
+#ifndef ST_HAS_VISIBILITY
+float st_visibility(int light, vec3 p, vec3 n) { return 1.0; }
+#endif
+#ifndef ST_HAS_INDIRECT
+vec3 st_indirect(vec3 p, vec3 n, vec2 uv1) { return vec3(0.0); }
+#endif
+
+void main() {
+    vec3 p = v_world;
+    vec3 n = normalize(v_normal);
+    vec3 to_cam = st_cam_pos - p;
+    // Front side = the side the shading normal points to; the back side of a
+    // one-sided surface is black but still occludes.
+    bool front = dot(n, to_cam) >= 0.0;
+    if (!front && st_double_sided != 0) {
+        n = -n;
+        front = true;
+    }
+    vec3 direct = vec3(0.0);
+    vec3 indirect = vec3(0.0);
+    vec3 emission = vec3(0.0);
+    if (front) {
+        for (int i = 0; i < st_num_lights; i++) {
+            vec3 l = st_light_pos[i] - p;
+            float d2 = max(dot(l, l), 1e-12);
+            float c = dot(n, l) * inversesqrt(d2);
+            if (c <= 0.0) continue;
+            direct += st_albedo / ST_PI * st_light_intensity[i] * (c / d2) * st_visibility(i, p, n);
+        }
+        emission = st_emission;
+        indirect = st_indirect(p, n, v_uv1);
+    }
+#ifdef ST_HAS_COMPOSE
+    vec3 L = st_compose(direct, emission, indirect, p, n, v_uv1);
+#else
+    vec3 L = direct + emission + indirect;
+#endif
+    o_radiance = vec4(L, 1.0);
+    o_gbuffer = vec4(n, length(to_cam));
+    o_albedo = vec4(st_albedo, front ? 1.0 : 0.0);
+}

@@ -1,0 +1,20 @@
+// Uniforms the world sets on every shader that declares them.
+#ifndef ST_UNIFORMS_GLSL
+#define ST_UNIFORMS_GLSL
+#ifndef ST_MAX_LIGHTS
+#define ST_MAX_LIGHTS 8
+#endif
+uniform mat4 st_view, st_proj, st_view_proj, st_inv_view_proj;
+uniform vec3 st_cam_pos;
+uniform float st_near, st_far, st_fov_y; // fov in radians
+uniform vec2 st_resolution;
+uniform int st_frame_index;
+uniform int st_num_lights;
+uniform vec3 st_light_pos[ST_MAX_LIGHTS];
+uniform vec3 st_light_intensity[ST_MAX_LIGHTS]; // W/sr
+// Homogeneous medium (1/m) and its phase function: 0 isotropic, 1 Rayleigh, 2 HG.
+uniform int st_has_medium;
+uniform vec3 st_sigma_s, st_sigma_a;
+uniform int st_phase_kind;
+uniform float st_phase_g;
+#endif

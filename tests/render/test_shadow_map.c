@@ -1,0 +1,84 @@
+// Shadows: floor points whose segment to the light crosses a floating box
+// get no direct light with shadow_map, the unshadowed value without it.
+#include "st_test_render.h"
+
+static const double I = 3.0, LP[3] = {0, 1.8, 0}, RHO = 0.75;
+static const double BMIN[3] = {-0.3, 0.8, -0.3}, BMAX[3] = {0.3, 1.0, 0.3};
+
+static void write_scene(const char *path, const char *modules) {
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 96, \"height\": 96},\n"
+             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 60,"
+             " \"near\": 0.05, \"far\": 100},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, %g, %g]}],\n"
+             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, \"albedo\": [%g, %g, %g]},\n"
+             "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
+             " \"modules\": [%s]}\n",
+             LP[0], LP[1], LP[2], I, I, I, RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], modules);
+    st_test_write(path, json);
+}
+
+// Is floor point p shadowed, robustly (all 4 jittered neighbours agree)?
+static int shadow_state(const double p[3], double jitter) {
+    int in = 0;
+    const double off[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    for (int k = 0; k < 5; k++) {
+        double q[3] = {p[0] + off[k][0] * jitter, 0, p[2] + off[k][1] * jitter};
+        double d[3] = {LP[0] - q[0], LP[1] - q[1], LP[2] - q[2]};
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int c = 0; c < 3; c++) d[c] /= len;
+        double t = st_test_ray_box(q, d, BMIN, BMAX);
+        in += t >= 0 && t < len;
+    }
+    return in == 5 ? 1 : in == 0 ? 0 : -1; // -1: near the shadow edge
+}
+
+int main(void) {
+    char scene[512], out[512];
+    snprintf(scene, sizeof scene, "%s/shadow.json", ST_TEST_SCRATCH);
+    snprintf(out, sizeof out, "%s/shadow.exr", ST_TEST_SCRATCH);
+    const double cam[3] = {0, 3, 2.5}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0};
+    st_test_cam c = st_test_camera(cam, tgt, up, 60, 96, 96);
+    for (int with = 0; with < 2; with++) {
+        write_scene(scene, with ? "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}" : "");
+        CHECK(st_test_render(scene, out, NULL) == 0, "render (shadow_map %d)", with);
+        st_image img = {0};
+        if (!st_test_read(out, &img)) continue;
+        CHECK(st_test_all_finite(&img), "finite");
+        int shadowed = 0, lit = 0;
+        double worst_lit = 0, worst_shadow = 0;
+        for (int j = 0; j < 96; j++)
+            for (int i = 0; i < 96; i++) {
+                double d[3];
+                st_test_ray(&c, i, j, d);
+                if (d[1] >= 0 || st_test_ray_box(c.pos, d, BMIN, BMAX) >= 0) continue; // box itself
+                double t = -c.pos[1] / d[1], p[3];
+                for (int k = 0; k < 3; k++) p[k] = c.pos[k] + t * d[k];
+                if (fabs(p[0]) > 3.9 || fabs(p[2]) > 3.9) continue;
+                // Footprint of a pixel on the floor, about t * angle per pixel.
+                int s = shadow_state(p, 2.5 * t * 2 * c.tan_half / 96);
+                if (s < 0) continue;
+                double l[3] = {LP[0] - p[0], LP[1] - p[1], LP[2] - p[2]};
+                double d2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+                double e = RHO / M_PI * I * (l[1] / sqrt(d2)) / d2;
+                double v = st_image_px(&img, i, j)[0];
+                if (s == 1 && with) {
+                    shadowed++;
+                    if (v > worst_shadow) worst_shadow = v;
+                } else {
+                    lit++;
+                    double rel = fabs(v - e) / e;
+                    if (rel > worst_lit) worst_lit = rel;
+                }
+            }
+        if (with) {
+            CHECK(shadowed > 100, "shadowed floor pixels: %d", shadowed);
+            CHECK(worst_shadow == 0, "shadowed pixels must be black, max %.6g", worst_shadow);
+        }
+        CHECK(lit > 3000, "lit floor pixels: %d", lit);
+        CHECK(worst_lit < 0.01, "lit pixels vs analytic (shadow_map %d): worst rel %.5f", with, worst_lit);
+        st_image_free(&img);
+    }
+    return st_test_summary("test_shadow_map");
+}

@@ -1,0 +1,82 @@
+// --stats=json: which passes ran, were skipped or culled. No shadow pass
+// without shadow_map; one per light with it, rendered once for a static scene.
+#include "st_test_render.h"
+#include <cjson/cJSON.h>
+
+static char buf[1 << 16];
+
+static cJSON *stats(const char *scene, const char *out, const char *extra) {
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json %s 2>/dev/null", ST_TEST_STRAHL, scene, out, extra);
+    int rc = st_test_capture(buf, sizeof buf, cmd);
+    CHECK(rc == 0, "stats render rc %d", rc);
+    cJSON *j = cJSON_Parse(buf);
+    CHECK(j != NULL, "stats output is JSON");
+    return j;
+}
+
+static int count_module(cJSON *j, const char *module, int *runs, int *skipped) {
+    int n = 0;
+    *runs = *skipped = 0;
+    cJSON *p;
+    cJSON_ArrayForEach(p, cJSON_GetObjectItem(j, "passes")) {
+        if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, module)) continue;
+        n++;
+        *runs += cJSON_GetObjectItem(p, "runs")->valueint;
+        *skipped += cJSON_GetObjectItem(p, "skipped")->valueint;
+    }
+    return n;
+}
+
+static void write_scene(const char *path, int lights, const char *modules) {
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 32, \"height\": 32},\n"
+             " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 50, \"near\": 0.05, \"far\": 100},\n"
+             " \"lights\": [%s],\n"
+             " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": true}],\n"
+             " \"modules\": [%s]}\n",
+             lights == 2 ? "{\"type\": \"point\", \"position\": [0.5, 1.5, 0], \"intensity\": [1, 1, 1]},"
+                           "{\"type\": \"point\", \"position\": [-0.5, 1.5, 0], \"intensity\": [1, 1, 1]}"
+                         : "",
+             modules);
+    st_test_write(path, json);
+}
+
+int main(void) {
+    char scene[512], out[512];
+    snprintf(scene, sizeof scene, "%s/stats.json", ST_TEST_SCRATCH);
+    snprintf(out, sizeof out, "%s/stats.exr", ST_TEST_SCRATCH);
+    int runs, skipped;
+
+    write_scene(scene, 2, "");
+    cJSON *j = stats(scene, out, "--frames 3");
+    if (j) {
+        CHECK(count_module(j, "shadow_map", &runs, &skipped) == 0, "no shadow pass without shadow_map");
+        CHECK(count_module(j, "world", &runs, &skipped) == 1 && runs == 3, "regular pass ran 3 times: %d", runs);
+        CHECK(cJSON_GetObjectItem(j, "frames")->valueint == 2, "2 frames timed after 1 warm-up");
+        cJSON_Delete(j);
+    }
+
+    write_scene(scene, 2, "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 64}}");
+    j = stats(scene, out, "--frames 3");
+    if (j) {
+        CHECK(count_module(j, "shadow_map", &runs, &skipped) == 2, "one shadow pass per light");
+        // Static scene: each cube map is rendered once, then reused.
+        CHECK(runs == 2 && skipped == 4, "shadow runs %d (want 2), skipped %d (want 4)", runs, skipped);
+        cJSON_Delete(j);
+    }
+
+    write_scene(scene, 0, "{\"name\": \"shadow_map\"}");
+    j = stats(scene, out, "");
+    if (j) {
+        CHECK(count_module(j, "shadow_map", &runs, &skipped) == 0, "no lights, no shadow pass");
+        cJSON_Delete(j);
+    }
+    st_image img = {0};
+    if (st_test_read(out, &img)) {
+        CHECK(st_test_all_finite(&img), "finite");
+        st_image_free(&img);
+    }
+    return st_test_summary("test_stats");
+}

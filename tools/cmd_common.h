@@ -1,0 +1,17 @@
+// Shared pieces of the subcommands: scene loading with --set/--size, and
+// argument parsing helpers that report bad input the same way everywhere.
+#ifndef ST_CMD_COMMON_H
+#define ST_CMD_COMMON_H
+#include "st_scene.h"
+
+// Parses "WxH" (1..16384 each).
+bool st_parse_size(const char *s, int *w, int *h);
+// Parses a positive integer within [lo, hi].
+bool st_parse_int(const char *s, long lo, long hi, long *out);
+// Loads a scene and applies --set assignments and a --size override.
+bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
+                        st_scene *scene, st_err *err);
+// Prints "strahl CMD: message" and returns the exit code for err.
+int st_report(const char *cmd, const st_err *err);
+
+#endif

@@ -1,0 +1,143 @@
+// strahl render: headless frames of a scene to EXR (linear radiance) or PNG,
+// with per-pass statistics.
+#define _GNU_SOURCE
+#include "cmd_common.h"
+#include "st_cmd.h"
+#include "st_world.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/resource.h>
+
+#define MAX_SETS 64
+
+static bool out_ext_ok(const char *p) {
+    const char *dot = strrchr(p, '.');
+    return dot && (!strcasecmp(dot, ".exr") || !strcasecmp(dot, ".png"));
+}
+
+static void print_stats(st_world *w, const float *frame_ms, int nframes, bool json) {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    double fm = st_median_f(frame_ms, nframes);
+    const st_camera *c = st_world_camera(w);
+    if (json) {
+        printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, "
+               "\"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, \"gpu_bytes\": %zu, \"passes\": [",
+               st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss, st_gpu_bytes());
+        for (int i = 0; i < st_world_num_pass_stats(w); i++) {
+            const st_pass_stats *s = st_world_pass_stats(w, i);
+            printf("%s\n  {\"module\": \"%s\", \"pass\": \"%s\", \"runs\": %u, \"skipped\": %u, "
+                   "\"culled\": %u, \"gpu_ms_median\": %.4f, \"cpu_ms_median\": %.4f}",
+                   i ? "," : "", s->module, s->pass, s->runs, s->skipped, s->culled,
+                   st_median_f(s->gpu_ms, s->num_samples), st_median_f(s->cpu_ms, s->num_samples));
+        }
+        printf("\n]}\n");
+        return;
+    }
+    printf("renderer: %s, %dx%d, %d frame(s) timed, median frame %.3f ms, peak RSS %.1f MiB, "
+           "GPU allocations %.1f MiB\n",
+           st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss / 1024.0,
+           st_gpu_bytes() / 1048576.0);
+    printf("%-12s %-14s %6s %8s %7s %12s %12s\n", "module", "pass", "runs", "skipped", "culled",
+           "gpu ms (med)", "cpu ms (med)");
+    for (int i = 0; i < st_world_num_pass_stats(w); i++) {
+        const st_pass_stats *s = st_world_pass_stats(w, i);
+        printf("%-12s %-14s %6u %8u %7u %12.3f %12.3f\n", s->module, s->pass, s->runs, s->skipped,
+               s->culled, st_median_f(s->gpu_ms, s->num_samples), st_median_f(s->cpu_ms, s->num_samples));
+    }
+}
+
+int st_cmd_render(int argc, char **argv) {
+    const char *scene_path = NULL, *out = NULL;
+    char *sets[MAX_SETS];
+    int num_sets = 0, width = 0, height = 0, stats = 0;
+    long frames = 1, warmup = -1;
+    double exposure = 0;
+    st_err err = {0};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool has_next = i + 1 < argc;
+        if (!strcmp(a, "-o") && has_next) {
+            out = argv[++i];
+        } else if (!strcmp(a, "--set") && has_next) {
+            if (num_sets == MAX_SETS) return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("render", &err);
+            sets[num_sets++] = argv[++i];
+        } else if (!strcmp(a, "--size") && has_next) {
+            if (!st_parse_size(argv[++i], &width, &height))
+                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH, 1..16384 each", argv[i]),
+                       st_report("render", &err);
+        } else if (!strcmp(a, "--frames") && has_next) {
+            if (!st_parse_int(argv[++i], 1, 100000, &frames))
+                return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..100000", argv[i]),
+                       st_report("render", &err);
+        } else if (!strcmp(a, "--warmup") && has_next) {
+            if (!st_parse_int(argv[++i], 0, 100000, &warmup))
+                return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..100000", argv[i]),
+                       st_report("render", &err);
+        } else if (!strcmp(a, "--exposure") && has_next) {
+            char *e;
+            exposure = strtod(argv[++i], &e);
+            if (*e || !isfinite(exposure) || fabs(exposure) > 64)
+                return st_fail(&err, ST_ERR_INPUT, "--exposure %s: expected a number of stops in [-64, 64]", argv[i]),
+                       st_report("render", &err);
+        } else if (!strcmp(a, "--stats")) {
+            stats = 1;
+        } else if (!strcmp(a, "--stats=json")) {
+            stats = 2;
+        } else if (a[0] == '-' || scene_path) {
+            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a), st_report("render", &err);
+        } else {
+            scene_path = a;
+        }
+    }
+    if (!scene_path || !out)
+        return st_fail(&err, ST_ERR_INPUT, "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options]"),
+               st_report("render", &err);
+    if (!out_ext_ok(out))
+        return st_fail(&err, ST_ERR_INPUT, "-o %s: the output must end in .exr or .png", out),
+               st_report("render", &err);
+    if (warmup < 0) warmup = frames > 1 ? 1 : 0;
+    if (warmup >= frames) warmup = frames - 1;
+
+    st_scene scene = {0};
+    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
+        return st_report("render", &err);
+    int rc = ST_EXIT_OK;
+    st_context *ctx = st_context_create_headless(&err);
+    st_world *w = NULL;
+    float *frame_ms = calloc((size_t)frames, sizeof *frame_ms);
+    st_image img = {0};
+    if (!ctx || !frame_ms) goto fail;
+    st_world_opts opts = {.timing = stats != 0};
+    w = st_world_create(&scene, &opts, &err);
+    if (!w) goto fail;
+    int timed = 0;
+    for (long f = 0; f < frames; f++) {
+        if (f == warmup) st_world_reset_samples(w);
+        double t0 = st_now_ms();
+        if (!st_world_frame(w, &err)) goto fail;
+        glFinish();
+        if (f >= warmup) frame_ms[timed++] = (float)(st_now_ms() - t0);
+    }
+    if (!st_world_read(w, &img, &err)) goto fail;
+    size_t bad = st_image_count_nonfinite(&img);
+    if (bad) {
+        st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the rendered image; nothing written", bad);
+        goto fail;
+    }
+    if (!st_image_write(out, &img, (float)exposure, &err)) goto fail;
+    if (stats) print_stats(w, frame_ms, timed, stats == 2);
+    goto done;
+fail:
+    rc = st_report("render", &err);
+done:
+    st_image_free(&img);
+    st_world_destroy(w);
+    st_context_destroy(ctx);
+    st_scene_free(&scene);
+    free(frame_ms);
+    return rc;
+}
