@@ -9,10 +9,12 @@ extern "C" {
 #endif
 
 typedef struct st_image {
-    int width, height, channels; // channels: 1, 3 or 4
+    int width, height, channels; // channels: 1, 3 or 4 (more for named EXR layers)
     float *data;                 // width * height * channels
 } st_image;
 
+// Zero-filled; channels may be 1..ST_IMAGE_MAX_CHANNELS.
+#define ST_IMAGE_MAX_CHANNELS 64
 bool st_image_alloc(st_image *img, int width, int height, int channels, st_err *err);
 void st_image_free(st_image *img);
 static inline float *st_image_px(const st_image *img, int i, int j) {
@@ -24,30 +26,49 @@ size_t st_image_count_nonfinite(const st_image *img);
 // Writes atomically: to a temporary file beside `path`, renamed on success, so
 // a failure leaves no partial output. EXR: 32-bit float, channels R,G,B(,A).
 // Extra single channels (e.g. per-pixel standard error) can be added with
-// st_image_write_exr_layers.
+// st_image_write_exr_named. Errors name the path: any NaN/Inf value ->
+// ST_ERR_RUNTIME with the count (nothing is written); a file that cannot be
+// created -> ST_ERR_RUNTIME; bad arguments -> ST_ERR_INPUT. ZIP compression;
+// 1 channel is written as Y.
 bool st_image_write_exr(const char *path, const st_image *img, st_err *err);
 // `names[k]` names channel k of `img` (e.g. "R","G","B","stderr.R",...).
 bool st_image_write_exr_named(const char *path, const st_image *img, const char *const *names,
                               st_err *err);
+// Any scanline or tiled (level 0) EXR, HALF or FLOAT, first part: R,G,B(,A)
+// as 3 (4) channels, else Y as 1 channel. `out` is allocated; free it.
 bool st_image_read_exr(const char *path, st_image *out, st_err *err); // RGB(A) as float
+// Reads exactly the named channels, in the given order (e.g. the stderr.*
+// layers written by st_image_write_exr_named).
+bool st_image_read_exr_channels(const char *path, const char *const *names, int count,
+                                st_image *out, st_err *err);
 // PNG: radiance * 2^exposure, clamped, sRGB-encoded, 8 bit.
 bool st_image_write_png(const char *path, const st_image *img, float exposure, st_err *err);
 // Writes by extension (.exr or .png); anything else is an ST_ERR_INPUT error.
 bool st_image_write(const char *path, const st_image *img, float exposure, st_err *err);
+// 8-bit pixels (comp 1..4, rows top first, tightly packed) as PNG, atomically.
+bool st_png_write8(const char *path, const uint8_t *px, int width, int height, int comp,
+                   st_err *err);
+// Exact piecewise sRGB OETF of a linear value in [0, 1].
+double st_srgb_encode(double linear);
 
-// Error metrics between two images of equal size (first 3 channels).
+// Error metrics between two images of equal size (first 3 channels; a 1- or
+// 2-channel image counts as grey). Non-finite values or a size mismatch are
+// ST_ERR_INPUT errors.
 typedef struct st_metrics {
     double rmse[4];      // per channel R,G,B and [3] = all
     double relmse[4];    // mean((a-b)^2 / (b^2 + 1e-2)), b the reference
-    double psnr[4];      // 20 log10(peak / rmse), peak = max of the reference
+    double psnr[4];      // 20 log10(peak / rmse), peak = max of the reference over R,G,B
+                         // (1 if that is <= 0); +inf where rmse = 0
     double max_abs[4];
-    double scale;        // s minimising |s a - b|^2 (for non-physical methods)
-    double scaled_rmse[4];
+    double scale;        // s minimising |s a - b|^2 over R,G,B (0 if a is all zero),
+                         // for methods that are not physically scaled
+    double scaled_rmse[4]; // rmse of s a against b
     double mean_a[4], mean_b[4];
 } st_metrics;
 
 bool st_image_compare(const st_image *a, const st_image *b, st_metrics *m, st_err *err);
-// Heat map of |a - b| (mean over channels) mapped to a colour ramp, 8-bit PNG.
+// Heat map of |a - b| (mean over R,G,B) divided by its maximum and mapped
+// to a black-blue-red-yellow-white ramp, 8-bit PNG, written atomically.
 bool st_image_write_heatmap(const char *path, const st_image *a, const st_image *b, st_err *err);
 
 #ifdef __cplusplus

@@ -1,0 +1,116 @@
+// Error metrics between a rendered image a and a reference b, and a heat map
+// of their difference. Sums are in double: images reach millions of pixels.
+#include "st_image.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// Channel c (0..2) of pixel i; 1- and 2-channel images are grey.
+static inline double chan(const st_image *img, size_t i, int c) {
+    const float *p = img->data + i * img->channels;
+    return img->channels >= 3 ? p[c] : p[0];
+}
+
+static bool check_pair(const st_image *a, const st_image *b, st_err *err) {
+    if (!a || !b || !a->data || !b->data)
+        return st_fail(err, ST_ERR_INPUT, "compare: missing image");
+    if (a->width != b->width || a->height != b->height)
+        return st_fail(err, ST_ERR_INPUT, "image size %dx%d does not match reference size %dx%d",
+                       a->width, a->height, b->width, b->height);
+    size_t na = st_image_count_nonfinite(a), nb = st_image_count_nonfinite(b);
+    if (na) return st_fail(err, ST_ERR_INPUT, "image contains %zu non-finite (NaN/Inf) values", na);
+    if (nb)
+        return st_fail(err, ST_ERR_INPUT, "reference contains %zu non-finite (NaN/Inf) values", nb);
+    return true;
+}
+
+bool st_image_compare(const st_image *a, const st_image *b, st_metrics *m, st_err *err) {
+    *m = (st_metrics){0};
+    if (!check_pair(a, b, err)) return false;
+    const size_t n = (size_t)a->width * a->height;
+    double se[4] = {0}, rel[4] = {0}, sa[4] = {0}, sb[4] = {0}, ab = 0, aa = 0, peak = -INFINITY;
+    for (size_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++) {
+            double x = chan(a, i, c), y = chan(b, i, c), d = x - y;
+            se[c] += d * d;
+            rel[c] += d * d / (y * y + 1e-2);
+            sa[c] += x;
+            sb[c] += y;
+            ab += x * y;
+            aa += x * x;
+            if (fabs(d) > m->max_abs[c]) m->max_abs[c] = fabs(d);
+            if (y > peak) peak = y;
+        }
+    }
+    // A black (or negative) reference has no meaningful peak; use 1.
+    if (!(peak > 0)) peak = 1;
+    m->scale = aa > 0 ? ab / aa : 0;
+    double sse[4] = {0};
+    for (size_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++) {
+            double d = m->scale * chan(a, i, c) - chan(b, i, c);
+            sse[c] += d * d;
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        se[3] += se[c];
+        rel[3] += rel[c];
+        sa[3] += sa[c];
+        sb[3] += sb[c];
+        sse[3] += sse[c];
+        if (m->max_abs[c] > m->max_abs[3]) m->max_abs[3] = m->max_abs[c];
+    }
+    for (int c = 0; c < 4; c++) {
+        double cnt = c < 3 ? (double)n : 3.0 * n;
+        m->rmse[c] = sqrt(se[c] / cnt);
+        m->relmse[c] = rel[c] / cnt;
+        m->psnr[c] = m->rmse[c] > 0 ? 20.0 * log10(peak / m->rmse[c]) : INFINITY;
+        m->scaled_rmse[c] = sqrt(sse[c] / cnt);
+        m->mean_a[c] = sa[c] / cnt;
+        m->mean_b[c] = sb[c] / cnt;
+    }
+    return true;
+}
+
+// Ramp stops black - blue - red - yellow - white at t = 0, 1/4, 1/2, 3/4, 1.
+static void ramp(double t, uint8_t rgb[3]) {
+    static const double stop[5][3] = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    double x = t * 4;
+    int k = x >= 4 ? 3 : (int)x;
+    double f = x - k;
+    for (int c = 0; c < 3; c++) {
+        double v = stop[k][c] + f * (stop[k + 1][c] - stop[k][c]);
+        rgb[c] = (uint8_t)floor(v * 255.0 + 0.5);
+    }
+}
+
+bool st_image_write_heatmap(const char *path, const st_image *a, const st_image *b, st_err *err) {
+    if (!check_pair(a, b, err)) {
+        st_err_prefix(err, "%s: ", path ? path : "");
+        return false;
+    }
+    const size_t n = (size_t)a->width * a->height;
+    double *d = malloc(n * sizeof *d);
+    uint8_t *px = malloc(n * 3);
+    if (!d || !px) {
+        free(d);
+        free(px);
+        return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
+    }
+    double dmax = 0;
+    for (size_t i = 0; i < n; i++) {
+        double s = 0;
+        for (int c = 0; c < 3; c++)
+            s += fabs(chan(a, i, c) - chan(b, i, c));
+        d[i] = s / 3;
+        if (d[i] > dmax) dmax = d[i];
+    }
+    if (dmax < 1e-12) dmax = 1e-12; // identical images give a black map
+    for (size_t i = 0; i < n; i++)
+        ramp(d[i] / dmax, px + 3 * i);
+    bool ok = st_png_write8(path, px, a->width, a->height, 3, err);
+    free(d);
+    free(px);
+    return ok;
+}

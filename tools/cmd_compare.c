@@ -1,0 +1,131 @@
+// strahl compare A.exr B.exr [--json] [--heatmap OUT.png]
+// Error metrics of A against the reference B. Output is printed only after
+// everything (including the heat map) succeeded.
+#include "st_cmd.h"
+#include "st_image.h"
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int fail(const st_err *err) {
+    fprintf(stderr, "strahl compare: %s\n", err->msg);
+    return st_err_exit_code(err);
+}
+
+static int bad_usage(const char *what, const char *arg) {
+    fprintf(stderr,
+            "strahl compare: %s '%s' (usage: strahl compare A.exr B.exr [--json] "
+            "[--heatmap OUT.png])\n",
+            what, arg);
+    return ST_EXIT_INPUT;
+}
+
+// JSON has no infinities: a non-finite value (psnr of identical images) is null.
+static void json_num(double v) {
+    if (isfinite(v))
+        printf("%.9g", v);
+    else
+        printf("null");
+}
+
+static void json_rgba(const char *key, const double v[4], bool last) {
+    static const char *const k[4] = {"r", "g", "b", "all"};
+    printf("\"%s\":{", key);
+    for (int c = 0; c < 4; c++) {
+        printf("\"%s\":", k[c]);
+        json_num(v[c]);
+        if (c < 3) putchar(',');
+    }
+    printf("}%s", last ? "" : ",");
+}
+
+static void print_json(const st_metrics *m, int w, int h) {
+    putchar('{');
+    json_rgba("rmse", m->rmse, false);
+    json_rgba("relmse", m->relmse, false);
+    json_rgba("psnr", m->psnr, false);
+    json_rgba("max_abs", m->max_abs, false);
+    printf("\"scale\":");
+    json_num(m->scale);
+    putchar(',');
+    json_rgba("scaled_rmse", m->scaled_rmse, false);
+    json_rgba("mean_a", m->mean_a, false);
+    json_rgba("mean_b", m->mean_b, false);
+    printf("\"width\":%d,\"height\":%d}\n", w, h);
+}
+
+static void text_row(const char *name, const double v[4]) {
+    printf("%-12s %16.9g %16.9g %16.9g %16.9g\n", name, v[0], v[1], v[2], v[3]);
+}
+
+static void print_text(const st_metrics *m, int w, int h, const char *a, const char *b) {
+    printf("image        %s\nreference    %s\nsize         %dx%d\n", a, b, w, h);
+    printf("%-12s %16s %16s %16s %16s\n", "metric", "R", "G", "B", "all");
+    text_row("rmse", m->rmse);
+    text_row("relmse", m->relmse);
+    text_row("psnr", m->psnr); // printf writes "inf" for identical images
+    text_row("max_abs", m->max_abs);
+    text_row("scaled_rmse", m->scaled_rmse);
+    text_row("mean_a", m->mean_a);
+    text_row("mean_b", m->mean_b);
+    printf("%-12s %16.9g\n", "scale", m->scale);
+}
+
+int st_cmd_compare(int argc, char **argv) {
+    const char *files[2] = {NULL, NULL}, *heatmap = NULL;
+    int nfiles = 0;
+    bool json = false;
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        if (!strcmp(arg, "--json")) {
+            json = true;
+        } else if (!strcmp(arg, "--heatmap")) {
+            if (i + 1 >= argc) return bad_usage("missing file name after", arg);
+            heatmap = argv[++i];
+        } else if (!strncmp(arg, "--heatmap=", 10)) {
+            heatmap = arg + 10;
+        } else if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
+            printf("usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png]\n"
+                   "  B is the reference; prints rmse, relmse, psnr, max_abs, the scale s\n"
+                   "  minimising |s A - B| and the rmse after scaling, per channel and overall.\n");
+            return ST_EXIT_OK;
+        } else if (arg[0] == '-' && arg[1]) {
+            return bad_usage("unknown option", arg);
+        } else if (nfiles < 2) {
+            files[nfiles++] = arg;
+        } else {
+            return bad_usage("unexpected argument", arg);
+        }
+    }
+    if (nfiles < 2) {
+        fprintf(stderr, "strahl compare: needs two images (usage: strahl compare A.exr B.exr "
+                        "[--json] [--heatmap OUT.png])\n");
+        return ST_EXIT_INPUT;
+    }
+    if (heatmap && !heatmap[0]) return bad_usage("empty heat map path", heatmap);
+
+    st_err err = {0};
+    st_image a = {0}, b = {0};
+    st_metrics m;
+    int rc = ST_EXIT_OK;
+    if (!st_image_read_exr(files[0], &a, &err) || !st_image_read_exr(files[1], &b, &err)) {
+        rc = fail(&err);
+    } else if (!st_image_compare(&a, &b, &m, &err)) {
+        // Name both files: the message itself only knows "image"/"reference".
+        st_err_prefix(&err, "%s vs %s: ", files[0], files[1]);
+        rc = fail(&err);
+    } else if (heatmap && !st_image_write_heatmap(heatmap, &a, &b, &err)) {
+        rc = fail(&err);
+    } else if (json) {
+        print_json(&m, a.width, a.height);
+    } else {
+        print_text(&m, a.width, a.height, files[0], files[1]);
+    }
+    st_image_free(&a);
+    st_image_free(&b);
+    if (rc == ST_EXIT_OK && fflush(stdout) != 0) {
+        fprintf(stderr, "strahl compare: cannot write output\n");
+        rc = ST_EXIT_RUNTIME;
+    }
+    return rc;
+}
