@@ -6,6 +6,7 @@ static size_t g_bytes;
 static GLuint g_empty_vao;
 
 size_t st_gpu_bytes(void) { return g_bytes; }
+void st_gpu_track(long long delta) { g_bytes = (size_t)((long long)g_bytes + delta); }
 
 static size_t format_bytes(GLenum f) {
     switch (f) {

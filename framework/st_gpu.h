@@ -57,6 +57,8 @@ void st_draw_fullscreen(void);
 // Bytes of GPU memory allocated through these helpers (textures and buffers),
 // for stats.
 size_t st_gpu_bytes(void);
+// For GL objects a module creates itself: add (or, negative, remove) bytes.
+void st_gpu_track(long long delta);
 
 #ifdef __cplusplus
 }

@@ -29,7 +29,7 @@ typedef struct st_slot {
     st_pass_info info;
     unsigned pending; // changes since the pass last ran
     bool needed, live;
-    GLuint query;
+    GLuint query[2]; // GL_TIMESTAMP before and after
     int stats;
 } st_slot;
 
@@ -186,14 +186,16 @@ static bool add_slot(st_world *w, int module, int pass, const st_pass_info *info
     st_pass_stats *ps = stats_for(w, mname, pname);
     if (!ps) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     s->stats = (int)(ps - w->stats);
-    if (w->opts.timing) glCreateQueries(GL_TIME_ELAPSED, 1, &s->query);
+    // Timestamp pairs rather than GL_TIME_ELAPSED: llvmpipe reports a bogus
+    // first elapsed time.
+    if (w->opts.timing) glCreateQueries(GL_TIMESTAMP, 2, s->query);
     w->num_slots++;
     return true;
 }
 
 static void free_slots(st_world *w) {
     for (int i = 0; i < w->num_slots; i++)
-        if (w->slots[i].query) glDeleteQueries(1, &w->slots[i].query);
+        if (w->slots[i].query[0]) glDeleteQueries(2, w->slots[i].query);
     w->num_slots = 0;
 }
 
@@ -381,9 +383,9 @@ bool st_world_frame(st_world *w, st_err *err) {
         }
         f.changes = s->pending;
         double t0 = st_now_ms();
-        if (s->query) glBeginQuery(GL_TIME_ELAPSED, s->query);
+        if (s->query[0]) glQueryCounter(s->query[0], GL_TIMESTAMP);
         bool ok = run_slot(w, s, &f, err);
-        if (s->query) glEndQuery(GL_TIME_ELAPSED);
+        if (s->query[1]) glQueryCounter(s->query[1], GL_TIMESTAMP);
         if (!ok) return false;
         double t1 = st_now_ms();
         s->pending = 0;
@@ -399,10 +401,11 @@ bool st_world_frame(st_world *w, st_err *err) {
         for (int i = 0; i < w->num_slots; i++) {
             st_slot *s = &w->slots[i];
             st_pass_stats *ps = &w->stats[s->stats];
-            if (!s->query || !ps->ran_last_frame) continue;
-            GLuint64 ns = 0;
-            glGetQueryObjectui64v(s->query, GL_QUERY_RESULT, &ns);
-            ps->gpu_ms[ps->num_samples - 1] = (float)(ns * 1e-6);
+            if (!s->query[0] || !ps->ran_last_frame) continue;
+            GLuint64 t0 = 0, t1 = 0;
+            glGetQueryObjectui64v(s->query[0], GL_QUERY_RESULT, &t0);
+            glGetQueryObjectui64v(s->query[1], GL_QUERY_RESULT, &t1);
+            ps->gpu_ms[ps->num_samples - 1] = (float)((t1 > t0 ? t1 - t0 : 0) * 1e-6);
         }
     }
     w->frame++;
@@ -653,6 +656,8 @@ const st_model *st_world_models(const st_world *w, int *n) {
     if (n) *n = w->num_models;
     return w->models;
 }
+
+void st_world_invalidate(st_world *w, unsigned changes) { w->changes |= changes; }
 
 void st_world_set_camera(st_world *w, const float pos[3], const float target[3], const float up[3]) {
     memcpy(w->cam.position, pos, sizeof w->cam.position);

@@ -110,6 +110,9 @@ st_camera *st_world_camera(st_world *w);
 const st_model *st_world_models(const st_world *w, int *n);
 
 // Interactive changes; each marks what the next frame must redo.
+// Marks ST_CHANGE_* as changed for the next frame (e.g. benchmarks that
+// time a technique's full cost every frame, or a scene edited in place).
+void st_world_invalidate(st_world *w, unsigned changes);
 void st_world_set_camera(st_world *w, const float pos[3], const float target[3], const float up[3]);
 bool st_world_resize(st_world *w, int width, int height, st_err *err);
 // Loads a module by name into a running world (viewer), after its

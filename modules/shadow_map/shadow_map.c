@@ -33,6 +33,7 @@ static void release(shadow_map *s) {
     if (s->fbo) glDeleteFramebuffers(1, &s->fbo);
     if (s->cube_array) glDeleteTextures(1, &s->cube_array);
     if (s->depth_rb) glDeleteRenderbuffers(1, &s->depth_rb);
+    if (s->size) st_gpu_track(-(long long)s->size * s->size * 4 * (6 * (s->layers > 0 ? s->layers : 1) + 1));
     s->fbo = s->cube_array = s->depth_rb = 0;
     s->size = 0;
 }
@@ -57,6 +58,7 @@ static bool allocate(shadow_map *s, st_err *err) {
     glNamedRenderbufferStorage(s->depth_rb, GL_DEPTH_COMPONENT32F, size, size);
     glCreateFramebuffers(1, &s->fbo);
     glNamedFramebufferRenderbuffer(s->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->depth_rb);
+    st_gpu_track((long long)size * size * 4 * (6 * n + 1)); // R32F faces + depth
     return st_gl_check("shadow cube-map array", err);
 }
 

@@ -1,0 +1,346 @@
+// strahl bench: run time against error. For every combination of the swept
+// parameter values, render warm-up + F frames in a fresh world, record the
+// median frame time, the median GPU time of each module's passes (timer
+// queries), peak memory, and the error of the last frame against a reference
+// image. --mode recompute (default) redoes cached passes every frame so the
+// time is the technique's whole cost; steady times what a static scene
+// costs per frame. Writes CSV, prints the Pareto front, draws a log-log plot (gnuplot).
+#define _GNU_SOURCE
+#include "cmd_common.h"
+#include "st_cmd.h"
+#include "st_world.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#define MAX_SWEEPS 4
+#define MAX_VALUES 32
+#define MAX_SETS 32
+#define MAX_ROWS 1024
+
+typedef struct {
+    char module[ST_NAME_MAX], param[ST_NAME_MAX];
+    char values[MAX_VALUES][ST_NAME_MAX];
+    int num_values;
+} sweep;
+
+typedef struct {
+    char setting[256]; // "toth.samples=32 toth.scale=half"
+    char curve[256];   // the setting without the first sweep's value
+    double x;          // first sweep's numeric value (or index)
+    double frame_ms, module_gpu_ms, module_cpu_ms;
+    st_metrics m;
+    double error;
+    long peak_rss_kb;
+    size_t gpu_bytes;
+} row;
+
+static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
+    memset(sw, 0, sizeof *sw);
+    const char *dot = strchr(s, '.'), *eq = strchr(s, '=');
+    if (!dot || !eq || dot > eq || dot == s || eq == dot + 1 || !eq[1])
+        return st_fail(err, ST_ERR_INPUT, "--sweep %s: expected MODULE.PARAM=v1,v2,...", s);
+    snprintf(sw->module, sizeof sw->module, "%.*s", (int)(dot - s), s);
+    snprintf(sw->param, sizeof sw->param, "%.*s", (int)(eq - dot - 1), dot + 1);
+    for (const char *p = eq + 1; *p;) {
+        const char *c = strchr(p, ',');
+        size_t n = c ? (size_t)(c - p) : strlen(p);
+        if (!n || n >= ST_NAME_MAX || sw->num_values == MAX_VALUES)
+            return st_fail(err, ST_ERR_INPUT, "--sweep %s: empty or too many values (max %d)", s, MAX_VALUES);
+        snprintf(sw->values[sw->num_values++], ST_NAME_MAX, "%.*s", (int)n, p);
+        p = c ? c + 1 : p + n;
+    }
+    return true;
+}
+
+static double error_of(const st_metrics *m, const char *metric) {
+    if (!strcmp(metric, "relmse")) return m->relmse[3];
+    if (!strcmp(metric, "scaled_rmse")) return m->scaled_rmse[3];
+    if (!strcmp(metric, "max_abs")) return m->max_abs[3];
+    return m->rmse[3];
+}
+
+// Renders one setting; fills r. The scene has the setting applied already.
+static bool run_one(const st_scene *scene, const st_image *ref, int frames, int warmup, bool recompute,
+                    const char *metric, const sweep *sweeps, int nsweeps, row *r, st_err *err) {
+    st_world_opts opts = {.timing = true};
+    st_world *w = st_world_create(scene, &opts, err);
+    if (!w) return false;
+    float *ft = calloc((size_t)frames, sizeof *ft);
+    st_image img = {0};
+    bool ok = ft != NULL;
+    int timed = 0;
+    for (int f = 0; ok && f < warmup + frames; f++) {
+        if (f == warmup) st_world_reset_samples(w);
+        // recompute: every cached pass (shadow maps, atlas) is redone each
+        // frame, so the time is the technique's full cost.
+        if (recompute) st_world_invalidate(w, ST_CHANGE_ALL & ~ST_CHANGE_FIRST);
+        double t0 = st_now_ms();
+        ok = st_world_frame(w, err);
+        glFinish();
+        if (f >= warmup) ft[timed++] = (float)(st_now_ms() - t0);
+    }
+    ok = ok && st_world_read(w, &img, err) && st_image_compare(&img, ref, &r->m, err);
+    if (ok) {
+        r->frame_ms = st_median_f(ft, timed);
+        r->error = error_of(&r->m, metric);
+        // Per-module pass time: medians over the runs of each swept module's passes.
+        r->module_gpu_ms = r->module_cpu_ms = 0;
+        for (int i = 0; i < st_world_num_pass_stats(w); i++) {
+            const st_pass_stats *s = st_world_pass_stats(w, i);
+            bool swept = false;
+            for (int k = 0; k < nsweeps; k++) swept |= !strcmp(s->module, sweeps[k].module);
+            if (!swept || s->num_samples == 0) continue;
+            r->module_gpu_ms += st_median_f(s->gpu_ms, s->num_samples);
+            r->module_cpu_ms += st_median_f(s->cpu_ms, s->num_samples);
+        }
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        r->peak_rss_kb = ru.ru_maxrss;
+        r->gpu_bytes = st_gpu_bytes();
+        if (st_image_count_nonfinite(&img)) ok = st_fail(err, ST_ERR_RUNTIME, "%s: non-finite output", r->setting);
+    }
+    st_image_free(&img);
+    free(ft);
+    st_world_destroy(w);
+    return ok;
+}
+
+static int cmp_time(const void *a, const void *b) {
+    const row *x = *(row *const *)a, *y = *(row *const *)b;
+    return (x->frame_ms > y->frame_ms) - (x->frame_ms < y->frame_ms);
+}
+
+static bool write_plot(const char *plot, const char *csv, const char *metric, st_err *err) {
+    const char *dot = strrchr(plot, '.');
+    bool svg = dot && !strcasecmp(dot, ".svg");
+    char tmp[1100], gp[1200];
+    snprintf(tmp, sizeof tmp, "%s.tmp-%d", plot, (int)getpid());
+    snprintf(gp, sizeof gp, "%s.gp", tmp);
+    FILE *f = fopen(gp, "w");
+    if (!f) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write gnuplot script", gp);
+    fprintf(f,
+            "set terminal %s size 900,600\nset output '%s'\nset datafile separator ','\n"
+            "set logscale xy\nset xlabel 'median frame time [ms]'\nset ylabel '%s against the reference'\n"
+            "set key outside right\nset grid\n"
+            "curves = system(\"tail -n +2 '%s' | cut -d, -f3 | sort -u | tr ' ' '_' | tr '\\n' ' '\")\n"
+            "plot for [c in curves] '< tail -n +2 %s | tr \" \" \"_\"' using ((strcol(3) eq c) ? $6 : 1/0):"
+            "((strcol(3) eq c) ? $9 : 1/0) with linespoints title c noenhanced\n",
+            svg ? "svg" : "pngcairo", tmp, metric, csv, csv);
+    fclose(f);
+    char cmd[3000];
+    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>&1", gp);
+    int rc = system(cmd);
+    unlink(gp);
+    if (rc != 0) {
+        unlink(tmp);
+        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s (is gnuplot-nox installed?)", plot);
+    }
+    if (rename(tmp, plot) != 0) {
+        unlink(tmp);
+        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write", plot);
+    }
+    return true;
+}
+
+int st_cmd_bench(int argc, char **argv) {
+    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse";
+    char *sets[MAX_SETS];
+    sweep sweeps[MAX_SWEEPS];
+    int nsets = 0, nsweeps = 0, width = 0, height = 0;
+    long frames = 10, warmup = 2;
+    double budget = -1;
+    bool append = false, recompute = true;
+    st_err err = {0};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool nx = i + 1 < argc;
+        if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
+        else if (!strcmp(a, "--csv") && nx) csv = argv[++i];
+        else if (!strcmp(a, "--plot") && nx) plot = argv[++i];
+        else if (!strcmp(a, "--append")) append = true;
+        else if (!strcmp(a, "--mode") && nx) {
+            const char *m = argv[++i];
+            if (strcmp(m, "recompute") && strcmp(m, "steady"))
+                return st_fail(&err, ST_ERR_INPUT, "--mode %s: expected recompute or steady", m), st_report("bench", &err);
+            recompute = !strcmp(m, "recompute");
+        }
+        else if (!strcmp(a, "--metric") && nx) {
+            metric = argv[++i];
+            if (strcmp(metric, "rmse") && strcmp(metric, "relmse") && strcmp(metric, "scaled_rmse") &&
+                strcmp(metric, "max_abs"))
+                return st_fail(&err, ST_ERR_INPUT, "--metric %s: expected rmse, relmse, scaled_rmse or max_abs", metric),
+                       st_report("bench", &err);
+        } else if (!strcmp(a, "--sweep") && nx) {
+            if (nsweeps == MAX_SWEEPS)
+                return st_fail(&err, ST_ERR_INPUT, "at most %d --sweep", MAX_SWEEPS), st_report("bench", &err);
+            if (!parse_sweep(argv[++i], &sweeps[nsweeps++], &err)) return st_report("bench", &err);
+        } else if (!strcmp(a, "--set") && nx) {
+            if (nsets == MAX_SETS) return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("bench", &err);
+            sets[nsets++] = argv[++i];
+        } else if (!strcmp(a, "--size") && nx) {
+            if (!st_parse_size(argv[++i], &width, &height))
+                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH", argv[i]), st_report("bench", &err);
+        } else if (!strcmp(a, "--frames") && nx) {
+            if (!st_parse_int(argv[++i], 1, 10000, &frames))
+                return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..10000", argv[i]), st_report("bench", &err);
+        } else if (!strcmp(a, "--warmup") && nx) {
+            if (!st_parse_int(argv[++i], 0, 10000, &warmup))
+                return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", argv[i]), st_report("bench", &err);
+        } else if (!strcmp(a, "--budget-error") && nx) {
+            char *e;
+            budget = strtod(argv[++i], &e);
+            if (*e || !isfinite(budget) || budget < 0)
+                return st_fail(&err, ST_ERR_INPUT, "--budget-error %s: expected a non-negative number", argv[i]),
+                       st_report("bench", &err);
+        } else if (a[0] == '-' || scene_path) {
+            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a), st_report("bench", &err);
+        } else {
+            scene_path = a;
+        }
+    }
+    if (!scene_path || !ref_path || !csv || !nsweeps)
+        return st_fail(&err, ST_ERR_INPUT,
+                       "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... "
+                       "--csv OUT.csv [--plot OUT.png|svg] [--frames F] [--warmup W] [--metric M] "
+                       "[--budget-error X] [--append] [--mode recompute|steady]"),
+               st_report("bench", &err);
+    if (plot) {
+        const char *dot = strrchr(plot, '.');
+        if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg")))
+            return st_fail(&err, ST_ERR_INPUT, "--plot %s: expected .png or .svg", plot), st_report("bench", &err);
+    }
+    st_image ref = {0};
+    if (!st_image_read_exr(ref_path, &ref, &err)) {
+        err.kind = ST_ERR_INPUT;
+        return st_report("bench", &err);
+    }
+    // Validate the scene and every swept value before any rendering.
+    int total = 1;
+    for (int k = 0; k < nsweeps; k++) total *= sweeps[k].num_values;
+    if (total > MAX_ROWS) {
+        st_image_free(&ref);
+        return st_fail(&err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS), st_report("bench", &err);
+    }
+    row *rows = calloc((size_t)total, sizeof *rows);
+    st_context *ctx = NULL;
+    int rc = 0, done = 0;
+    if (!rows) {
+        st_fail(&err, ST_ERR_RUNTIME, "out of memory");
+        goto fail;
+    }
+    for (int idx = 0; idx < total; idx++) {
+        st_scene scene = {0};
+        char *all[MAX_SETS + MAX_SWEEPS];
+        char assign[MAX_SWEEPS][256];
+        int n = 0, rest = idx;
+        for (int s = 0; s < nsets; s++) all[n++] = sets[s];
+        row *r = &rows[idx];
+        for (int k = 0; k < nsweeps; k++) {
+            int v = rest % sweeps[k].num_values;
+            rest /= sweeps[k].num_values;
+            snprintf(assign[k], sizeof assign[k], "%.63s.%.63s=%.63s", sweeps[k].module, sweeps[k].param, sweeps[k].values[v]);
+            all[n++] = assign[k];
+            size_t l = strlen(r->setting);
+            snprintf(r->setting + l, sizeof r->setting - l, "%s%s", l ? " " : "", assign[k]);
+            if (k == 0) {
+                char *e;
+                r->x = strtod(sweeps[k].values[v], &e);
+                if (*e) r->x = v;
+            } else {
+                l = strlen(r->curve);
+                snprintf(r->curve + l, sizeof r->curve - l, " %s", assign[k]);
+            }
+        }
+        char curve[256];
+        snprintf(curve, sizeof curve, "%s%s", sweeps[0].module, r->curve);
+        snprintf(r->curve, sizeof r->curve, "%s", curve);
+        if (!st_load_scene_with(scene_path, all, n, width, height, &scene, &err)) goto fail;
+        if (scene.width != ref.width || scene.height != ref.height) {
+            st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)", ref_path, ref.width,
+                    ref.height, scene.width, scene.height);
+            st_scene_free(&scene);
+            goto fail;
+        }
+        if (!ctx && !(ctx = st_context_create_headless(&err))) {
+            st_scene_free(&scene);
+            goto fail;
+        }
+        fprintf(stderr, "bench [%d/%d] %s\n", idx + 1, total, r->setting);
+        bool ok = run_one(&scene, &ref, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
+        st_scene_free(&scene);
+        if (!ok) goto fail;
+        done++;
+    }
+    {
+        // CSV (atomically; --append adds rows to an existing file).
+        char tmp[1100];
+        snprintf(tmp, sizeof tmp, "%s.tmp-%d", csv, (int)getpid());
+        FILE *f = fopen(tmp, "w");
+        if (!f) {
+            st_fail(&err, ST_ERR_RUNTIME, "%s: cannot write", csv);
+            goto fail;
+        }
+        FILE *old = append ? fopen(csv, "r") : NULL;
+        if (old) {
+            char line[4096];
+            while (fgets(line, sizeof line, old)) fputs(line, f);
+            fclose(old);
+        } else {
+            fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_median,"
+                       "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes\n", metric);
+        }
+        for (int i = 0; i < done; i++) {
+            row *r = &rows[i];
+            fprintf(f, "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu\n", scene_path,
+                    r->setting, r->curve, r->x, frames, r->frame_ms, r->module_gpu_ms, r->module_cpu_ms, r->error,
+                    r->m.rmse[3], r->m.relmse[3], isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3],
+                    r->m.scale, r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes);
+        }
+        if (fclose(f) != 0 || rename(tmp, csv) != 0) {
+            unlink(tmp);
+            st_fail(&err, ST_ERR_RUNTIME, "%s: cannot write", csv);
+            goto fail;
+        }
+    }
+    {
+        // Pareto front: settings no faster setting beats in error.
+        row *sorted[MAX_ROWS];
+        for (int i = 0; i < done; i++) sorted[i] = &rows[i];
+        qsort(sorted, (size_t)done, sizeof sorted[0], cmp_time);
+        printf("%-48s %12s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric);
+        for (int i = 0; i < done; i++)
+            printf("%-48s %12.3f %14.3f %14.6g\n", sorted[i]->setting, sorted[i]->frame_ms,
+                   sorted[i]->module_gpu_ms, sorted[i]->error);
+        printf("Pareto front (faster settings with a lower %s):\n", metric);
+        double best = INFINITY;
+        for (int i = 0; i < done; i++) {
+            if (sorted[i]->error >= best) continue;
+            best = sorted[i]->error;
+            printf("  %s: %.3f ms, %s %.6g\n", sorted[i]->setting, sorted[i]->frame_ms, metric, sorted[i]->error);
+        }
+        if (budget >= 0) {
+            const row *pick = NULL;
+            for (int i = 0; i < done && !pick; i++)
+                if (sorted[i]->error <= budget) pick = sorted[i];
+            if (pick)
+                printf("cheapest setting with %s <= %g: %s (%.3f ms, %s %.6g)\n", metric, budget, pick->setting,
+                       pick->frame_ms, metric, pick->error);
+            else
+                printf("no setting reaches %s <= %g\n", metric, budget);
+        }
+    }
+    if (plot && !write_plot(plot, csv, metric, &err)) goto fail;
+    goto out;
+fail:
+    rc = st_report("bench", &err);
+out:
+    st_context_destroy(ctx);
+    st_image_free(&ref);
+    free(rows);
+    return rc;
+}
