@@ -11,6 +11,13 @@ extern "C" {
 
 #define ST_NAME_MAX 64
 
+// Upper bound on a scene's triangles (procedural shapes plus glTF instances):
+// absurd inputs fail with ST_ERR_INPUT instead of exhausting memory. The fuzz
+// build lowers it.
+#ifndef ST_SCENE_MAX_TRIANGLES
+#define ST_SCENE_MAX_TRIANGLES (1ull << 27)
+#endif
+
 typedef struct st_camera_desc {
     float position[3], target[3], up[3];
     float fov_y; // full vertical field of view, degrees
@@ -77,6 +84,7 @@ typedef struct st_scene {
     st_medium_desc medium;
     st_module_setting *modules;
     int num_modules;
+    int mesh_capacity, light_capacity; // allocated lengths, grown by st_scene_add_*
 } st_scene;
 
 // Parses and validates a scene file. Strict: unknown keys, wrong types,
@@ -94,21 +102,37 @@ bool st_scene_set(st_scene *scene, const char *assignment, st_err *err);
 
 // Looks up a module setting by name (NULL if the scene does not load it).
 st_module_setting *st_scene_module(st_scene *scene, const char *name);
+// Adds or replaces one parameter (param must be an identifier < 64 chars).
+bool st_module_setting_put(st_module_setting *m, const char *param, const st_value *value,
+                           st_err *err);
 
-// Appends a copy of a mesh (takes ownership of its arrays).
+// Appends a copy of a mesh (takes ownership of its arrays; on failure they
+// are freed).
 bool st_scene_add_mesh(st_scene *scene, const st_mesh *mesh, st_err *err);
+bool st_scene_add_light(st_scene *scene, const st_light_desc *light, st_err *err);
 
 // Procedural shapes (world-space vertices, identity model matrix).
 void st_mesh_quad(st_mesh *m, const float corner[3], const float u[3], const float v[3]);
 void st_mesh_box(st_mesh *m, const float mn[3], const float mx[3], bool inward);
+// UV sphere with outward normals: `rings` latitude bands (>= 2), `segments`
+// longitude slices (>= 3); 2 * segments * (rings - 1) triangles (single
+// triangles at the poles, no degenerate ones). Both are clamped to 16384.
+void st_mesh_sphere(st_mesh *m, const float center[3], float radius, int rings, int segments);
+// The shape constructors leave positions == NULL when out of memory.
 void st_mesh_free(st_mesh *m);
 uint64_t st_scene_triangle_count(const st_scene *scene);
 
-// glTF 2.0 (tinygltf behind a C API, st_gltf.cpp): appends meshes, and the
-// file's first camera and its point lights (KHR_lights_punctual, candela / 683
-// -> W/sr) when `camera`/`lights` are not NULL. *has_camera tells whether the
-// file had one.
+// glTF 2.0 (.gltf or .glb, told apart by the magic; tinygltf behind a C API,
+// st_gltf.cpp): appends one mesh per primitive and node instance, and the
+// point lights (KHR_lights_punctual, candela / 683 -> W/sr). If has_camera is
+// not NULL and *has_camera is false, the first perspective camera met in the
+// node tree becomes scene->camera and *has_camera is set. All or nothing: on
+// failure the scene is left as it was.
 bool st_gltf_load(const char *path, st_scene *scene, bool *has_camera, st_err *err);
+// Same from bytes in memory; `name` is used in messages, external buffers
+// resolve against `base_dir`.
+bool st_gltf_load_memory(const void *data, size_t len, const char *name, const char *base_dir,
+                         st_scene *scene, bool *has_camera, st_err *err);
 
 #ifdef __cplusplus
 }

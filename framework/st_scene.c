@@ -1,0 +1,275 @@
+// Scene description v1 (DESIGN.md "Scene description"): strict JSON parsing
+// into st_scene. Sections are read in an order that lets the JSON override
+// what glTF files bring: geometry (may supply camera and lights) before camera
+// and the final choice of lights.
+#include "st_scene.h"
+#include "st_scene_json.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static bool parse_image(st_jctx *c, const cJSON *v, st_scene *s) {
+    static const char *const keys[] = {"width", "height", NULL};
+    bool has;
+    return st_j_object(c, v, keys) && st_j_int(c, v, "width", 1, 16384, &s->width, &has) &&
+           st_j_int(c, v, "height", 1, 16384, &s->height, &has);
+}
+
+static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
+    static const char *const keys[] = {"type", "position", "intensity", NULL};
+    char type[16];
+    st_light_desc l = {0};
+    if (!st_j_object(c, v, keys) || !st_j_string(c, v, "type", type, sizeof type, NULL))
+        return false;
+    if (strcmp(type, "point") != 0) return st_j_fail(c, "type", "expected \"point\"");
+    if (!st_j_vec3(c, v, "position", l.position, NULL) ||
+        !st_j_vec3(c, v, "intensity", l.intensity, NULL) ||
+        !st_j_range3(c, "intensity", l.intensity, 0, INFINITY))
+        return false;
+    if (!st_scene_add_light(s, &l, c->err)) return false;
+    return true;
+}
+
+static bool parse_lights(st_jctx *c, const cJSON *v, st_scene *s) {
+    if (!cJSON_IsArray(v)) return st_j_fail(c, NULL, "expected an array");
+    int i = 0;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        size_t mark = st_j_push_index(c, i);
+        bool ok = parse_light(c, e, s);
+        st_j_pop(c, mark);
+        if (!ok) return false;
+    }
+    return true;
+}
+
+static bool parse_phase(st_jctx *c, const cJSON *v, st_medium_desc *m) {
+    static const char *const keys[] = {"hg", NULL};
+    if (cJSON_IsString(v) && !strcmp(v->valuestring, "isotropic")) {
+        m->phase = ST_PHASE_ISOTROPIC;
+        return true;
+    }
+    if (cJSON_IsString(v) && !strcmp(v->valuestring, "rayleigh")) {
+        m->phase = ST_PHASE_RAYLEIGH;
+        return true;
+    }
+    if (!cJSON_IsObject(v))
+        return st_j_fail(c, NULL, "expected \"isotropic\", \"rayleigh\" or {\"hg\": g}");
+    double g;
+    if (!st_j_object(c, v, keys) || !st_j_number(c, v, "hg", &g, NULL)) return false;
+    if (g < -1 || g > 1) return st_j_fail(c, "hg", "%g is out of range [-1, 1]", g);
+    // |g| = 1 is a delta distribution; the phase function's normalisation
+    // needs |g| < 1 (DESIGN.md: clamp to 0.999).
+    m->phase = ST_PHASE_HG;
+    m->g = (float)fmax(-0.999, fmin(0.999, g));
+    return true;
+}
+
+static bool parse_medium(st_jctx *c, const cJSON *v, st_medium_desc *m) {
+    static const char *const keys[] = {"sigma_s", "sigma_a", "phase", NULL};
+    bool has;
+    if (!st_j_object(c, v, keys) || !st_j_vec3(c, v, "sigma_s", m->sigma_s, NULL) ||
+        !st_j_range3(c, "sigma_s", m->sigma_s, 0, INFINITY) ||
+        !st_j_vec3(c, v, "sigma_a", m->sigma_a, &has) ||
+        !st_j_range3(c, "sigma_a", m->sigma_a, 0, INFINITY))
+        return false;
+    const cJSON *phase = st_j_get(v, "phase");
+    if (phase) {
+        size_t mark = st_j_push(c, "phase");
+        bool ok = parse_phase(c, phase, m);
+        st_j_pop(c, mark);
+        if (!ok) return false;
+    }
+    m->present = true;
+    return true;
+}
+
+static bool parse_param(st_jctx *c, const cJSON *p, st_module_setting *m) {
+    st_value val = {0};
+    if (!st_j_identifier(p->string, ST_NAME_MAX))
+        return st_j_fail(c, NULL, "parameter names are identifiers of 1..%d characters",
+                         ST_NAME_MAX - 1);
+    if (cJSON_IsNumber(p)) {
+        if (!isfinite(p->valuedouble)) return st_j_fail(c, NULL, "number is not finite");
+        val.type = ST_VALUE_NUMBER;
+        val.number = p->valuedouble;
+    } else if (cJSON_IsBool(p)) {
+        val.type = ST_VALUE_BOOL;
+        val.number = cJSON_IsTrue(p);
+    } else if (cJSON_IsString(p)) {
+        size_t n = strlen(p->valuestring);
+        if (n >= ST_NAME_MAX)
+            return st_j_fail(c, NULL, "string longer than %d characters", ST_NAME_MAX - 1);
+        val.type = ST_VALUE_STRING;
+        memcpy(val.str, p->valuestring, n + 1);
+    } else {
+        return st_j_fail(c, NULL, "expected a number, true/false or a string");
+    }
+    if (!st_module_setting_put(m, p->string, &val, c->err)) {
+        st_err_prefix(c->err, "%s: %s: ", c->file, c->path);
+        return false;
+    }
+    return true;
+}
+
+static bool parse_module(st_jctx *c, const cJSON *v, st_scene *s) {
+    static const char *const keys[] = {"name", "params", NULL};
+    char name[ST_NAME_MAX];
+    if (!st_j_object(c, v, keys) || !st_j_string(c, v, "name", name, sizeof name, NULL))
+        return false;
+    if (!st_j_identifier(name, ST_NAME_MAX))
+        return st_j_fail(c, "name", "'%s' is not an identifier ([A-Za-z_][A-Za-z0-9_]*)", name);
+    for (int i = 0; i < s->num_modules; i++)
+        if (!strcmp(s->modules[i].name, name))
+            return st_j_fail(c, "name", "module '%s' is listed twice (also modules[%d])", name, i);
+    st_module_setting *arr = realloc(s->modules, (size_t)(s->num_modules + 1) * sizeof *arr);
+    if (!arr) return st_fail(c->err, ST_ERR_RUNTIME, "%s: %s: out of memory", c->file, c->path);
+    s->modules = arr;
+    st_module_setting *m = &arr[s->num_modules++];
+    memset(m, 0, sizeof *m);
+    memcpy(m->name, name, sizeof name);
+
+    const cJSON *params = st_j_get(v, "params");
+    if (!params) return true;
+    size_t mark = st_j_push(c, "params");
+    bool ok = st_j_object(c, params, NULL);
+    for (const cJSON *p = ok ? params->child : NULL; p && ok; p = p->next) {
+        size_t pm = st_j_push(c, p->string);
+        ok = parse_param(c, p, m);
+        st_j_pop(c, pm);
+    }
+    st_j_pop(c, mark);
+    return ok;
+}
+
+static bool parse_modules(st_jctx *c, const cJSON *v, st_scene *s) {
+    if (!cJSON_IsArray(v)) return st_j_fail(c, NULL, "expected an array");
+    int i = 0;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        size_t mark = st_j_push_index(c, i);
+        bool ok = parse_module(c, e, s);
+        st_j_pop(c, mark);
+        if (!ok) return false;
+    }
+    return true;
+}
+
+// JSON keys override a glTF camera key by key; without one, position,
+// target and fov_y are required and up/near/far have defaults.
+static bool parse_camera(st_jctx *c, const cJSON *v, bool from_gltf, st_camera_desc *cam) {
+    static const char *const keys[] = {"position", "target", "up", "fov_y", "near", "far", NULL};
+    if (!v && !from_gltf) return st_j_fail(c, NULL, "required (no glTF file supplies a camera)");
+    if (!from_gltf) *cam = (st_camera_desc){.up = {0, 1, 0}, .near_z = 0.05f, .far_z = 100.0f};
+    bool has, *req = from_gltf ? &has : NULL;
+    if (v && (!st_j_object(c, v, keys) || !st_j_vec3(c, v, "position", cam->position, req) ||
+              !st_j_vec3(c, v, "target", cam->target, req) ||
+              !st_j_vec3(c, v, "up", cam->up, &has) ||
+              !st_j_float(c, v, "fov_y", &cam->fov_y, req) ||
+              !st_j_float(c, v, "near", &cam->near_z, &has) ||
+              !st_j_float(c, v, "far", &cam->far_z, &has)))
+        return false;
+    if (!(cam->fov_y > 0 && cam->fov_y < 180))
+        return st_j_fail(c, "fov_y", "%g is out of range (0, 180) degrees", cam->fov_y);
+    if (!(cam->near_z > 0)) return st_j_fail(c, "near", "expected > 0, got %g", cam->near_z);
+    if (!(cam->far_z > cam->near_z))
+        return st_j_fail(c, "far", "%g is not greater than near (%g)", cam->far_z, cam->near_z);
+    double d[3], u[3], dd = 0, uu = 0, du = 0;
+    for (int k = 0; k < 3; k++) {
+        d[k] = (double)cam->target[k] - cam->position[k];
+        u[k] = cam->up[k];
+        dd += d[k] * d[k], uu += u[k] * u[k], du += d[k] * u[k];
+    }
+    if (dd == 0) return st_j_fail(c, "target", "equals position (no view direction)");
+    if (uu == 0) return st_j_fail(c, "up", "zero vector");
+    // sin^2 of the angle between up and the view direction.
+    if (1.0 - du * du / (dd * uu) < 1e-10)
+        return st_j_fail(c, "up", "parallel to the view direction");
+    return true;
+}
+
+// Runs fn on root[key] with the path set to key; absent keys are skipped.
+#define SECTION(key, call)                                                                         \
+    do {                                                                                           \
+        const cJSON *v = st_j_get(root, key);                                                      \
+        if (v) {                                                                                   \
+            size_t mark_ = st_j_push(c, key);                                                      \
+            bool ok_ = (call);                                                                     \
+            st_j_pop(c, mark_);                                                                    \
+            if (!ok_) return false;                                                                \
+        }                                                                                          \
+    } while (0)
+
+static bool parse_document(st_jctx *c, const cJSON *root, st_scene *s) {
+    static const char *const keys[] = {"image",  "camera",  "lights", "geometry",
+                                       "medium", "modules", NULL};
+    if (!cJSON_IsObject(root)) return st_j_fail(c, NULL, "expected a JSON object at the top level");
+    if (!st_j_object(c, root, keys)) return false;
+    s->width = s->height = 512;
+    SECTION("image", parse_image(c, v, s));
+    SECTION("medium", parse_medium(c, v, &s->medium));
+    SECTION("modules", parse_modules(c, v, s));
+    SECTION("lights", parse_lights(c, v, s));
+    int json_lights = s->num_lights;
+    bool gltf_camera = false;
+    SECTION("geometry", st_scene_parse_geometry(c, v, s, &gltf_camera));
+    // A "lights" key replaces the lights glTF files brought.
+    if (st_j_get(root, "lights")) s->num_lights = json_lights;
+
+    size_t mark = st_j_push(c, "camera");
+    bool ok = parse_camera(c, st_j_get(root, "camera"), gltf_camera, &s->camera);
+    st_j_pop(c, mark);
+    return ok;
+}
+
+// Line and column (1-based) of offset `at` in text, for syntax errors.
+static void line_col(const char *text, size_t at, int *line, int *col) {
+    *line = 1, *col = 1;
+    for (size_t i = 0; i < at; i++) {
+        if (text[i] == '\n')
+            ++*line, *col = 1;
+        else
+            ++*col;
+    }
+}
+
+bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *out, st_err *err) {
+    memset(out, 0, sizeof *out);
+    if (!path || !path[0]) path = "<scene>";
+    if (strlen(path) >= sizeof out->path)
+        return st_fail(err, ST_ERR_INPUT, "%.64s...: path longer than %zu characters", path,
+                       sizeof out->path - 1);
+    if (!json) return st_fail(err, ST_ERR_INPUT, "%s: no data", path);
+    snprintf(out->path, sizeof out->path, "%s", path);
+    st_path_dir(out->dir, sizeof out->dir, path);
+
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, false);
+    size_t at = end && end >= json && end <= json + len ? (size_t)(end - json) : 0;
+    if (root) // only whitespace may follow the value
+        while (at < len && (json[at] == ' ' || json[at] == '\t' || json[at] == '\n' || json[at] == '\r'))
+            at++;
+    if (!root || at < len) {
+        int line, col;
+        line_col(json, at, &line, &col);
+        const char *what = root ? "unexpected text after the JSON value" : "invalid JSON";
+        cJSON_Delete(root);
+        memset(out, 0, sizeof *out);
+        return st_fail(err, ST_ERR_INPUT, "%s: line %d, column %d: %s", path, line, col, what);
+    }
+    st_jctx c = {.file = path, .err = err};
+    bool ok = parse_document(&c, root, out);
+    cJSON_Delete(root);
+    if (!ok) st_scene_free(out);
+    return ok;
+}
+
+bool st_scene_load(const char *path, st_scene *out, st_err *err) {
+    memset(out, 0, sizeof *out);
+    if (!path) return st_fail(err, ST_ERR_INPUT, "no scene file given");
+    size_t len = 0;
+    char *text = st_read_file(path, &len, err);
+    if (!text) return false;
+    bool ok = st_scene_parse(text, len, path, out, err);
+    free(text);
+    return ok;
+}
