@@ -1,0 +1,117 @@
+// strahl: the shared radiometric model (DESIGN.md, "Units and physics") as
+// plain C in double precision. The CPU reference renders with it, the GLSL in
+// shaders/common mirrors it, and the tests compare both against the closed
+// forms below.
+//
+// Angles: cos_theta = dot(normalize(light - x), view ray direction), i.e. the
+// cosine between the light's travel direction at x and the direction toward
+// the camera, so HG with g > 0 is brightest looking into the light.
+#ifndef ST_PHYSICS_H
+#define ST_PHYSICS_H
+#include "st_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ST_PI 3.14159265358979323846
+
+// ---- Phase functions (normalized: integral over the sphere = 1) ----------
+double st_phase_isotropic(void);                        // 1/(4 pi)
+double st_phase_rayleigh(double cos_theta);             // 3/(16 pi) (1 + cos^2)
+double st_phase_hg(double cos_theta, double g);         // |g| clamped to 0.999
+double st_phase_eval(st_phase_kind kind, double cos_theta, double g);
+
+// The thesis listing A.11, kept to measure how wrong it is (not normalized):
+// HG as (1 - g)^2 / (1 + g^2 - 2 g cos) -- squared (1 - g) instead of
+// (1 - g^2), no 4 pi, no power 1.5 -- and Rayleigh as cos^2.
+double st_phase_hg_thesis(double cos_theta, double g);
+double st_phase_rayleigh_thesis(double cos_theta);
+
+// ---- Integration of one march step ----------------------------------------
+// ENERGY: Hillaire 2015, exact for a source constant over the step.
+// THESIS: the thesis' Riemann sum as its listing A.12 marches it: the source
+//   and the camera transmittance are taken at the step end nearer the camera
+//   (constant source, sigma_t 0.5, length 10, 4 steps: 3.480).
+// THESIS_FAR: the other Riemann sum, taken at the far end of each step
+//   (same case: 0.997). The exact answer is 1.986524.
+typedef enum { ST_INTEGRATOR_ENERGY = 0, ST_INTEGRATOR_THESIS, ST_INTEGRATOR_THESIS_FAR } st_integrator;
+
+bool st_integrator_parse(const char *name, st_integrator *out); // "energy", "thesis", "thesis_far"
+const char *st_integrator_name(st_integrator it);
+
+// A march from the camera outward: L the in-scattered radiance so far, T the
+// transmittance from the camera to the start of the next step.
+typedef struct st_march {
+    double L, T;
+} st_march;
+
+static inline st_march st_march_begin(void) { return (st_march){0.0, 1.0}; }
+// (1 - e^(-sigma_t dt)) / sigma_t, with the limit dt as sigma_t -> 0.
+double st_step_transfer(double sigma_t, double dt);
+// Adds one step of length dt with source S (radiance per metre).
+void st_march_step(st_march *m, st_integrator it, double S, double sigma_t, double dt);
+// A whole march of a constant source over [0, length] in `steps` steps.
+double st_march_constant(st_integrator it, double S, double sigma_t, double length, int steps);
+
+// ---- Single scattering from a point light along an unshadowed ray ---------
+typedef struct st_inscatter_problem {
+    double origin[3], dir[3]; // dir need not be normalized
+    double length;            // s: the ray segment [0, s]
+    double light[3];
+    double intensity;         // I [W/sr]
+    double sigma_s, sigma_t;  // 1/m
+    st_phase_kind phase;
+    double g;
+} st_inscatter_problem;
+
+// e^(-sigma_t t) sigma_s phase I / d(t)^2 e^(-sigma_t d(t)) at ray distance t.
+double st_inscatter_integrand(const st_inscatter_problem *p, double t);
+// Brute force: composite Simpson with `steps` intervals (rounded up to even).
+double st_inscatter_quadrature(const st_inscatter_problem *p, int steps);
+// Zero extinction, isotropic: sigma_s I/(4 pi) (atan(b/h) - atan(a/h)) / h.
+double st_inscatter_atan(double sigma_s, double intensity, double h, double a, double b);
+// F(u, v) = integral_0^v e^(-u tan x) dx (adaptive Gauss-Kronrod, ~1e-12 rel).
+double st_sun_F(double u, double v);
+// Sun et al. 2005 for an isotropic medium, scaled by sigma_s/sigma_t. D the
+// viewer-light distance, gamma the angle between the ray and the direction to
+// the light, s the segment length. Near sin(gamma) = 0 the formula is 0/0 and
+// the integral is evaluated by adaptive quadrature instead; a light on the
+// segment itself gives +inf.
+double st_inscatter_sun(double sigma_s, double sigma_t, double intensity, double D, double gamma,
+                        double s);
+// The same for a problem struct (phase must be isotropic).
+double st_inscatter_sun_problem(const st_inscatter_problem *p);
+
+// ---- Adaptive quadrature ---------------------------------------------------
+typedef double (*st_integrand)(double x, void *ctx);
+// Adaptive Gauss-Kronrod 7/15 on [a, b] to max(abs_tol, rel_tol |I|).
+double st_integrate(st_integrand f, void *ctx, double a, double b, double abs_tol, double rel_tol);
+
+// ---- Form factors ----------------------------------------------------------
+// From a differential area at p with unit normal n to a planar convex or
+// concave polygon (Lambert's contour formula; only the part in front of p
+// counts if the polygon is entirely in front).
+double st_ff_point_polygon(const double p[3], const double n[3], const double (*v)[3], int count);
+// A point under a coaxial disk of radius R at height h: R^2 / (R^2 + h^2).
+double st_ff_point_disk(double R, double h);
+// Closed forms (Hottel / Howell's catalogue): directly opposed parallel
+// rectangles a x b at distance c; rectangles sharing an edge of length l at
+// 90 degrees, from the one of width w to the one of height h.
+double st_ff_parallel_rects(double a, double b, double c);
+double st_ff_perpendicular_rects(double l, double w, double h);
+// Numerically: from parallelogram A (corner ca, edges ua, va, front normal
+// normalize(ua x va)) to parallelogram B, as the area average over A of the
+// point-to-polygon form factor (nested adaptive quadrature, ~1e-9).
+double st_ff_parallelograms(const double ca[3], const double ua[3], const double va[3],
+                            const double cb[3], const double ub[3], const double vb[3]);
+
+// The atlas gather's bounded kernel: a texel of area a at distance d is
+// treated as a disk facing the receiver, so a/d^2 becomes pi a / (pi d^2 + a)
+// (the disk's form factor times pi; exact for a coaxial disk).
+double st_area_kernel(double a, double d2);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

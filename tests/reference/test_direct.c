@@ -1,0 +1,186 @@
+// Direct light in the reference against rho/pi I cos/d^2 V evaluated at each
+// pixel's hit point, found by an independent ray caster written here.
+#include "ref_test_util.h"
+
+typedef struct {
+    double c[3], u[3], v[3], n[3]; // parallelogram, n = normalize(u x v)
+    double albedo, emission;
+    bool double_sided;
+} tquad;
+
+static tquad make(const double c[3], const double u[3], const double v[3], double albedo, double emission) {
+    tquad q = {{c[0], c[1], c[2]}, {u[0], u[1], u[2]}, {v[0], v[1], v[2]}, {0}, albedo, emission, false};
+    q.n[0] = u[1] * v[2] - u[2] * v[1], q.n[1] = u[2] * v[0] - u[0] * v[2], q.n[2] = u[0] * v[1] - u[1] * v[0];
+    double l = sqrt(q.n[0] * q.n[0] + q.n[1] * q.n[1] + q.n[2] * q.n[2]);
+    for (int k = 0; k < 3; k++) q.n[k] /= l;
+    return q;
+}
+
+static double dot(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Ray (o, d) against a parallelogram: distance or -1. *margin is how far
+// inside the edges the hit lies, in parameter units (to skip ambiguous hits).
+static double hit_quad(const tquad *q, const double o[3], const double d[3], double *margin) {
+    double dn = dot(d, q->n);
+    if (fabs(dn) < 1e-12) return -1;
+    double oc[3] = {q->c[0] - o[0], q->c[1] - o[1], q->c[2] - o[2]};
+    double t = dot(oc, q->n) / dn;
+    if (t <= 1e-9) return -1;
+    double p[3] = {o[0] + t * d[0] - q->c[0], o[1] + t * d[1] - q->c[1], o[2] + t * d[2] - q->c[2]};
+    // Solve p = a u + b v in the plane (u, v orthogonal in these tests).
+    double a = dot(p, q->u) / dot(q->u, q->u), b = dot(p, q->v) / dot(q->v, q->v);
+    if (a < 0 || a > 1 || b < 0 || b > 1) return -1;
+    if (margin) *margin = fmin(fmin(a, 1 - a), fmin(b, 1 - b));
+    return t;
+}
+
+// Expected direct radiance of the pixel, or NAN where the answer is
+// ambiguous at float precision (a silhouette or a shadow edge).
+static double expected(const tquad *qs, int nq, const double light[3], double I, const double o[3],
+                       const double d[3]) {
+    int best = -1;
+    double tb = INFINITY, margin = 1;
+    for (int k = 0; k < nq; k++) {
+        double m, t = hit_quad(&qs[k], o, d, &m);
+        if (t > 0 && t < tb) tb = t, best = k, margin = m;
+    }
+    if (best < 0) return 0.0;
+    if (margin < 1e-4) return NAN;
+    const tquad *q = &qs[best];
+    double p[3] = {o[0] + tb * d[0], o[1] + tb * d[1], o[2] + tb * d[2]};
+    double n[3] = {q->n[0], q->n[1], q->n[2]};
+    bool front = dot(d, n) < 0;
+    if (!front && !q->double_sided) return 0.0;
+    if (!front)
+        for (int k = 0; k < 3; k++) n[k] = -n[k];
+    double L[3] = {light[0] - p[0], light[1] - p[1], light[2] - p[2]};
+    double d2 = dot(L, L), dl = sqrt(d2), ld[3] = {L[0] / dl, L[1] / dl, L[2] / dl};
+    double cosv = dot(n, ld);
+    double e = q->emission;
+    if (cosv <= 0) return e;
+    for (int k = 0; k < nq; k++) {
+        if (k == best) continue;
+        double m, t = hit_quad(&qs[k], p, ld, &m);
+        if (t > 0 && t < dl) {
+            if (m < 1e-4) return NAN;
+            return e; // in shadow
+        }
+    }
+    return e + q->albedo / ST_PI * I * cosv / d2;
+}
+
+static st_mesh *add_tquad(st_scene *s, const tquad *q) {
+    st_mesh *m = add_quad(s, q->c, q->u, q->v, q->albedo, q->emission);
+    m->double_sided = q->double_sided;
+    return m;
+}
+
+// Renders the scene and compares every unambiguous pixel with `expected`.
+static void compare(const char *name, st_scene *s, const tquad *qs, int nq, const double light[3], double I) {
+    st_ref_options o = {.spp = 1, .aov = ST_REF_DIRECT, .bounces = 0};
+    st_image img;
+    if (!render(s, &o, &img)) {
+        CHECK(0, "%s: render failed", name);
+        return;
+    }
+    const double cam[3] = {s->camera.position[0], s->camera.position[1], s->camera.position[2]};
+    int checked = 0, lit = 0, dark = 0, bad = 0;
+    double worst = 0;
+    for (int j = 0; j < img.height; j++)
+        for (int i = 0; i < img.width; i++) {
+            double d[3];
+            contract_ray(s, i, j, d);
+            double want = expected(qs, nq, light, I, cam, d);
+            const float *px = st_image_px(&img, i, j);
+            if (px[3] != 0.0f) bad++; // direct light has no noise, so no standard error
+            if (isnan(want)) continue;
+            checked++;
+            want > 0 ? lit++ : dark++;
+            double err = fabs(px[0] - want) / fmax(want, 1e-3);
+            if (err > worst) worst = err;
+            if (err > 1e-4 || px[0] != px[1] || px[1] != px[2]) bad++;
+        }
+    fprintf(stderr, "  %s: %d pixels checked (%d lit, %d dark), worst rel error %.2e\n", name, checked, lit, dark,
+            worst);
+    CHECK(bad == 0, "%s: %d pixels differ from rho/pi I cos/d^2 V by more than 1e-4 (worst %.3g)", name, bad, worst);
+    CHECK(checked > img.width * img.height / 2, "%s: only %d pixels checked", name, checked);
+    st_image_free(&img);
+}
+
+static void plane_under_light(void) {
+    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0}, light[3] = {0.3, 1, -0.2};
+    st_scene s;
+    scene_init(&s, 64, 48, cam, tgt, up, 50, 100);
+    add_light(&s, light, 2.0);
+    tquad q[2] = {make((double[]){-5, 0, -5}, (double[]){0, 0, 10}, (double[]){10, 0, 0}, 0.6, 0)};
+    add_tquad(&s, &q[0]);
+    compare("plane", &s, q, 1, light, 2.0);
+    // A blocker between the light and the plane: its own top is lit, its shadow is black.
+    q[1] = make((double[]){-0.1, 0.5, -0.5}, (double[]){0, 0, 0.5}, (double[]){0.6, 0, 0}, 0.3, 0);
+    add_tquad(&s, &q[1]);
+    compare("plane with blocker", &s, q, 2, light, 2.0);
+    st_scene_free(&s);
+}
+
+// Front side only unless double-sided, for reflection and emission alike;
+// back faces are black but still occlude.
+static void sides(void) {
+    const double cam[3] = {0.2, -2, 0.1}, tgt[3] = {0, 0, 0}, up[3] = {0, 0, -1}, light[3] = {-0.4, -1, 0.3};
+    for (int ds = 0; ds < 2; ds++) {
+        st_scene s;
+        scene_init(&s, 40, 40, cam, tgt, up, 60, 100);
+        add_light(&s, light, 3.0);
+        // Faces up (+y): the camera and the light below see its back.
+        tquad q[2] = {make((double[]){-3, 0, -3}, (double[]){0, 0, 6}, (double[]){6, 0, 0}, 0.5, 0.0),
+                      // A small emitter below it, facing down toward the camera.
+                      make((double[]){-0.6, -0.5, -0.6}, (double[]){0.5, 0, 0}, (double[]){0, 0, 0.5}, 0.2, 0.25)};
+        q[0].double_sided = q[1].double_sided = ds;
+        add_tquad(&s, &q[0]);
+        add_tquad(&s, &q[1]);
+        compare(ds ? "double-sided" : "single-sided", &s, q, 2, light, 3.0);
+        st_scene_free(&s);
+    }
+    // An emitter seen from its back: black unless double-sided.
+    for (int ds = 0; ds < 2; ds++) {
+        st_scene s;
+        const double c2[3] = {0, 0, 3}, t2[3] = {0, 0, 0}, up2[3] = {0, 1, 0};
+        scene_init(&s, 8, 8, c2, t2, up2, 30, 100);
+        // normal u x v = -z: faces away from the camera at +z.
+        st_mesh *m = add_quad(&s, (double[]){-1, -1, 0}, (double[]){0, 2, 0}, (double[]){2, 0, 0}, 0.5, 0.7);
+        m->double_sided = ds;
+        st_ref_options o = {.spp = 1, .aov = ST_REF_DIRECT};
+        st_image img;
+        if (render(&s, &o, &img)) {
+            CHECK_REL(st_image_px(&img, 4, 4)[1], ds ? 0.7 : 0.0, 1e-6, 0);
+            st_image_free(&img);
+        }
+        st_scene_free(&s);
+    }
+}
+
+// With no medium and no bounce, combined equals direct; the reference's
+// camera follows the contract (checked above through every hit point).
+static void combined_equals_direct(void) {
+    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0}, light[3] = {0.3, 1, -0.2};
+    st_scene s;
+    scene_init(&s, 24, 24, cam, tgt, up, 50, 100);
+    add_light(&s, light, 2.0);
+    add_quad(&s, (double[]){-5, 0, -5}, (double[]){0, 0, 10}, (double[]){10, 0, 0}, 0.6, 0);
+    st_ref_options od = {.spp = 1, .aov = ST_REF_DIRECT}, oc = {.spp = 4, .aov = ST_REF_COMBINED};
+    st_image a, b;
+    if (render(&s, &od, &a) && render(&s, &oc, &b)) {
+        int diff = 0;
+        for (size_t k = 0; k < (size_t)a.width * a.height * 6; k++) diff += a.data[k] != b.data[k];
+        CHECK(diff == 0, "combined (no medium, no bounce) differs from direct in %d values", diff);
+        st_image_free(&a);
+        st_image_free(&b);
+    }
+    st_scene_free(&s);
+}
+
+int main(void) {
+    plane_under_light();
+    sides();
+    combined_equals_direct();
+    return st_test_summary("reference_direct");
+}

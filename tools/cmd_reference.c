@@ -1,0 +1,135 @@
+// strahl reference: the CPU reference image of a scene (tools/reference).
+// Writes R, G, B (radiance of the chosen AOV) and stderr.R/G/B (standard
+// error of each pixel's mean) to an EXR; nothing is written on failure.
+#define _POSIX_C_SOURCE 200809L
+#include "cmd_common.h"
+#include "reference/ref.h"
+#include "st_cmd.h"
+#include "st_image.h"
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#define MAX_SETS 64
+
+static const char *usage_text =
+    "usage: strahl reference SCENE.json -o OUT.exr [--spp N] [--aov combined|direct|indirect|inscatter]\n"
+    "         [--seed S] [--size WxH] [--bounces K] [--bounce-visibility on|off] [--estimator area|thesis]\n"
+    "         [--steps N] [--threads N] [--set MODULE.PARAM=VALUE]...\n";
+
+static bool parse_choice(const char *s, const char *const *names, int n, int *out) {
+    for (int i = 0; i < n; i++)
+        if (!strcmp(s, names[i])) {
+            *out = i;
+            return true;
+        }
+    return false;
+}
+
+static bool parse_u64(const char *s, uint64_t *out) {
+    char *e;
+    errno = 0;
+    if (!s[0] || s[0] == '-') return false;
+    unsigned long long v = strtoull(s, &e, 10);
+    if (*e || errno) return false;
+    *out = v;
+    return true;
+}
+
+static int bad(st_err *err, const char *fmt, const char *arg) {
+    st_fail(err, ST_ERR_INPUT, fmt, arg);
+    return st_report("reference", err);
+}
+
+int st_cmd_reference(int argc, char **argv) {
+    const char *scene_path = NULL, *out_path = NULL;
+    char *sets[MAX_SETS];
+    int num_sets = 0, width = 0, height = 0;
+    st_ref_options o = {.spp = 64, .bounces = 1, .progress = isatty(STDERR_FILENO)};
+    st_err err = {0};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+        int choice;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(usage_text, stdout);
+            return ST_EXIT_OK;
+        } else if (a[0] != '-') {
+            if (scene_path) return bad(&err, "unexpected argument '%s' (one scene only)", a);
+            scene_path = a;
+            continue;
+        } else if (!v) {
+            return bad(&err, "%s: unknown option or missing value", a);
+        }
+        i++; // every option below takes a value
+        if (!strcmp(a, "-o")) {
+            out_path = v;
+        } else if (!strcmp(a, "--spp")) {
+            if (!st_parse_int(v, 1, 10000000, &n)) return bad(&err, "--spp %s: expected 1..10000000", v);
+            o.spp = (int)n;
+        } else if (!strcmp(a, "--aov")) {
+            static const char *const names[] = {"combined", "direct", "indirect", "inscatter"};
+            if (!parse_choice(v, names, 4, &choice))
+                return bad(&err, "--aov %s: expected combined, direct, indirect or inscatter", v);
+            o.aov = (st_ref_aov)choice;
+        } else if (!strcmp(a, "--seed")) {
+            if (!parse_u64(v, &o.seed)) return bad(&err, "--seed %s: expected an unsigned integer", v);
+        } else if (!strcmp(a, "--size")) {
+            if (!st_parse_size(v, &width, &height)) return bad(&err, "--size %s: expected WxH, 1..16384 each", v);
+        } else if (!strcmp(a, "--bounces")) {
+            if (!st_parse_int(v, 0, 16, &n)) return bad(&err, "--bounces %s: expected 0..16", v);
+            o.bounces = (int)n;
+        } else if (!strcmp(a, "--bounce-visibility")) {
+            static const char *const names[] = {"on", "off"};
+            if (!parse_choice(v, names, 2, &choice)) return bad(&err, "--bounce-visibility %s: expected on or off", v);
+            o.no_visibility = choice == 1;
+        } else if (!strcmp(a, "--estimator")) {
+            static const char *const names[] = {"area", "thesis"};
+            if (!parse_choice(v, names, 2, &choice)) return bad(&err, "--estimator %s: expected area or thesis", v);
+            o.estimator = (st_ref_estimator)choice;
+        } else if (!strcmp(a, "--steps")) {
+            if (!st_parse_int(v, 1, 1000000, &n)) return bad(&err, "--steps %s: expected 1..1000000", v);
+            o.march_steps = (int)n;
+        } else if (!strcmp(a, "--threads")) {
+            if (!st_parse_int(v, 1, 256, &n)) return bad(&err, "--threads %s: expected 1..256", v);
+            o.threads = (int)n;
+        } else if (!strcmp(a, "--set")) {
+            if (num_sets == MAX_SETS) return bad(&err, "%s: too many --set options", a);
+            sets[num_sets++] = argv[i];
+        } else {
+            return bad(&err, "%s: unknown option", a);
+        }
+    }
+    if (!scene_path) return bad(&err, "%s", "missing SCENE.json");
+    if (!out_path) return bad(&err, "%s", "missing -o OUT.exr");
+    const char *dot = strrchr(out_path, '.');
+    if (!dot || strcasecmp(dot, ".exr")) return bad(&err, "-o %s: the reference writes .exr only", out_path);
+
+    st_scene scene;
+    // --set is checked against the scene's modules like `render` does, so the
+    // same command line serves both; the reference itself reads no module.
+    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
+        return st_report("reference", &err);
+    st_image img;
+    double t0 = st_now_ms();
+    bool ok = st_ref_render(&scene, &o, &img, &err);
+    double secs = (st_now_ms() - t0) / 1000.0;
+    st_scene_free(&scene);
+    if (!ok) return st_report("reference", &err);
+    static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
+    size_t bad_px = st_image_count_nonfinite(&img);
+    if (bad_px) {
+        st_image_free(&img);
+        st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the result; nothing written", bad_px);
+        return st_report("reference", &err);
+    }
+    ok = st_image_write_exr_named(out_path, &img, names, &err);
+    int w = img.width, h = img.height;
+    st_image_free(&img);
+    if (!ok) return st_report("reference", &err);
+    printf("strahl reference: %s (%dx%d, %d spp, %.2f s)\n", out_path, w, h, o.spp, secs);
+    return ST_EXIT_OK;
+}

@@ -1,0 +1,103 @@
+// strahl reference: the CPU renderer (Embree 3) that computes DESIGN.md's
+// model with exact visibility and many samples. Internal to the tools.
+//
+// Model, per pixel (one view ray through the pixel centre, no antialiasing,
+// so pixels compare one to one with the GPU rasterizer):
+//   direct    emission (front side) + sum over point lights of
+//             rho/pi I max(cos, 0)/d^2 V, V from an exact shadow ray.
+//   indirect  `bounces` diffuse bounces of L0 = emission + direct (+ the
+//             previous bounce), see ref_shade.c for the estimators.
+//   inscatter single scattering in the homogeneous medium, exact visibility,
+//             see ref_medium.c.
+//   combined  (direct + indirect) e^(-sigma_t s) + inscatter.
+// DECISION: the medium acts on view rays only. Surfaces (and the bounce
+// between surfaces) are lit without attenuation by the medium; in-scattered
+// light carries the light -> scatter point transmittance e^(-sigma_t d).
+#ifndef ST_REF_H
+#define ST_REF_H
+#include "st_base.h"
+#include "st_image.h"
+#include "st_physics.h"
+#include "st_scene.h"
+#include <embree3/rtcore.h>
+
+typedef enum { ST_REF_COMBINED = 0, ST_REF_DIRECT, ST_REF_INDIRECT, ST_REF_INSCATTER } st_ref_aov;
+typedef enum { ST_REF_EST_AREA = 0, ST_REF_EST_THESIS } st_ref_estimator;
+
+typedef struct st_ref_options {
+    int spp;                  // samples per pixel (>= 1; 0 means 1)
+    st_ref_aov aov;
+    uint64_t seed;
+    int bounces;              // diffuse bounces (0: no indirect light)
+    bool no_visibility;       // bounce without the sender-receiver visibility test
+    st_ref_estimator estimator;
+    int march_steps;          // strata per view ray for in-scattering (0: 256)
+    int threads;              // 0: all online cores
+    bool progress;            // progress bar with ETA on stderr (if it takes > 1 s)
+} st_ref_options;
+
+// World-space triangles of all meshes in one Embree scene.
+typedef struct st_ref_geometry {
+    RTCDevice device;
+    RTCScene scene;
+    const st_scene *desc;
+    int num_meshes;
+    double **pos;     // per mesh: 3 doubles per vertex, world space
+    double **nrm;     // per mesh: 3 doubles per vertex, world space, unit
+    double **ng;      // per mesh: unit geometric normal per triangle (CCW front)
+    // Area sampling over every triangle of the scene.
+    double *cdf;      // cumulative area, one entry per triangle (global order)
+    int *tri_mesh;    // global triangle -> mesh
+    uint32_t *tri_prim; // global triangle -> triangle in its mesh
+    uint64_t num_tris;
+    double total_area;
+    double eps;       // ray offset, relative to the scene's size
+} st_ref_geometry;
+
+// A surface point as a renderer sees it from one side.
+typedef struct st_ref_surface {
+    bool hit;      // false: the ray left the scene
+    bool lit_side; // the visible side reflects and emits (front, or double-sided)
+    double t;      // ray distance
+    double p[3];   // position
+    double n[3];   // unit shading normal, turned toward the side seen
+    double ng[3];  // unit geometric normal, turned toward the side seen
+    const st_mesh *mesh;
+} st_ref_surface;
+
+// PCG32 (O'Neill), one stream per pixel, seeded from (seed, pixel).
+typedef struct st_ref_rng {
+    uint64_t state, inc;
+} st_ref_rng;
+void st_ref_rng_seed(st_ref_rng *r, uint64_t seed, uint64_t stream);
+uint32_t st_ref_rng_u32(st_ref_rng *r);
+double st_ref_rng_uniform(st_ref_rng *r); // [0, 1)
+
+bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *err);
+void st_ref_geometry_free(st_ref_geometry *g);
+// Closest hit along o + t d for t in (tmin, tmax); d need not be unit.
+st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3], double tmin,
+                                double tmax);
+// Every surface along the ray (unit d), nearest first, at most `max`.
+int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const double d[3], double tmin, double tmax,
+                        st_ref_surface *out, int max);
+// Whether the segment from surface-offset point `from` to `to` is blocked.
+bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const double to[3]);
+// A point uniform over the scene's area, seen from `viewer` (its side chosen).
+st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng, const double viewer[3]);
+
+// Surface terms (ref_shade.c). Radiances are RGB.
+void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out[3]);
+void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s, int bounces,
+                     st_ref_rng *rng, double out[3]);
+
+// In-scattering along the view ray [0, s] (ref_medium.c).
+void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const double origin[3],
+                      const double dir[3], double s, st_ref_rng *rng, double out[3]);
+
+// Renders the scene into a 6-channel image: R, G, B and the standard error of
+// each pixel's mean (stderr.R/G/B). Deterministic for a given seed and
+// independent of the thread count.
+bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out, st_err *err);
+
+#endif

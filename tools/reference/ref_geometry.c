@@ -1,0 +1,276 @@
+// The reference's geometry: every mesh transformed to world space (in
+// double, kept for shading) and handed to one Embree scene (in float, for
+// ray casting), plus an area CDF over all triangles for area sampling.
+#include "ref.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void cross3(double o[3], const double a[3], const double b[3]) {
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double normalize3(double v[3]) {
+    double l = sqrt(dot3(v, v));
+    if (l > 0)
+        for (int k = 0; k < 3; k++) v[k] /= l;
+    return l;
+}
+
+// World positions and normals of one mesh. Normals go through the inverse
+// transpose of the model's 3x3 part (cofactors over the determinant, so a
+// mirroring model flips them with the winding).
+static bool transform_mesh(const st_mesh *m, double *pos, double *nrm) {
+    const float *M = m->model; // column major: M[col * 4 + row]
+    double a[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) a[r][c] = M[c * 4 + r];
+    double cof[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+            cof[r][c] = a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1];
+        }
+    double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+    if (!(fabs(det) > 0) || !isfinite(det)) return false;
+    static const float no_normal[3] = {0, 0, 0}; // a zero normal falls back to the geometric one
+    for (uint32_t v = 0; v < m->num_vertices; v++) {
+        const float *p = m->positions + 3 * v, *n = m->normals ? m->normals + 3 * v : no_normal;
+        for (int r = 0; r < 3; r++) {
+            pos[3 * v + r] = a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2] + M[12 + r];
+            nrm[3 * v + r] = (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]) / det;
+        }
+        normalize3(nrm + 3 * v);
+    }
+    return true;
+}
+
+static void rtc_error_message(RTCDevice dev, st_err *err, const char *what) {
+    st_fail(err, ST_ERR_RUNTIME, "embree: %s failed (error %d)", what, (int)rtcGetDeviceError(dev));
+}
+
+bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *err) {
+    memset(g, 0, sizeof *g);
+    g->desc = scene;
+    g->num_meshes = scene->num_meshes;
+    g->num_tris = st_scene_triangle_count(scene);
+    g->device = rtcNewDevice(NULL);
+    if (!g->device) return st_fail(err, ST_ERR_RUNTIME, "embree: cannot create a device");
+    g->scene = rtcNewScene(g->device);
+    // Robust mode: rays through shared edges of closed boxes must not leak.
+    rtcSetSceneFlags(g->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(g->scene, RTC_BUILD_QUALITY_HIGH);
+    size_t nm = (size_t)(g->num_meshes > 0 ? g->num_meshes : 1);
+    g->pos = calloc(nm, sizeof *g->pos);
+    g->nrm = calloc(nm, sizeof *g->nrm);
+    g->ng = calloc(nm, sizeof *g->ng);
+    size_t nt = (size_t)(g->num_tris > 0 ? g->num_tris : 1);
+    g->cdf = malloc(nt * sizeof *g->cdf);
+    g->tri_mesh = malloc(nt * sizeof *g->tri_mesh);
+    g->tri_prim = malloc(nt * sizeof *g->tri_prim);
+    if (!g->pos || !g->nrm || !g->ng || !g->cdf || !g->tri_mesh || !g->tri_prim) {
+        st_ref_geometry_free(g);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for %llu triangles", (unsigned long long)g->num_tris);
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    uint64_t tri = 0;
+    double area = 0.0;
+    for (int i = 0; i < g->num_meshes; i++) {
+        const st_mesh *m = &scene->meshes[i];
+        g->pos[i] = malloc((size_t)m->num_vertices * 3 * sizeof(double) + 1);
+        g->nrm[i] = malloc((size_t)m->num_vertices * 3 * sizeof(double) + 1);
+        g->ng[i] = malloc((size_t)m->num_triangles * 3 * sizeof(double) + 1);
+        if (!g->pos[i] || !g->nrm[i] || !g->ng[i]) {
+            st_ref_geometry_free(g);
+            return st_fail(err, ST_ERR_RUNTIME, "out of memory for mesh '%s'", m->name);
+        }
+        for (uint32_t k = 0; k < 3 * m->num_triangles; k++)
+            if (m->indices[k] >= m->num_vertices) {
+                st_ref_geometry_free(g);
+                return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): vertex index %u out of range", i, m->name,
+                               m->indices[k]);
+            }
+        if (!transform_mesh(m, g->pos[i], g->nrm[i])) {
+            st_ref_geometry_free(g);
+            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is singular", i, m->name);
+        }
+        if (m->num_triangles == 0) continue; // nothing to trace; mesh indices stay geomIDs
+        RTCGeometry geo = rtcNewGeometry(g->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                            m->num_vertices);
+        unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                               m->num_triangles);
+        if (!vb || !ib) {
+            rtcReleaseGeometry(geo);
+            rtc_error_message(g->device, err, "vertex buffer");
+            st_ref_geometry_free(g);
+            return false;
+        }
+        for (uint32_t v = 0; v < 3 * m->num_vertices; v++) {
+            vb[v] = (float)g->pos[i][v];
+            lo[v % 3] = fmin(lo[v % 3], g->pos[i][v]);
+            hi[v % 3] = fmax(hi[v % 3], g->pos[i][v]);
+        }
+        for (uint32_t t = 0; t < m->num_triangles; t++) {
+            const uint32_t *ix = m->indices + 3 * t;
+            for (int k = 0; k < 3; k++) ib[3 * t + k] = ix[k];
+            const double *p0 = g->pos[i] + 3 * ix[0], *p1 = g->pos[i] + 3 * ix[1], *p2 = g->pos[i] + 3 * ix[2];
+            double e1[3], e2[3], *n = g->ng[i] + 3 * t;
+            for (int k = 0; k < 3; k++) e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
+            cross3(n, e1, e2);
+            area += 0.5 * normalize3(n); // degenerate triangles add nothing and are never picked
+            g->cdf[tri] = area;
+            g->tri_mesh[tri] = i;
+            g->tri_prim[tri] = t;
+            tri++;
+        }
+        rtcCommitGeometry(geo);
+        rtcAttachGeometryByID(g->scene, geo, (unsigned)i); // geomID == mesh index
+        rtcReleaseGeometry(geo);
+    }
+    rtcCommitScene(g->scene);
+    if (rtcGetDeviceError(g->device) != RTC_ERROR_NONE) {
+        rtc_error_message(g->device, err, "scene build");
+        st_ref_geometry_free(g);
+        return false;
+    }
+    g->total_area = area;
+    double diag = 0.0;
+    for (int k = 0; k < 3; k++) diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    diag = sqrt(diag);
+    // Offsets for secondary rays: far above float rounding of positions
+    // (~1e-7 relative) and far below any feature a test measures.
+    g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
+    return true;
+}
+
+void st_ref_geometry_free(st_ref_geometry *g) {
+    if (g->scene) rtcReleaseScene(g->scene);
+    if (g->device) rtcReleaseDevice(g->device);
+    for (int i = 0; i < g->num_meshes; i++) {
+        if (g->pos) free(g->pos[i]);
+        if (g->nrm) free(g->nrm[i]);
+        if (g->ng) free(g->ng[i]);
+    }
+    free(g->pos);
+    free(g->nrm);
+    free(g->ng);
+    free(g->cdf);
+    free(g->tri_mesh);
+    free(g->tri_prim);
+    memset(g, 0, sizeof *g);
+}
+
+// A surface record for triangle `prim` of mesh `mi` at barycentrics (u, v)
+// (p = (1-u-v) p0 + u p1 + v p2), normals as on its front side.
+static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t prim, double u, double v) {
+    st_ref_surface s = {0};
+    const st_mesh *m = &g->desc->meshes[mi];
+    const uint32_t *ix = m->indices + 3 * prim;
+    const double w[3] = {1.0 - u - v, u, v};
+    for (int k = 0; k < 3; k++) {
+        for (int j = 0; j < 3; j++) {
+            s.p[k] += w[j] * g->pos[mi][3 * ix[j] + k];
+            s.n[k] += w[j] * g->nrm[mi][3 * ix[j] + k];
+        }
+        s.ng[k] = g->ng[mi][3 * prim + k];
+    }
+    normalize3(s.n);
+    // The winding decides the front (as glFrontFace(GL_CCW) on the GPU); the
+    // shading normal only shapes cosines and is kept on the geometric side.
+    if (dot3(s.n, s.ng) <= 0.0) memcpy(s.n, s.ng, sizeof s.n);
+    s.hit = true;
+    s.mesh = m;
+    return s;
+}
+
+// Turns the normals toward the side seen from `toward_viewer`; that side
+// reflects and emits if it is the front or the mesh is double-sided.
+static void face_viewer(st_ref_surface *s, const double toward_viewer[3]) {
+    bool front = dot3(s->ng, toward_viewer) > 0.0;
+    if (!front)
+        for (int k = 0; k < 3; k++) s->n[k] = -s->n[k], s->ng[k] = -s->ng[k];
+    s->lit_side = front || s->mesh->double_sided;
+}
+
+st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3], double tmin,
+                                double tmax) {
+    st_ref_surface none = {0};
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    memset(&rh, 0, sizeof rh);
+    rh.ray.org_x = (float)o[0], rh.ray.org_y = (float)o[1], rh.ray.org_z = (float)o[2];
+    rh.ray.dir_x = (float)d[0], rh.ray.dir_y = (float)d[1], rh.ray.dir_z = (float)d[2];
+    rh.ray.tnear = (float)tmin;
+    rh.ray.tfar = (float)tmax;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(g->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return none;
+    double back[3] = {-d[0], -d[1], -d[2]};
+    st_ref_surface s = make_surface(g, (int)rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
+    face_viewer(&s, back);
+    // The distance in the ray's units, from the double position on the triangle.
+    double dd = dot3(d, d), t = 0.0;
+    for (int k = 0; k < 3; k++) t += (s.p[k] - o[k]) * d[k];
+    s.t = t / dd;
+    return s;
+}
+
+int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const double d[3], double tmin, double tmax,
+                        st_ref_surface *out, int max) {
+    int n = 0;
+    double t = tmin;
+    while (n < max) {
+        st_ref_surface s = st_ref_intersect(g, o, d, t, tmax);
+        if (!s.hit) break;
+        out[n++] = s;
+        // Past this hit by the scene epsilon (d is unit here): a ray through
+        // an edge shared by two triangles counts the surface once.
+        t = s.t + g->eps;
+    }
+    return n;
+}
+
+bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const double to[3]) {
+    double d[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]};
+    double len = normalize3(d);
+    if (!(len > g->eps)) return false;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay r;
+    memset(&r, 0, sizeof r);
+    r.org_x = (float)from[0], r.org_y = (float)from[1], r.org_z = (float)from[2];
+    r.dir_x = (float)d[0], r.dir_y = (float)d[1], r.dir_z = (float)d[2];
+    r.tnear = 0.0f;
+    r.tfar = (float)(len - g->eps); // a light resting on a surface still lights it
+    r.mask = 0xffffffffu;
+    rtcOccluded1(g->scene, &ctx, &r);
+    return r.tfar < 0.0f; // Embree sets tfar = -inf on a hit
+}
+
+st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng, const double viewer[3]) {
+    st_ref_surface none = {0};
+    if (g->num_tris == 0 || !(g->total_area > 0)) return none;
+    double x = st_ref_rng_uniform(rng) * g->total_area;
+    uint64_t lo = 0, hi = g->num_tris - 1;
+    while (lo < hi) { // first triangle whose cumulative area exceeds x
+        uint64_t mid = lo + (hi - lo) / 2;
+        if (g->cdf[mid] > x)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    // Uniform on the triangle: sqrt warping of two uniforms (Shirley).
+    double r1 = sqrt(st_ref_rng_uniform(rng)), r2 = st_ref_rng_uniform(rng);
+    double u = r1 * (1.0 - r2), v = r1 * r2;
+    st_ref_surface s = make_surface(g, g->tri_mesh[lo], g->tri_prim[lo], u, v);
+    double to_viewer[3] = {viewer[0] - s.p[0], viewer[1] - s.p[1], viewer[2] - s.p[2]};
+    face_viewer(&s, to_viewer);
+    s.t = sqrt(dot3(to_viewer, to_viewer));
+    return s;
+}
