@@ -100,7 +100,8 @@ typedef struct st_plugin {
     const char *name, *description;
     const st_param_def *params;
     int num_params;
-    const char *requires; // comma-separated capabilities other modules provide
+    const char *requires; // comma-separated capabilities other modules provide; "name?" is
+                          // optional: no error without a provider, ordered after it with one
     const char *provides;
     // A GLSL file (relative to shaders/) included into the regular pass's
     // fragment shader; it may define ST_HAS_VISIBILITY (float

@@ -499,7 +499,8 @@ static bool load(st_world *w, const char *name, st_err *err) {
     return true;
 }
 
-// Orders modules so each comes after the providers of what it requires.
+// Orders modules so each comes after the providers of what it requires
+// (a requirement "name?" is optional: it only orders).
 static bool resolve(st_world *w, st_err *err) {
     st_module_inst sorted[MAX_MODULES];
     bool placed[MAX_MODULES] = {0};
@@ -517,13 +518,18 @@ static bool resolve(st_world *w, st_err *err) {
                 while (*e && *e != ',') e++;
                 if (e > r) {
                     snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
+                    // "name?" is optional: after its provider when one is loaded.
+                    size_t tl = strlen(tmp);
+                    bool optional = tl && tmp[tl - 1] == '?';
+                    if (optional) tmp[tl - 1] = 0;
                     bool found = false, any = false;
                     for (int j = 0; j < w->num_mods; j++) {
                         if (j == i || !list_has(w->mods[j].p->provides, tmp)) continue;
                         any = true;
                         found |= placed[j];
                     }
-                    if (!any)
+                    if (!any && optional) found = true;
+                    if (!any && !optional)
                         return st_fail(err, ST_ERR_INPUT,
                                        "%s: module '%s' requires '%s', which no module in the scene provides "
                                        "(add {\"name\": \"%s\"} to modules)",
@@ -684,6 +690,9 @@ bool st_world_has_module(const st_world *w, const char *module) { return find_mo
 bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
     int m = find_module(w, module);
     if (on == (m >= 0)) return true;
+    st_plugin_lib *before[MAX_MODULES]; // to roll back a failed switch-on
+    int nbefore = w->num_mods;
+    for (int i = 0; i < nbefore; i++) before[i] = w->mods[i].lib;
     if (on) {
         if (!load(w, module, err)) return false;
         // Load what it requires first (turning on toth turns on shadow_map).
@@ -693,7 +702,7 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
             while (*r == ' ' || *r == ',') r++;
             const char *e = r;
             while (*e && *e != ',') e++;
-            if (e > r) {
+            if (e > r && e[-1] != '?') { // optional requirements are not loaded
                 snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
                 bool have = false;
                 for (int j = 0; j < w->num_mods; j++) have |= list_has(w->mods[j].p->provides, tmp);
@@ -716,7 +725,19 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
     }
     bool ok = resolve(w, err);
     for (int i = 0; ok && i < w->num_mods; i++) ok = instantiate(w, i, err);
-    ok = ok && build_regular(w, err) && build_slots(w, err);
+    ok = ok && build_regular(w, err);
+    if (!ok && on) {
+        // A module (or its regular include) failed: unload what this call
+        // loaded; the regular shader is only replaced on success.
+        for (int i = w->num_mods - 1; i >= 0; i--) {
+            bool old = false;
+            for (int k = 0; k < nbefore; k++) old |= w->mods[i].lib == before[k];
+            if (!old) unload(w, i);
+        }
+    }
+    // The pass list always follows the module list, also after a failure.
+    st_err ignore = {0};
+    if (!build_slots(w, ok ? err : &ignore)) ok = false;
     w->changes |= ST_CHANGE_CAMERA;
     return ok;
 }
@@ -759,7 +780,9 @@ bool st_world_get_param(const st_world *w, const char *module, const char *param
 }
 
 bool st_world_reload_shaders(st_world *w, st_err *err) {
-    if (!st_shader_reload(w->regular, err)) return false;
+    // Rebuilt for the current module list (a switch made while the file was
+    // broken left the old program); the old one stays on failure.
+    if (!build_regular(w, err)) return false;
     for (int m = 0; m < w->num_mods; m++) {
         st_module_inst *mi = &w->mods[m];
         if (mi->p->reload && !mi->p->reload(mi->self, err)) {

@@ -1,0 +1,116 @@
+// strahl view: an interactive window on a scene, with module switching, a
+// parameter panel built from the plugin descriptors, per-pass GPU timings,
+// screenshots, shader hot reload, and a scripted mode (--script) that drives
+// the same frame and action code for tests and demos. See tools/view/.
+#define _GNU_SOURCE
+#include "cmd_common.h"
+#include "st_cmd.h"
+#include "view/view.h"
+#include <GLFW/glfw3.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_SETS 64
+
+static int usage_error(const char *fmt, const char *arg) {
+    st_err err = {0};
+    st_fail(&err, ST_ERR_INPUT, fmt, arg);
+    return st_report("view", &err);
+}
+
+int st_cmd_view(int argc, char **argv) {
+    const char *scene_path = NULL, *script = NULL, *shots = ".";
+    char *sets[MAX_SETS];
+    int num_sets = 0, width = 0, height = 0;
+    double exposure = 0, ui_scale = 1;
+    bool hide_panel = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool has_next = i + 1 < argc;
+        char *e;
+        if (!strcmp(a, "--script") && has_next) {
+            script = argv[++i];
+        } else if (!strcmp(a, "--set") && has_next) {
+            if (num_sets == MAX_SETS) return usage_error("too many --set (max 64)%s", "");
+            sets[num_sets++] = argv[++i];
+        } else if (!strcmp(a, "--size") && has_next) {
+            if (!st_parse_size(argv[++i], &width, &height)) return usage_error("--size %s: expected WxH, 1..16384 each", argv[i]);
+        } else if (!strcmp(a, "--exposure") && has_next) {
+            exposure = strtod(argv[++i], &e);
+            if (*e || !isfinite(exposure) || fabs(exposure) > 64)
+                return usage_error("--exposure %s: expected a number of stops in [-64, 64]", argv[i]);
+        } else if (!strcmp(a, "--ui-scale") && has_next) {
+            ui_scale = strtod(argv[++i], &e);
+            if (*e || !(ui_scale >= 0.5 && ui_scale <= 8)) return usage_error("--ui-scale %s: expected 0.5..8", argv[i]);
+        } else if (!strcmp(a, "--shots") && has_next) {
+            shots = argv[++i];
+        } else if (!strcmp(a, "--hide-panel")) {
+            hide_panel = true;
+        } else if (a[0] == '-' || scene_path) {
+            return usage_error("unexpected argument '%s' (usage: strahl view SCENE.json [--script FILE] [--size WxH] "
+                               "[--set MODULE.PARAM=VALUE]... [--exposure EV] [--ui-scale S] [--shots DIR] [--hide-panel])",
+                               a);
+        } else {
+            scene_path = a;
+        }
+    }
+    if (!scene_path) return usage_error("usage: strahl view SCENE.json [--script FILE] [options]%s", "");
+
+    st_err err = {0};
+    st_scene scene = {0};
+    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err)) return st_report("view", &err);
+    int rc = ST_EXIT_OK;
+    view *v = calloc(1, sizeof *v);
+    if (!v) {
+        st_scene_free(&scene);
+        return st_fail(&err, ST_ERR_RUNTIME, "out of memory"), st_report("view", &err);
+    }
+    v->script = script != NULL;
+    v->ctx = st_context_create_window(scene.width, scene.height, "strahl view", v->script ? 0 : 1, &err);
+    if (!v->ctx) goto fail;
+    v->win = st_context_window(v->ctx);
+    int fw, fh;
+    glfwGetFramebufferSize(v->win, &fw, &fh);
+    // The world renders at the window's pixel size; `--size`/the scene size
+    // sets the window, so screenshots match `strahl render` at that size.
+    st_world_opts opts = {.width = fw, .height = fh, .timing = true};
+    v->scene = &scene;
+    v->world = st_world_create(&scene, &opts, &err);
+    if (!v->world) goto fail;
+    v->gl.scale = (float)ui_scale;
+    if (!view_gl_init(&v->gl, &err)) goto fail;
+    view_cam_init(&v->cam, &scene.camera);
+    v->cam_home = v->cam;
+    v->show_panel = !hide_panel;
+    v->show_stats = true;
+    v->exposure = (float)exposure;
+    v->drag_param = -1;
+    v->sel_param = -1;
+    snprintf(v->shot_dir, sizeof v->shot_dir, "%s", shots);
+    view_refresh_modules(v);
+    view_install_callbacks(v);
+    printf("strahl view: %s, %dx%d on %s; %d module(s) installed; press H for help\n", scene_path, fw, fh,
+           st_context_renderer(), v->num_mods);
+    fflush(stdout);
+
+    if (script) {
+        rc = view_run_script(v, script);
+    } else {
+        while (!v->quit) {
+            if (!view_frame(v, &err)) goto fail;
+        }
+    }
+    goto done;
+fail:
+    rc = st_report("view", &err);
+done:
+    if (v->world) st_world_destroy(v->world);
+    if (v->ctx) view_gl_free(&v->gl);
+    st_context_destroy(v->ctx);
+    free(v->prev_totals);
+    free(v);
+    st_scene_free(&scene);
+    return rc;
+}
