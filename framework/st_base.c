@@ -25,7 +25,13 @@ void st_err_prefix(st_err *err, const char *fmt, ...) {
     vsnprintf(pre, sizeof pre, fmt, ap);
     va_end(ap);
     memcpy(old, err->msg, sizeof old);
-    snprintf(err->msg, sizeof err->msg, "%s%s", pre, old);
+    size_t n = strlen(pre), cap = sizeof err->msg - 1;
+    if (n > cap) n = cap;
+    memcpy(err->msg, pre, n);
+    size_t m = strnlen(old, sizeof old);
+    if (m > cap - n) m = cap - n;
+    memcpy(err->msg + n, old, m);
+    err->msg[n + m] = 0;
 }
 
 int st_err_exit_code(const st_err *err) {

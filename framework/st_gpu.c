@@ -24,7 +24,8 @@ bool st_buffer_create(st_buffer *b, GLenum target, size_t size, const void *data
                       st_err *err) {
     memset(b, 0, sizeof *b);
     glCreateBuffers(1, &b->id);
-    glNamedBufferStorage(b->id, (GLsizeiptr)(size ? size : 16), data,
+    // An empty buffer still gets 16 bytes of storage, but nothing to copy.
+    glNamedBufferStorage(b->id, (GLsizeiptr)(size ? size : 16), size ? data : NULL,
                          dynamic ? GL_DYNAMIC_STORAGE_BIT : 0);
     b->target = target;
     b->size = size;

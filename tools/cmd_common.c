@@ -31,8 +31,7 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
                         st_scene *scene, st_err *err) {
     if (!st_scene_load(path, scene, err)) return false;
     for (int i = 0; i < num_sets; i++) {
-        if (!st_scene_set(scene, sets[i], err)) {
-            st_err_prefix(err, "--set %s: ", sets[i]);
+        if (!st_scene_set(scene, sets[i], err)) { // its message names the --set
             st_scene_free(scene);
             return false;
         }
