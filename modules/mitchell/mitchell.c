@@ -1,0 +1,269 @@
+// mitchell: volumetric light scattering as a post-process (Mitchell, GPU
+// Gems 3 ch. 13; thesis 3.1 and 3.3.2, listings A.2-A.4). Per point light:
+// an occlusion pre-pass (emitters bright, everything else black, at a
+// fraction of the screen resolution, bilinear-filtered) and a radial blur of
+// it toward the light's screen position added to the scene image in the
+// PostProcessor chain. Several lights each blur their own occlusion image
+// and the results add up (thesis 3.1).
+//
+// Nothing runs that the scene does not need: without a scattering medium, or
+// when a light's fade (godray_screen.h) is 0, its blur pass is not needed and
+// the world culls its occlusion pass; a static view reuses the occlusion image.
+#include "godray_screen.h"
+#include "st_world.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { P_N, P_DENSITY, P_DECAY, P_WEIGHT, P_EXPOSURE, P_RESOLUTION, P_LIGHT_RADIUS, P_SKY, P_FADE_MARGIN, P_COUNT };
+
+// Defaults: thesis figure 3.6 (n 100, exposure 0.01921, density 1.4, decay
+// 1.0); weight is GPU Gems 3's, absent from the thesis listing A.4 (= 1);
+// resolution 1/4 per axis as in figure 3.14; ranges of density and decay
+// from thesis 3.1.
+static const st_param_def params[P_COUNT] = {
+    {"n", ST_PARAM_INT, 100, 1, 512, NULL, "blur taps per pixel toward the light (thesis NUM_SAMPLES)"},
+    {"density", ST_PARAM_FLOAT, 1.4, 1, 1000, NULL,
+     "step = (pixel - light) / (n density): 1 reaches the light, larger gives shorter shafts"},
+    {"decay", ST_PARAM_FLOAT, 1.0, 0, 1, NULL, "tap i is weighted decay^i (exponential fall-off of the shafts)"},
+    {"weight", ST_PARAM_FLOAT, 1.0, 0, 100, NULL, "weight of every tap but the pixel's own (GPU Gems 3)"},
+    {"exposure", ST_PARAM_FLOAT, 0.01921, 0, 100, NULL, "scale of the blurred sum added to the image"},
+    {"resolution", ST_PARAM_FLOAT, 0.25, 0.0625, 1, NULL,
+     "occlusion image size as a fraction of the screen, per axis (bilinear filtering smooths the taps)"},
+    {"light_radius", ST_PARAM_FLOAT, 0.1, 0.001, 100, NULL,
+     "radius in metres of the sphere around each point light that emits (drawn as a screen-facing disc)"},
+    {"sky", ST_PARAM_FLOAT, 0, 0, 1000, NULL,
+     "radiance scale of the background as an emitter, colour (0.2, 0.3, 0.6) as in the thesis; 0 = off"},
+    {"fade_margin", ST_PARAM_FLOAT, 0.5, 0.01, 10, NULL,
+     "distance outside the screen, in screen heights, over which a light's shafts fade to zero"},
+};
+
+static const float SKY_COLOR[3] = {0.2f, 0.3f, 0.6f}; // thesis figure 3.6(a)
+
+typedef struct mitchell {
+    st_world *w;
+    const double *p;
+    int num_lights;
+    st_target occ[ST_MAX_LIGHTS];
+    st_shader *occ_sh, *disc_sh, *blur_sh;
+    GLuint empty_vao;
+    st_pass_info info[2 * ST_MAX_LIGHTS];
+    char occ_name[ST_MAX_LIGHTS][40], blur_reads[ST_MAX_LIGHTS][48];
+} mitchell;
+
+static void destroy(void *self) {
+    mitchell *m = self;
+    for (int k = 0; k < ST_MAX_LIGHTS; k++) st_target_destroy(&m->occ[k]);
+    if (m->empty_vao) glDeleteVertexArrays(1, &m->empty_vao);
+    st_shader_destroy(m->occ_sh);
+    st_shader_destroy(m->disc_sh);
+    st_shader_destroy(m->blur_sh);
+    free(m);
+}
+
+static void *create(st_world *w, const double *p, st_err *err) {
+    mitchell *m = calloc(1, sizeof *m);
+    if (!m) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
+    m->w = w;
+    m->p = p;
+    m->num_lights = st_world_scene(w)->num_lights;
+    if (m->num_lights > ST_MAX_LIGHTS) m->num_lights = ST_MAX_LIGHTS;
+    m->occ_sh = st_shader_load("mitchell/occlusion.vert", "mitchell/occlusion.frag", NULL, err);
+    if (m->occ_sh) m->disc_sh = st_shader_load("mitchell/disc.vert", "mitchell/disc.frag", NULL, err);
+    if (m->disc_sh) m->blur_sh = st_shader_load("common/fullscreen.vert", "mitchell/blur.frag", NULL, err);
+    if (!m->blur_sh) {
+        destroy(m);
+        return NULL;
+    }
+    glCreateVertexArrays(1, &m->empty_vao);
+    for (int k = 0; k < m->num_lights; k++) {
+        snprintf(m->occ_name[k], sizeof m->occ_name[k], "mitchell.occlusion%d", k);
+        snprintf(m->blur_reads[k], sizeof m->blur_reads[k], "hdr,%s", m->occ_name[k]);
+        m->info[k] = (st_pass_info){"occlusion", ST_STAGE_PRE, "", m->occ_name[k], 0};
+        m->info[m->num_lights + k] =
+            (st_pass_info){"blur", ST_STAGE_POST, m->blur_reads[k], "hdr", ST_PASS_FULLSCREEN};
+    }
+    return m;
+}
+
+// Passes 0..L-1: occlusion pre-pass of light k; L..2L-1: its blur.
+static int num_passes(void *self) { return 2 * ((mitchell *)self)->num_lights; }
+static const st_pass_info *pass_info(void *self, int pass) { return &((mitchell *)self)->info[pass]; }
+
+// Where light k is on screen this frame and how strongly it shows.
+static godray_light light_state(const mitchell *m, int k, const st_frame *f, float tint[3]) {
+    godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
+    return godray_project(f->view_proj, f->near_z, f->width, f->height, f->scene->lights[k].position,
+                          m->p[P_FADE_MARGIN]);
+}
+
+static bool blur_needed(const mitchell *m, int k, const st_frame *f) {
+    if (!godray_medium_active(f->scene) || !(m->p[P_EXPOSURE] > 0)) return false;
+    float tint[3];
+    godray_light l = light_state(m, k, f, tint);
+    return l.fade > 0 && (tint[0] > 0 || tint[1] > 0 || tint[2] > 0);
+}
+
+static bool needed(void *self, int pass, const st_frame *f) {
+    mitchell *m = self;
+    if (pass >= m->num_lights) return blur_needed(m, pass - m->num_lights, f);
+    // The occlusion image depends on the view, the scene and our parameters;
+    // it is only drawn when its blur is live (the world culls it otherwise).
+    return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_CAMERA |
+                         ST_CHANGE_PARAMS | ST_CHANGE_SIZE);
+}
+
+static void target_size(const mitchell *m, const st_frame *f, int *w, int *h) {
+    double r = m->p[P_RESOLUTION];
+    *w = (int)lround(f->width * r);
+    *h = (int)lround(f->height * r);
+    if (*w < 1) *w = 1;
+    if (*h < 1) *h = 1;
+}
+
+static bool ensure_target(mitchell *m, int k, const st_frame *f, st_err *err) {
+    int w, h;
+    target_size(m, f, &w, &h);
+    st_target *t = &m->occ[k];
+    if (t->fbo && t->width == w && t->height == h) return true;
+    st_target_destroy(t);
+    if (!st_target_create(t, w, h, 1, GL_RGBA32F, true, err)) return false;
+    // Taps that leave the screen see no emitter (no clamped edge streaks).
+    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
+    return st_gl_check("mitchell occlusion target", err);
+}
+
+// The light's emitting region: a sphere of light_radius seen as a
+// screen-facing disc of radius r P11 / w (NDC), at the depth of the sphere's
+// front, in the light's tint. Below one texel the disc keeps a radius of one
+// texel and its radiance is scaled by (r_px / 1)^2, so its summed radiance
+// pi r^2 L never aliases away.
+typedef struct disc_geom {
+    float center[2], extent[2], depth; // NDC
+    float center_px[2], radius_px, scale;
+} disc_geom;
+
+static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3], int ow, int oh, disc_geom *d) {
+    const float *vp = f->view_proj, *P = f->proj;
+    double c[4], r = m->p[P_LIGHT_RADIUS];
+    for (int i = 0; i < 4; i++)
+        c[i] = (double)vp[i] * lp[0] + (double)vp[4 + i] * lp[1] + (double)vp[8 + i] * lp[2] + vp[12 + i];
+    double dx = lp[0] - f->cam_pos[0], dy = lp[1] - f->cam_pos[1], dz = lp[2] - f->cam_pos[2];
+    double D = sqrt(dx * dx + dy * dy + dz * dz), w = c[3], near_ = f->near_z;
+    if (D <= r) { // the camera is inside the light: everything it sees emits
+        *d = (disc_geom){{0, 0}, {2, 2}, -1 + 1e-6f, {0, 0}, 1e7f, 1};
+        return true;
+    }
+    if (!(w > near_)) return false; // behind: the blur is not needed anyway
+    double rx = r * P[0] / w, ry = r * P[5] / w; // NDC radii
+    double r_px = ry * oh / 2, r_draw = r_px > 1 ? r_px : 1;
+    double grow = r_draw / r_px; // >= 1
+    double wf = w * (D - r) / D; // view depth of the sphere's front
+    if (wf < near_ * 1.0001) wf = near_ * 1.0001;
+    double z = (-(double)P[10] * wf + P[14]) / wf;
+    d->center[0] = (float)(c[0] / w), d->center[1] = (float)(c[1] / w);
+    d->extent[0] = (float)(rx * grow + 2.0 / ow), d->extent[1] = (float)(ry * grow + 2.0 / oh);
+    d->depth = (float)(z < 1 - 1e-6 ? z : 1 - 1e-6);
+    d->center_px[0] = (float)((c[0] / w + 1) * 0.5 * ow), d->center_px[1] = (float)((c[1] / w + 1) * 0.5 * oh);
+    d->radius_px = (float)r_draw;
+    d->scale = (float)(1 / (grow * grow));
+    return true;
+}
+
+static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
+    if (!ensure_target(m, k, f, err)) return false;
+    const st_target *t = &m->occ[k];
+    st_target_bind(t);
+    float sky = (float)m->p[P_SKY];
+    const float clear[4] = {sky * SKY_COLOR[0], sky * SKY_COLOR[1], sky * SKY_COLOR[2], 1};
+    glClearBufferfv(GL_COLOR, 0, clear);
+    glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    st_shader_use(m->occ_sh);
+    st_world_apply_uniforms(m->w, m->occ_sh, f);
+    st_world_draw(m->w, m->occ_sh);
+    disc_geom d;
+    if (disc_geometry(m, f, f->scene->lights[k].position, t->width, t->height, &d)) {
+        float tint[3];
+        godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
+        for (int c = 0; c < 3; c++) tint[c] *= d.scale;
+        st_shader *sh = m->disc_sh;
+        st_shader_use(sh);
+        st_shader_set_vec2(sh, "u_disc_center", d.center[0], d.center[1]);
+        st_shader_set_vec2(sh, "u_disc_extent", d.extent[0], d.extent[1]);
+        st_shader_set_float(sh, "u_disc_depth", d.depth);
+        st_shader_set_vec2(sh, "u_disc_center_px", d.center_px[0], d.center_px[1]);
+        st_shader_set_float(sh, "u_disc_radius_px", d.radius_px);
+        st_shader_set_vec3(sh, "u_disc_radiance", tint);
+        glDepthMask(GL_FALSE);
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+        glBindVertexArray(m->empty_vao);
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+    }
+    glDisable(GL_DEPTH_TEST);
+    return st_gl_check("mitchell occlusion", err);
+}
+
+static bool blur_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
+    float tint[3];
+    godray_light l = light_state(m, k, f, tint);
+    st_shader *sh = m->blur_sh; // bound by the world, builtin uniforms set
+    st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, m->occ[k].color[0]);
+    st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
+    st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
+    st_shader_set_int(sh, "u_samples", (int)m->p[P_N]);
+    st_shader_set_float(sh, "u_density", (float)m->p[P_DENSITY]);
+    st_shader_set_float(sh, "u_decay", (float)m->p[P_DECAY]);
+    st_shader_set_float(sh, "u_weight", (float)m->p[P_WEIGHT]);
+    st_shader_set_float(sh, "u_exposure", (float)m->p[P_EXPOSURE]);
+    st_shader_set_float(sh, "u_fade", l.fade);
+    return st_gl_check("mitchell blur", err);
+}
+
+static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
+    mitchell *m = self;
+    return pass < m->num_lights ? occlusion_pass(m, pass, f, err) : blur_pass(m, pass - m->num_lights, f, err);
+}
+
+static st_shader *shader(void *self, int pass) {
+    mitchell *m = self;
+    return pass < m->num_lights ? NULL : m->blur_sh; // the occlusion pass binds its own
+}
+
+static bool reload(void *self, st_err *err) {
+    mitchell *m = self;
+    return st_shader_reload(m->occ_sh, err) && st_shader_reload(m->disc_sh, err) && st_shader_reload(m->blur_sh, err);
+}
+
+static const st_plugin plugin = {
+    .abi_major = ST_ABI_MAJOR,
+    .abi_minor = ST_ABI_MINOR,
+    .struct_size = sizeof(st_plugin),
+    .name = "mitchell",
+    .description = "volumetric light scattering as a post-process (Mitchell, GPU Gems 3): radial blur of an "
+                   "occlusion image toward each light",
+    .params = params,
+    .num_params = P_COUNT,
+    .requires = "",
+    .provides = "",
+    .create = create,
+    .destroy = destroy,
+    .num_passes = num_passes,
+    .pass_info = pass_info,
+    .needed = needed,
+    .on_pass = on_pass,
+    .shader = shader,
+    .reload = reload,
+};
+
+ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }

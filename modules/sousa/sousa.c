@@ -1,0 +1,203 @@
+// sousa: sun shafts (Sousa, CryEngine 2, GDC 2008; thesis 3.1 and 3.3.3,
+// listings A.5-A.7). A linear camera-depth mask (far = emitting), then per
+// point light three radial-blur passes toward the light's screen position
+// with step sizes TAPS^-1, TAPS^-2, TAPS^-3 (interleaved sampling), the last
+// one adding the result to the scene image. Several lights add up (thesis 3.1).
+//
+// The mask is read from the G-buffer's camera distance, so the scene is not
+// drawn a second time. Passes run only when needed: without a scattering
+// medium, or when a light's fade (godray_screen.h) is 0, the light's last
+// pass is not needed and the world culls the rest of its chain and the mask;
+// a static view reuses the mask and the first two blur passes.
+#include "godray_screen.h"
+#include "st_world.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { P_TAPS, P_BRIGHTNESS, P_RESOLUTION, P_FADE_MARGIN, P_COUNT };
+
+// Defaults: thesis figure 3.8 (TAPS 6, brightness 0.19); brightness range
+// [0, 1] from 3.3.3; the thesis' depth map has the window's size.
+static const st_param_def params[P_COUNT] = {
+    {"taps", ST_PARAM_INT, 6, 2, 32, NULL,
+     "taps per pass (TAPS); pass i steps TAPS^-i (texture coordinates) toward the light"},
+    {"brightness", ST_PARAM_FLOAT, 0.19, 0, 1, NULL, "each pass multiplies its sum by brightness"},
+    {"resolution", ST_PARAM_FLOAT, 1.0, 0.0625, 1, NULL,
+     "mask and blur targets as a fraction of the screen, per axis (bilinear filtering)"},
+    {"fade_margin", ST_PARAM_FLOAT, 0.5, 0.01, 10, NULL,
+     "distance outside the screen, in screen heights, over which a light's shafts fade to zero"},
+};
+
+enum { BLUR1, BLUR2, BLUR3, NUM_BLUR };
+
+typedef struct sousa {
+    st_world *w;
+    const double *p;
+    int num_lights;
+    st_target mask, tmp[ST_MAX_LIGHTS][2]; // tmp: outputs of blur 1 and 2 per light
+    st_shader *mask_sh, *blur_sh, *compose_sh;
+    st_pass_info info[1 + NUM_BLUR * ST_MAX_LIGHTS];
+    char names[ST_MAX_LIGHTS][2][32], reads3[ST_MAX_LIGHTS][40];
+} sousa;
+
+static void destroy(void *self) {
+    sousa *s = self;
+    st_target_destroy(&s->mask);
+    for (int k = 0; k < ST_MAX_LIGHTS; k++) st_target_destroy(&s->tmp[k][0]), st_target_destroy(&s->tmp[k][1]);
+    st_shader_destroy(s->mask_sh);
+    st_shader_destroy(s->blur_sh);
+    st_shader_destroy(s->compose_sh);
+    free(s);
+}
+
+static void *create(st_world *w, const double *p, st_err *err) {
+    sousa *s = calloc(1, sizeof *s);
+    if (!s) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
+    s->w = w;
+    s->p = p;
+    s->num_lights = st_world_scene(w)->num_lights;
+    if (s->num_lights > ST_MAX_LIGHTS) s->num_lights = ST_MAX_LIGHTS;
+    s->mask_sh = st_shader_load("common/fullscreen.vert", "sousa/mask.frag", NULL, err);
+    if (s->mask_sh) s->blur_sh = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", NULL, err);
+    if (s->blur_sh)
+        s->compose_sh = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", "SOUSA_COMPOSE 1", err);
+    if (!s->compose_sh) {
+        destroy(s);
+        return NULL;
+    }
+    s->info[0] = (st_pass_info){"mask", ST_STAGE_POST, "gbuffer", "sousa.mask", ST_PASS_FULLSCREEN};
+    for (int k = 0; k < s->num_lights; k++) {
+        snprintf(s->names[k][0], sizeof s->names[k][0], "sousa.blur1_%d", k);
+        snprintf(s->names[k][1], sizeof s->names[k][1], "sousa.blur2_%d", k);
+        snprintf(s->reads3[k], sizeof s->reads3[k], "hdr,%s", s->names[k][1]);
+        st_pass_info *in = &s->info[1 + NUM_BLUR * k];
+        in[BLUR1] = (st_pass_info){"blur1", ST_STAGE_POST, "sousa.mask", s->names[k][0], ST_PASS_FULLSCREEN};
+        in[BLUR2] = (st_pass_info){"blur2", ST_STAGE_POST, s->names[k][0], s->names[k][1], ST_PASS_FULLSCREEN};
+        in[BLUR3] = (st_pass_info){"blur3", ST_STAGE_POST, s->reads3[k], "hdr", ST_PASS_FULLSCREEN};
+    }
+    return s;
+}
+
+// Pass 0: the mask; then blur 1, 2, 3 of light 0, of light 1, ...
+static int num_passes(void *self) {
+    sousa *s = self;
+    return s->num_lights ? 1 + NUM_BLUR * s->num_lights : 0;
+}
+static const st_pass_info *pass_info(void *self, int pass) { return &((sousa *)self)->info[pass]; }
+
+static godray_light light_state(const sousa *s, int k, const st_frame *f, float tint[3]) {
+    godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
+    return godray_project(f->view_proj, f->near_z, f->width, f->height, f->scene->lights[k].position,
+                          s->p[P_FADE_MARGIN]);
+}
+
+static bool light_active(const sousa *s, int k, const st_frame *f) {
+    if (!godray_medium_active(f->scene) || !(s->p[P_BRIGHTNESS] > 0)) return false;
+    float tint[3];
+    godray_light l = light_state(s, k, f, tint);
+    return l.fade > 0 && (tint[0] > 0 || tint[1] > 0 || tint[2] > 0);
+}
+
+static bool needed(void *self, int pass, const st_frame *f) {
+    sousa *s = self;
+    // The G-buffer is rewritten every frame, but its content only changes
+    // with the view or the scene, so ST_CHANGE_INPUTS alone does not count.
+    const unsigned view = ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_CAMERA | ST_CHANGE_SIZE | ST_CHANGE_PARAMS;
+    if (pass == 0) return f->changes & view;
+    int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
+    if (!light_active(s, k, f)) return false;
+    if (b == BLUR3) return true; // composes onto this frame's image
+    return f->changes & (view | ST_CHANGE_LIGHTS | ST_CHANGE_MEDIUM | ST_CHANGE_INPUTS);
+}
+
+static bool ensure(st_target *t, int w, int h, st_err *err) {
+    if (t->fbo && t->width == w && t->height == h) return true;
+    st_target_destroy(t);
+    if (!st_target_create(t, w, h, 1, GL_R32F, false, err)) return false;
+    // Taps that leave the screen read 0 (no clamped edge streaks).
+    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
+    return st_gl_check("sousa target", err);
+}
+
+static void target_size(const sousa *s, const st_frame *f, int *w, int *h) {
+    double r = s->p[P_RESOLUTION];
+    *w = (int)lround(f->width * r);
+    *h = (int)lround(f->height * r);
+    if (*w < 1) *w = 1;
+    if (*h < 1) *h = 1;
+}
+
+static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
+    sousa *s = self;
+    int w, h;
+    target_size(s, f, &w, &h);
+    if (pass == 0) {
+        if (!ensure(&s->mask, w, h, err)) return false;
+        st_target_bind(&s->mask);
+        st_shader_set_vec2(s->mask_sh, "u_out_size", (float)w, (float)h);
+        return st_gl_check("sousa mask", err);
+    }
+    int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
+    float tint[3];
+    godray_light l = light_state(s, k, f, tint);
+    st_shader *sh = b == BLUR3 ? s->compose_sh : s->blur_sh; // bound by the world
+    const st_target *src = b == BLUR1 ? &s->mask : &s->tmp[k][b - 1];
+    if (b != BLUR3) {
+        if (!ensure(&s->tmp[k][b], w, h, err)) return false;
+        st_target_bind(&s->tmp[k][b]);
+        st_shader_set_vec2(sh, "u_out_size", (float)w, (float)h);
+    } else {
+        st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
+        st_shader_set_vec3(sh, "u_color", tint);
+        st_shader_set_float(sh, "u_fade", l.fade);
+    }
+    int taps = (int)s->p[P_TAPS];
+    st_shader_texture(sh, "u_src", GL_TEXTURE_2D, src->color[0]);
+    st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
+    st_shader_set_int(sh, "u_taps", taps);
+    st_shader_set_float(sh, "u_step", (float)pow(taps, -(b + 1))); // TAPS^-1, ^-2, ^-3 (figure 3.15)
+    st_shader_set_float(sh, "u_brightness", (float)s->p[P_BRIGHTNESS]);
+    return st_gl_check("sousa blur", err);
+}
+
+static st_shader *shader(void *self, int pass) {
+    sousa *s = self;
+    if (pass == 0) return s->mask_sh;
+    return (pass - 1) % NUM_BLUR == BLUR3 ? s->compose_sh : s->blur_sh;
+}
+
+static bool reload(void *self, st_err *err) {
+    sousa *s = self;
+    return st_shader_reload(s->mask_sh, err) && st_shader_reload(s->blur_sh, err) &&
+           st_shader_reload(s->compose_sh, err);
+}
+
+static const st_plugin plugin = {
+    .abi_major = ST_ABI_MAJOR,
+    .abi_minor = ST_ABI_MINOR,
+    .struct_size = sizeof(st_plugin),
+    .name = "sousa",
+    .description = "sun shafts (Sousa, CryEngine 2): linear depth mask blurred toward each light in 3 passes "
+                   "with steps TAPS^-1, TAPS^-2, TAPS^-3",
+    .params = params,
+    .num_params = P_COUNT,
+    .requires = "",
+    .provides = "",
+    .create = create,
+    .destroy = destroy,
+    .num_passes = num_passes,
+    .pass_info = pass_info,
+    .needed = needed,
+    .on_pass = on_pass,
+    .shader = shader,
+    .reload = reload,
+};
+
+ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
