@@ -1,13 +1,35 @@
 // ModelType/Model: one interleaved vertex buffer and one index buffer per
 // type, uploaded once; models are ranges drawn with a base vertex.
 #include "st_world.h"
-#include <cglm/cglm.h>
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct {
     float p[3], n[3], uv[2];
 } st_vertex;
+
+// The inverse transpose of the model's 3x3 part up to a positive factor:
+// its cofactor matrix times sign(det), scaled to a largest entry of 1 (every
+// shader normalizes). Unlike the inverse it stays defined for a singular
+// model: a glTF node scaled to 0 along a flat mesh's normal keeps that
+// normal instead of turning it into NaN (a black surface).
+static void normal_matrix(const float *M, float out[9]) {
+    double a[3][3], cof[3][3], big = 0; // a[row][col]; M is column major
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) a[r][c] = M[c * 4 + r];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+            cof[r][c] = a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1];
+            big = fmax(big, fabs(cof[r][c]));
+        }
+    double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
+    double s = (det < 0 ? -1.0 : 1.0) / (big > 0 ? big : 1.0);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) out[c * 3 + r] = (float)(s * cof[r][c]); // column major
+}
 
 bool st_model_type_build(st_model_type *t, const char *name, const st_mesh *meshes, int n,
                          const float *uv1, st_model *models, st_err *err) {
@@ -52,13 +74,7 @@ bool st_model_type_build(st_model_type *t, const char *name, const st_mesh *mesh
         md->first_index = (uint32_t)bi;
         md->index_count = m->num_triangles * 3;
         memcpy(md->model, m->model, sizeof md->model);
-        mat4 mm, inv;
-        memcpy(mm, m->model, sizeof mm);
-        glm_mat4_inv(mm, inv);
-        glm_mat4_transpose(inv);
-        mat3 nm;
-        glm_mat4_pick3(inv, nm);
-        memcpy(md->normal_matrix, nm, sizeof md->normal_matrix);
+        normal_matrix(m->model, md->normal_matrix);
         memcpy(md->albedo, m->albedo, sizeof md->albedo);
         memcpy(md->emission, m->emission, sizeof md->emission);
         md->double_sided = m->double_sided;

@@ -20,8 +20,11 @@ static double normalize3(double v[3]) {
 }
 
 // World positions and normals of one mesh. Normals go through the inverse
-// transpose of the model's 3x3 part (cofactors over the determinant, so a
-// mirroring model flips them with the winding).
+// transpose of the model's 3x3 part, as cofactors times the sign of the
+// determinant (a mirroring model flips them with the winding; the length
+// does not matter, they are normalized). A singular model (a glTF node
+// scaled to 0 on one axis) keeps the normal of what it flattens, as on the GPU
+// (framework/st_model.c).
 static bool transform_mesh(const st_mesh *m, double *pos, double *nrm) {
     const float *M = m->model; // column major: M[col * 4 + row]
     double a[3][3];
@@ -34,13 +37,14 @@ static bool transform_mesh(const st_mesh *m, double *pos, double *nrm) {
             cof[r][c] = a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1];
         }
     double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
-    if (!(fabs(det) > 0) || !isfinite(det)) return false;
+    if (!isfinite(det)) return false;
+    double sign = det < 0 ? -1.0 : 1.0;
     static const float no_normal[3] = {0, 0, 0}; // a zero normal falls back to the geometric one
     for (uint32_t v = 0; v < m->num_vertices; v++) {
         const float *p = m->positions + 3 * v, *n = m->normals ? m->normals + 3 * v : no_normal;
         for (int r = 0; r < 3; r++) {
             pos[3 * v + r] = a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2] + M[12 + r];
-            nrm[3 * v + r] = (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]) / det;
+            nrm[3 * v + r] = sign * (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]);
         }
         normalize3(nrm + 3 * v);
     }
@@ -94,7 +98,7 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
             }
         if (!transform_mesh(m, g->pos[i], g->nrm[i])) {
             st_ref_geometry_free(g);
-            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is singular", i, m->name);
+            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is not finite", i, m->name);
         }
         if (m->num_triangles == 0) continue; // nothing to trace; mesh indices stay geomIDs
         RTCGeometry geo = rtcNewGeometry(g->device, RTC_GEOMETRY_TYPE_TRIANGLE);

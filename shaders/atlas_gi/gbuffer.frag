@@ -1,0 +1,50 @@
+// G-buffer atlas: per texel the world position and area a_j, the normal and
+// validity, the albedo, and the outgoing radiance L0 = direct + emission
+// (Lambertian, DESIGN.md units; shadow_map's visibility when AG_SHADOW).
+#include "common/uniforms.glsl"
+#include "common/physics.glsl"
+#ifdef AG_SHADOW
+#include "shadow_map/visibility.glsl"
+#else
+float st_visibility(int light, vec3 p, vec3 n) { return 1.0; }
+#endif
+in vec3 v_world;
+in vec3 v_normal;
+#ifdef AG_POINTS
+flat in vec3 v_albedo;
+flat in vec3 v_emission;
+#else
+uniform vec3 st_albedo;
+uniform vec3 st_emission;
+#endif
+uniform sampler2D ag_area_tex; // world m^2 per texel, exact (CPU clipping)
+layout(location = 0) out vec4 o_pos;    // world position, area
+layout(location = 1) out vec4 o_normal; // world normal, valid
+layout(location = 2) out vec4 o_albedo;
+layout(location = 3) out vec4 o_l0;     // direct + emission
+
+void main() {
+#ifdef AG_POINTS
+    vec3 albedo = v_albedo, emission = v_emission;
+#else
+    vec3 albedo = st_albedo, emission = st_emission;
+#endif
+    float a = texelFetch(ag_area_tex, ivec2(gl_FragCoord.xy), 0).r;
+    vec3 p = v_world;
+    float nl = length(v_normal);
+    vec3 n = nl > 0.0 ? v_normal / nl : vec3(0.0, 1.0, 0.0);
+    vec3 direct = vec3(0.0);
+    for (int i = 0; i < st_num_lights; i++) {
+        vec3 l = st_light_pos[i] - p;
+        float d2 = max(dot(l, l), 1e-12);
+        float c = dot(n, l) * inversesqrt(d2);
+        if (c <= 0.0) continue;
+        direct += albedo / ST_PI * st_light_intensity[i] * (c / d2) * st_visibility(i, p, n);
+    }
+    bool valid = a > 0.0;
+    o_pos = vec4(p, valid ? a : 0.0);
+    o_normal = vec4(n, valid ? 1.0 : 0.0);
+    o_albedo = vec4(albedo, 1.0);
+    vec3 l0 = direct + emission;
+    o_l0 = vec4(all(lessThan(abs(l0), vec3(3e38))) ? l0 : vec3(0.0), 1.0);
+}
