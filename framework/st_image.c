@@ -108,6 +108,21 @@ static exr_context_initializer_t exr_init(void) {
     return init;
 }
 
+// OpenEXRCore 3.1's ZIP compressor, when deflate does not shrink a chunk,
+// falls back to "stored" but leaves other bytes than the raw chunk in the
+// output; readers take a chunk whose size equals the raw size as raw, so it
+// came back as garbage (noisy float data, e.g. jittered renders, hit this).
+// Store such chunks raw ourselves.
+static exr_result_t (*exr_default_compress)(exr_encode_pipeline_t *);
+static exr_result_t exr_compress_or_store(exr_encode_pipeline_t *e) {
+    exr_result_t rc = exr_default_compress(e);
+    if (rc == EXR_ERR_SUCCESS && e->compressed_bytes >= e->packed_bytes) {
+        memcpy(e->compressed_buffer, e->packed_buffer, e->packed_bytes);
+        e->compressed_bytes = e->packed_bytes;
+    }
+    return rc;
+}
+
 // Writes the whole image as FLOAT scanlines with ZIP compression to `file`.
 static bool exr_write_file(const char *file, const char *path, const st_image *img,
                            const char *const *names, st_err *err) {
@@ -166,6 +181,8 @@ static bool exr_write_file(const char *file, const char *path, const st_image *i
         }
         if (!enc_ready) {
             if ((rc = exr_encoding_choose_default_routines(ctx, part, &enc))) goto done;
+            exr_default_compress = enc.compress_fn;
+            enc.compress_fn = exr_compress_or_store;
             enc_ready = true;
         }
         if ((rc = exr_encoding_run(ctx, part, &enc))) goto done;

@@ -1,0 +1,35 @@
+// toth: helpers shared by the march, gather and compose passes.
+#ifndef TOTH_COMMON_GLSL
+#define TOTH_COMMON_GLSL
+#include "common/uniforms.glsl"
+
+uniform int toth_scale;        // march resolution divisor: 1, 2 or 4
+uniform float toth_tolerance;  // relative distance difference still "the same surface"
+
+// The full-resolution pixel whose ray a march-resolution pixel traces: the
+// one nearest the centre of its scale x scale block.
+ivec2 toth_full_pixel(ivec2 lp) {
+    return min(lp * toth_scale + (toth_scale - 1) / 2, ivec2(st_resolution) - 1);
+}
+
+// Unit direction of the view ray through the centre of full-resolution pixel
+// px (GL window coordinates, origin bottom left), as the pinhole of DESIGN.md.
+vec3 toth_view_dir(ivec2 px) {
+    vec2 ndc = (vec2(px) + 0.5) / st_resolution * 2.0 - 1.0;
+    vec4 a = st_inv_view_proj * vec4(ndc, -1.0, 1.0);
+    vec4 b = st_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    return normalize(b.xyz / b.w - a.xyz / a.w);
+}
+
+// The marched length: the distance to the visible surface, or `far` where the
+// pixel sees none (gbuffer w = -1).
+float toth_ray_length(vec4 gb) { return gb.w >= 0.0 ? gb.w : st_far; }
+
+// Do two gbuffer texels show the same surface closely enough to share
+// in-scattered light? Background matches background only.
+bool toth_similar(vec4 a, vec4 b) {
+    bool bga = a.w < 0.0, bgb = b.w < 0.0;
+    if (bga || bgb) return bga && bgb;
+    return abs(a.w - b.w) <= toth_tolerance * max(a.w, b.w) && dot(a.xyz, b.xyz) >= 0.8;
+}
+#endif

@@ -1,0 +1,55 @@
+// toth pass 3: L = L_surface e^(-sigma_t s) + in-scattered light, at full
+// resolution. A march at reduced resolution is upsampled depth-aware: the
+// bilinear taps that show the pixel's own surface, else the tap nearest in
+// distance, so shafts do not bleed across silhouettes.
+#include "common/uniforms.glsl"
+#include "toth/common.glsl"
+uniform sampler2D st_hdr_in;
+uniform sampler2D st_gbuffer;
+uniform sampler2D toth_inscatter_tex;
+uniform int toth_has_inscatter;
+layout(location = 0) out vec4 o_radiance;
+
+vec3 toth_upsample(ivec2 p, vec4 g) {
+    ivec2 size = textureSize(toth_inscatter_tex, 0);
+    if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0).rgb;
+    // March pixel k traces full pixel k * scale + (scale - 1) / 2.
+    vec2 f = (vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale);
+    ivec2 b = ivec2(floor(f));
+    vec2 fr = f - vec2(b);
+    vec3 sum = vec3(0.0);
+    float wsum = 0.0, best = 1e30;
+    vec3 nearest = vec3(0.0);
+    float s = toth_ray_length(g);
+    for (int k = 0; k < 4; k++) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec2 q = clamp(b + o, ivec2(0), size - 1);
+        vec4 gq = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
+        vec3 v = texelFetch(toth_inscatter_tex, q, 0).rgb;
+        float bil = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
+        if (toth_similar(g, gq)) {
+            sum += (bil + 1e-3) * v;
+            wsum += bil + 1e-3;
+        }
+        float diff = abs(toth_ray_length(gq) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
+        if (diff < best) {
+            best = diff;
+            nearest = v;
+        }
+    }
+    return wsum > 0.0 ? sum / wsum : nearest;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec4 g = texelFetch(st_gbuffer, p, 0);
+    vec3 sigma_t = st_sigma_s + st_sigma_a;
+    vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g));
+    if (toth_has_inscatter != 0) L += toth_upsample(p, g);
+    // Never write NaN or Inf: absurd inputs (sigma near float max) saturate.
+    for (int c = 0; c < 3; c++) {
+        if (isnan(L[c])) L[c] = 0.0;
+        L[c] = clamp(L[c], 0.0, 3.0e38);
+    }
+    o_radiance = vec4(L, 1.0);
+}

@@ -1,0 +1,31 @@
+// toth pass 1: march each view ray (at march resolution) and write the
+// in-scattered radiance of its share of the steps, and the marched length.
+#include "common/uniforms.glsl"
+#include "toth/source.glsl"
+#include "toth/march.glsl"
+#include "toth/common.glsl"
+uniform sampler2D st_gbuffer;
+uniform int toth_samples;    // steps per ray
+uniform int toth_interleave; // M: steps split over M x M pixel blocks
+uniform int toth_jitter;
+uniform int toth_integrator;
+layout(location = 0) out vec4 o_march;
+
+// Interleaved gradient noise (Jimenez 2014): a fixed per-pixel offset in
+// [0, 1) that turns banding into fine noise.
+float toth_noise(ivec2 p) {
+    return fract(52.9829189 * fract(dot(vec2(p), vec2(0.06711056, 0.00583715))));
+}
+
+void main() {
+    ivec2 lp = ivec2(gl_FragCoord.xy);
+    ivec2 fp = toth_full_pixel(lp);
+    vec4 gb = texelFetch(st_gbuffer, fp, 0);
+    float s = toth_ray_length(gb);
+    int M = max(toth_interleave, 1);
+    int first = (lp.x % M) + M * (lp.y % M);
+    float u = toth_jitter != 0 ? toth_noise(fp) : st_step_sample_offset(toth_integrator);
+    vec3 L = toth_march(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_integrator,
+                        st_sigma_s + st_sigma_a);
+    o_march = vec4(L, s);
+}

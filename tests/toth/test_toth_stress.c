@@ -1,0 +1,71 @@
+// Numerical stress: singular and extreme configurations must render every
+// pixel finite and non-negative (strahl render refuses to write an image with
+// NaN/Inf, so a clean exit and a finite EXR are both checked): the light on a
+// pixel's centre ray, at the camera, behind it, on a surface (d -> 0); sigma
+// 0 and 1e3; g = +-0.999; 1 and 1024 samples; each integrator, interleaving
+// and reduced resolution.
+#include "toth_test.h"
+
+enum { N = 32 };
+static char scene[512], out[512];
+static int renders, bad;
+
+static void run(const double light[3], const char *medium, const char *params) {
+    const double I[3] = {10, 20, 5};
+    toth_write_room(scene, N, light, I, 0.6, medium, params);
+    st_image img = {0};
+    renders++;
+    int ok = toth_render(scene, out, NULL, &img);
+    float lo = 0;
+    for (size_t k = 0; ok && k < (size_t)N * N * 3; k++) lo = fminf(lo, img.data[k]);
+    if (!ok || !st_test_all_finite(&img) || lo < 0) {
+        // Keep the scene for a post-mortem.
+        bad++;
+        st_test_sh("cp %s %s/stress_failed_%d.json", scene, ST_TEST_SCRATCH, bad);
+    }
+    CHECK(lo >= 0, "light (%g %g %g), %s, %s: negative radiance %g", light[0], light[1], light[2], medium, params, lo);
+    st_image_free(&img);
+}
+
+int main(void) {
+    snprintf(scene, sizeof scene, "%s/stress.json", ST_TEST_SCRATCH);
+    snprintf(out, sizeof out, "%s/stress.exr", ST_TEST_SCRATCH);
+    st_test_cam c = st_test_camera(ROOM_CAM, ROOM_TGT, ROOM_UP, ROOM_FOV, N, N);
+
+    // Light positions: on the centre ray of pixel (11, 7) at 1.7 m; exactly at
+    // the camera; 0.5 m behind it; on the back wall where pixel (20, 13) looks.
+    double on_ray[3], on_wall[3], behind[3], d[3];
+    st_test_ray(&c, 11, 7, d);
+    for (int k = 0; k < 3; k++) on_ray[k] = c.pos[k] + 1.7 * d[k];
+    st_test_ray(&c, 20, 13, d);
+    double s = toth_box_exit(c.pos, d, ROOM_MIN, ROOM_MAX);
+    for (int k = 0; k < 3; k++) on_wall[k] = c.pos[k] + s * d[k], behind[k] = c.pos[k] - 0.5 * c.f[k];
+    const double *lights[4] = {on_ray, ROOM_CAM, behind, on_wall};
+
+    const char *media[] = {
+        "\"sigma_s\": [0.2, 0.3, 0.4], \"sigma_a\": [0.01, 0, 0.1]",
+        "\"sigma_s\": [1000, 1000, 1000], \"sigma_a\": [1000, 1000, 1000]",
+        "\"sigma_s\": [0, 0.5, 1000], \"sigma_a\": [0, 0, 0], \"phase\": {\"hg\": 0.999}",
+        "\"sigma_s\": [0.2, 0.2, 0.2], \"phase\": {\"hg\": -0.999}",
+        "\"sigma_s\": [0, 0, 0], \"sigma_a\": [1000, 0, 0]",
+        "\"sigma_s\": [1e-30, 1e-30, 1e-30], \"phase\": \"rayleigh\"",
+    };
+    const char *params[] = {
+        "\"samples\": 1",
+        "\"samples\": 1024, \"interleave\": 1",
+        "\"samples\": 64, \"interleave\": 8, \"resolution\": \"quarter\"",
+        "\"samples\": 1, \"integrator\": \"thesis\", \"jitter\": false",
+        "\"samples\": 7, \"integrator\": \"thesis_far\", \"resolution\": \"half\"",
+        "\"samples\": 1024, \"interleave\": 3, \"jitter\": false",
+    };
+    // Every light with every medium at default settings, then every setting
+    // with every light in the first two media.
+    for (int l = 0; l < 4; l++)
+        for (size_t m = 0; m < sizeof media / sizeof media[0]; m++) run(lights[l], media[m], "");
+    for (int l = 0; l < 4; l++)
+        for (size_t p = 0; p < sizeof params / sizeof params[0]; p++)
+            for (int m = 0; m < 3; m += 2) run(lights[l], media[m], params[p]);
+    printf("  %d renders, %d failed or non-finite\n", renders, bad);
+    CHECK(bad == 0, "%d of %d stress renders failed", bad, renders);
+    return st_test_summary("toth_stress");
+}
