@@ -40,7 +40,7 @@ for s in window colonnade hidden_hole light_front; do
 done
 for s in window colonnade; do
     bench scenes/godrays_$s.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/toth.csv" rmse \
-        --sweep toth.samples=8,16,32,64,128 --sweep toth.interleave=1,2 --sweep toth.resolution=full,half
+        --sweep toth.samples=8,16,32,64,128,256 --sweep toth.interleave=1,2 --sweep toth.resolution=full,half
     bench scenes/godrays_${s}_mitchell.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/mitchell.csv" scaled_rmse \
         --sweep mitchell.n=16,32,64,128
     bench scenes/godrays_${s}_sousa.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/sousa.csv" scaled_rmse \
