@@ -3,13 +3,18 @@
 # scenes in scenes/: references with `strahl reference`, sweeps with
 # `strahl bench` (CSV + log-log plot per technique), tables from the CSVs.
 # Takes about half an hour on 2 cores with llvmpipe. Not part of CI.
-#   GODRAY_SIZE (512x512), GI_SIZE (256x256), FRAMES (5), REF_SPP (16)
+#   GODRAY_SIZE (512x512), GI_SIZE (128x128), FRAMES (5), REF_SPP (16),
+#   GI_REF_SPP (16384: the Cornell light sits 10 cm under the ceiling, and the
+#   reference's bounce needs that many samples for its noise to stay well
+#   below the errors measured), ONLY (godrays, gi, or plots: run one part)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 S=build/bin/strahl
 OUT=docs/bench
 GODRAY_SIZE=${GODRAY_SIZE:-512x512}
-GI_SIZE=${GI_SIZE:-256x256}
+GI_SIZE=${GI_SIZE:-128x128}
+GI_REF_SPP=${GI_REF_SPP:-16384}
+ONLY=${ONLY:-all}
 FRAMES=${FRAMES:-5}
 REF_SPP=${REF_SPP:-16}
 [ -x "$S" ] || { cmake --preset release >/dev/null && cmake --build --preset release; }
@@ -34,6 +39,7 @@ bench() { # scene size ref csv metric sweeps...
 }
 
 # ---- god rays ---------------------------------------------------------------
+if [ "$ONLY" = all ] || [ "$ONLY" = godrays ]; then
 rm -f "$OUT"/toth.csv "$OUT"/mitchell.csv "$OUT"/sousa.csv
 for s in window colonnade hidden_hole light_front; do
     ref scenes/godrays_$s.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" --spp "$REF_SPP" --bounces 0
@@ -55,11 +61,14 @@ for s in hidden_hole light_front; do
         --sweep sousa.taps=6
 done
 
+fi
+
 # ---- atlas GI (the thesis' Table 1) -------------------------------------------
+if [ "$ONLY" = all ] || [ "$ONLY" = gi ]; then
 rm -f "$OUT"/atlas_gi.csv
 for s in gi_cornell gi_dense; do
-    ref scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_area.exr" --spp 256 --bounces 1 --bounce-visibility off
-    ref scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_vis.exr" --spp 256 --bounces 1 --bounce-visibility on
+    ref scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_area.exr" --spp "$GI_REF_SPP" --bounces 1 --bounce-visibility off
+    ref scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_vis.exr" --spp "$GI_REF_SPP" --bounces 1 --bounce-visibility on
     bench scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_area.exr" "$OUT/atlas_gi.csv" rmse \
         --set atlas_gi.progressive=false \
         --sweep atlas_gi.samples=10,50,100,200,400 --sweep atlas_gi.atlas_size=512,1024 \
@@ -68,6 +77,8 @@ for s in gi_cornell gi_dense; do
         --set atlas_gi.progressive=false --set atlas_gi.visibility=true \
         --sweep atlas_gi.samples=10,100,400 --sweep atlas_gi.atlas_size=512
 done
+
+fi
 
 # ---- plots and tables -------------------------------------------------------
 for m in toth mitchell sousa atlas_gi; do
@@ -81,7 +92,7 @@ for m in toth mitchell sousa atlas_gi; do
         { head -1 "$csv"; grep "^$scene," "$csv"; } > "$part"
         gnuplot -e "set terminal pngcairo size 900,600; set output '$OUT/${m}_${name}.png'; \
             set datafile separator ','; set logscale xy; set grid; set key outside right; \
-            set title '$m on $name'; set xlabel 'median frame time [ms]'; set ylabel '$metric vs reference'; \
+            set title '$m on $name' noenhanced; set xlabel 'median frame time [ms]'; set ylabel '$metric vs reference'; \
             curves = system(\"tail -n +2 $part | cut -d, -f3 | sort -u | tr ' ' '_' | tr '\\\\n' ' '\"); \
             plot for [c in curves] '< tail -n +2 $part | tr \" \" \"_\"' using ((strcol(3) eq c) ? \$6 : 1/0):((strcol(3) eq c) ? \$9 : 1/0) with linespoints title c noenhanced"
         rm -f "$part"
@@ -106,3 +117,10 @@ table() { # csv -> markdown rows: scene, setting, frame ms, module gpu ms, error
     done
 } > "$OUT/tables.md"
 log "done: $OUT/tables.md and plots"
+
+# Splice the tables into docs/benchmarks.md between its markers.
+awk -v tables="$OUT/tables.md" '
+    /<!-- BEGIN GENERATED -->/ { print; while ((getline line < tables) > 0) print line; skip = 1; next }
+    /<!-- END GENERATED -->/ { skip = 0 }
+    !skip { print }' docs/benchmarks.md > docs/benchmarks.md.tmp && mv docs/benchmarks.md.tmp docs/benchmarks.md
+log "docs/benchmarks.md updated"
