@@ -206,16 +206,14 @@ static void format_log(char *dst, size_t n, const char *log, char names[][128], 
     while (w > 0 && dst[w - 1] == '\n') dst[--w] = 0;
 }
 
-static GLuint compile(GLenum type, const char *path, const char *defines, st_err *err) {
-    char names[MAX_FILES][128];
-    int num = 0;
-    char *src = st_shader_preprocess_stage(path, defines, type, names, &num, err);
-    if (!src) return 0;
+// Compiles one stage from source; `names` maps #line file ids to files for
+// the error message (none for sources that are not files).
+static GLuint compile_source(GLenum type, const char *src, char names[][128], int num, const char *what,
+                             st_err *err) {
     GLuint s = glCreateShader(type);
     const char *srcs[] = {src};
     glShaderSource(s, 1, srcs, NULL);
     glCompileShader(s);
-    free(src);
     GLint ok = 0;
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
     if (!ok) {
@@ -223,9 +221,19 @@ static GLuint compile(GLenum type, const char *path, const char *defines, st_err
         glGetShaderInfoLog(s, sizeof log, NULL, log);
         format_log(msg, sizeof msg, log, names, num);
         glDeleteShader(s);
-        st_fail(err, ST_ERR_INPUT, "shader compile failed: %s", msg);
+        st_fail(err, ST_ERR_INPUT, "shader compile failed%s%s: %s", what ? " in " : "", what ? what : "", msg);
         return 0;
     }
+    return s;
+}
+
+static GLuint compile(GLenum type, const char *path, const char *defines, st_err *err) {
+    char names[MAX_FILES][128];
+    int num = 0;
+    char *src = st_shader_preprocess_stage(path, defines, type, names, &num, err);
+    if (!src) return 0;
+    GLuint s = compile_source(type, src, names, num, NULL, err);
+    free(src);
     return s;
 }
 
@@ -244,6 +252,16 @@ static GLuint link_program(GLuint *shaders, int n, const char *what, st_err *err
         return 0;
     }
     return p;
+}
+
+GLuint st_program_from_source(const char *vs, const char *fs, const char *what, st_err *err) {
+    GLuint s[2];
+    if (!(s[0] = compile_source(GL_VERTEX_SHADER, vs, NULL, 0, what, err))) return 0;
+    if (!(s[1] = compile_source(GL_FRAGMENT_SHADER, fs, NULL, 0, what, err))) {
+        glDeleteShader(s[0]);
+        return 0;
+    }
+    return link_program(s, 2, what, err);
 }
 
 static GLuint build(const st_shader *sh, st_err *err) {

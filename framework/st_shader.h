@@ -31,6 +31,9 @@ const char *st_shader_root(void);
 // Vertex + fragment program. `defines` may be NULL.
 st_shader *st_shader_load(const char *vs, const char *fs, const char *defines, st_err *err);
 st_shader *st_shader_load_compute(const char *cs, const char *defines, st_err *err);
+// A plain program from in-memory sources (no includes), for tools whose own
+// shaders must not depend on the shader folder (the viewer's display).
+GLuint st_program_from_source(const char *vs, const char *fs, const char *what, st_err *err);
 // Recompiles from the files; on failure the old program stays and err says why.
 bool st_shader_reload(st_shader *sh, st_err *err);
 void st_shader_destroy(st_shader *sh);

@@ -60,45 +60,13 @@ static const char *ui_fs =
     "out vec4 o;\n"
     "void main() { o = v_color; }\n";
 
-static GLuint compile(GLenum type, const char *src, const char *what, st_err *err) {
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = {0};
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        glDeleteShader(s);
-        st_fail(err, ST_ERR_RUNTIME, "viewer shader %s: %s", what, log);
-        return 0;
-    }
-    return s;
-}
-
+// The viewer's own shaders are built from strings so a broken shader folder
+// (hot reload) never takes the display down.
 static GLuint program(const char *vs, const char *fs, const char *what, st_err *err) {
-    GLuint a = compile(GL_VERTEX_SHADER, vs, what, err);
-    if (!a) return 0;
-    GLuint b = compile(GL_FRAGMENT_SHADER, fs, what, err);
-    if (!b) {
-        glDeleteShader(a);
-        return 0;
-    }
-    GLuint p = glCreateProgram();
-    glAttachShader(p, a);
-    glAttachShader(p, b);
-    glLinkProgram(p);
-    glDeleteShader(a);
-    glDeleteShader(b);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = {0};
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        glDeleteProgram(p);
-        st_fail(err, ST_ERR_RUNTIME, "viewer shader %s: %s", what, log);
-        return 0;
-    }
+    char name[64];
+    snprintf(name, sizeof name, "viewer %s", what);
+    GLuint p = st_program_from_source(vs, fs, name, err);
+    if (!p) err->kind = ST_ERR_RUNTIME;
     return p;
 }
 
