@@ -261,9 +261,9 @@ int st_cmd_bench(int argc, char **argv) {
                 snprintf(r->curve + l, sizeof r->curve - l, " %s", assign[k]);
             }
         }
-        char curve[256];
-        snprintf(curve, sizeof curve, "%s%s", sweeps[0].module, r->curve);
-        snprintf(r->curve, sizeof r->curve, "%s", curve);
+        char curve[sizeof r->curve];
+        snprintf(curve, sizeof curve, "%.63s%.190s", sweeps[0].module, r->curve);
+        memcpy(r->curve, curve, sizeof curve);
         if (!st_load_scene_with(scene_path, all, n, width, height, &scene, &err)) goto fail;
         if (scene.width != ref.width || scene.height != ref.height) {
             st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)", ref_path, ref.width,

@@ -1,9 +1,17 @@
 #!/usr/bin/env bash
-# Builds strahl (release preset) and runs every test. Installs the Debian
-# packages it needs first, so it works on a fresh machine.
+# Builds strahl (release preset) and runs every test, then the fuzz smoke
+# tests: the fuzz preset (clang, ASan + UBSan, libFuzzer) builds only the
+# fuzz targets and runs each for ~20 s from its seeds (ctest label "fuzz").
+# STRAHL_SKIP_FUZZ=1 skips that part. Arguments go to the release ctest.
+# Installs the Debian packages it needs first, so it works on a fresh machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
 ctest --preset release "$@"
+if [ "${STRAHL_SKIP_FUZZ:-0}" != 1 ]; then
+  cmake --preset fuzz >/dev/null
+  cmake --build --preset fuzz --target fuzz_scene fuzz_gltf
+  ctest --preset fuzz
+fi
