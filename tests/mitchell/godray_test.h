@@ -318,4 +318,27 @@ static inline void gt_check_sweep(const char *what, const char *module, const ch
     CHECK(c.skips_ok && f.skips_ok, "%s: %s skipped and %s culled exactly when the effect is 0", what, last, first);
 }
 
+
+// Camera paths for the fade tests (t in [0, 1]), light near the origin seen
+// from z = 5. Slide sideways: the light leaves the screen at x = 5 tan 20 =
+// 1.82 and is beyond the 0.5-screen-height margin from x = 3.64.
+static inline void godray_pose_slide(double t, double pos[3], double tgt[3]) {
+    double x = 4.5 * t;
+    pos[0] = x, pos[1] = 0, pos[2] = 5;
+    tgt[0] = x, tgt[1] = 0, tgt[2] = 0;
+}
+// Turn around on the spot: the light goes off to the side (20 degrees),
+// fades out by 36 degrees, and ends behind the camera.
+static inline void godray_pose_turn(double t, double pos[3], double tgt[3]) {
+    double th = t * M_PI;
+    pos[0] = 0, pos[1] = 0, pos[2] = 5;
+    tgt[0] = sin(th), tgt[1] = 0, tgt[2] = 5 - cos(th);
+}
+// Walk forward past the light: it ends up behind the camera.
+static inline void godray_pose_walk(double t, double pos[3], double tgt[3]) {
+    double z = 5 - 6 * t;
+    pos[0] = 0.3, pos[1] = 0.2, pos[2] = z;
+    tgt[0] = 0.3, tgt[1] = 0.2, tgt[2] = z - 1;
+}
+
 #endif

@@ -132,22 +132,6 @@ static void test_additive(void) {
 
 // ---- fading -------------------------------------------------------------------
 
-static void pose_slide(double t, double pos[3], double tgt[3]) {
-    double x = 4.5 * t;
-    pos[0] = x, pos[1] = 0, pos[2] = 5;
-    tgt[0] = x, tgt[1] = 0, tgt[2] = 0;
-}
-static void pose_turn(double t, double pos[3], double tgt[3]) {
-    double th = t * M_PI;
-    pos[0] = 0, pos[1] = 0, pos[2] = 5;
-    tgt[0] = sin(th), tgt[1] = 0, tgt[2] = 5 - cos(th);
-}
-static void pose_walk(double t, double pos[3], double tgt[3]) {
-    double z = 5 - 6 * t;
-    pos[0] = 0.3, pos[1] = 0.2, pos[2] = z;
-    tgt[0] = 0.3, tgt[1] = 0.2, tgt[2] = z - 1;
-}
-
 static void check_sweep(const char *what, int steps, void (*pose)(double, double[3], double[3])) {
     // Open sky (mask 1) around a small occluder: shafts everywhere.
     const char *light = "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [1, 1, 1]}";
@@ -159,9 +143,9 @@ static void check_sweep(const char *what, int steps, void (*pose)(double, double
 }
 
 static void test_fade(void) {
-    check_sweep("slide off screen", 30, pose_slide);
-    check_sweep("turn around", 30, pose_turn);
-    check_sweep("walk past the light", 30, pose_walk);
+    check_sweep("slide off screen", 30, godray_pose_slide);
+    check_sweep("turn around", 30, godray_pose_turn);
+    check_sweep("walk past the light", 30, godray_pose_walk);
 }
 
 // ---- nothing runs that the scene does not need ----------------------------------

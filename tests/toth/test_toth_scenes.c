@@ -17,31 +17,6 @@ static const double HOLE = 0.5, Y0 = 4.0, Y1 = 4.2, ALBEDO = 0.6;
 static const double BOX_MIN[3] = {1.5, 0, -2.5}, BOX_MAX[3] = {2.5, 1.2, -1.5};
 static double light[3], intensity, sigma_s, sigma_t;
 
-// Lit interval of a view ray below the slab: the segment to the light passes
-// the opening at both slab faces (eight half-spaces; see test_toth_shadow.c).
-static int lit_interval(const double o[3], const double d[3], double s, double hole, double *t0, double *t1) {
-    double lo = 0, hi = s;
-    const double Ys[2] = {Y0, Y1};
-    for (int y = 0; y < 2; y++)
-        for (int k = 0; k < 3; k += 2)
-            for (int sg = -1; sg <= 1; sg += 2) {
-                double a[3] = {0, hole - sg * light[k], 0};
-                a[k] = sg * (light[1] - Ys[y]);
-                double b = -(sg * light[k] * Ys[y] - hole * light[1]);
-                double ad = a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
-                double ao = a[0] * o[0] + a[1] * o[1] + a[2] * o[2];
-                if (fabs(ad) < 1e-15) {
-                    if (ao > b) return 0;
-                    continue;
-                }
-                double t = (b - ao) / ad;
-                if (ad > 0) hi = fmin(hi, t);
-                else lo = fmax(lo, t);
-            }
-    *t0 = lo, *t1 = hi;
-    return hi > lo;
-}
-
 // Where a view ray ends (room or box) and the surface normal there.
 static double ray_end(const double o[3], const double d[3], double n[3]) {
     const double mn[3] = {-6, 0, -6}, mx[3] = {6, Y0, 6};
@@ -74,7 +49,7 @@ static double cpu_pixel(const double o[3], const double d[3], double *inscatter)
     double s = ray_end(o, d, n);
     *inscatter = 0;
     double L = 0;
-    if (lit_interval(o, d, s, HOLE, &t0, &t1)) {
+    if (toth_lit_interval(light, Y0, Y1, o, d, s, HOLE, &t0, &t1)) {
         st_inscatter_problem p;
         for (int k = 0; k < 3; k++) p.origin[k] = o[k], p.dir[k] = d[k], p.light[k] = light[k];
         p.length = s, p.intensity = intensity, p.sigma_s = sigma_s, p.sigma_t = sigma_t;

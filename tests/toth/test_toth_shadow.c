@@ -43,40 +43,12 @@ static double room_exit(const double o[3], const double d[3]) {
     return toth_box_exit(o, d, mn, mx);
 }
 
-// The lit interval of the ray within [0, s] for an opening of half-width
-// `hole`: the segment from x to the light crosses y = Y with
-// s (L_k + (x_k - L_k)(Y - L_y)/(x_y - L_y)) <= hole for k in {x, z},
-// s = +-1, Y in {Y0, Y1}; times (L_y - x_y) > 0 this is linear in x:
-// s (L_y - Y) x_k + (hole - s L_k) x_y + (s L_k Y - hole L_y) <= 0.
-static int lit_interval(const double o[3], const double d[3], double s, double hole, double *t0, double *t1) {
-    double lo = 0, hi = s;
-    const double Ys[2] = {Y0, Y1};
-    for (int y = 0; y < 2; y++)
-        for (int k = 0; k < 3; k += 2)
-            for (int sg = -1; sg <= 1; sg += 2) {
-                double a[3] = {0, hole - sg * LIGHT[k], 0};
-                a[k] = sg * (LIGHT[1] - Ys[y]);
-                double b = -(sg * LIGHT[k] * Ys[y] - hole * LIGHT[1]);
-                double ad = a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
-                double ao = a[0] * o[0] + a[1] * o[1] + a[2] * o[2];
-                if (fabs(ad) < 1e-15) {
-                    if (ao > b) return 0;
-                    continue;
-                }
-                double t = (b - ao) / ad;
-                if (ad > 0) hi = fmin(hi, t);
-                else lo = fmax(lo, t);
-            }
-    *t0 = lo, *t1 = hi;
-    return hi > lo;
-}
-
 static double cpu_inscatter(const st_test_cam *c, int i, int j, double *lit_len) {
     double d[3], t0, t1;
     st_test_ray(c, i, j, d);
     double s = room_exit(c->pos, d);
     *lit_len = 0;
-    if (!lit_interval(c->pos, d, s, HOLE, &t0, &t1)) return 0;
+    if (!toth_lit_interval(LIGHT, Y0, Y1, c->pos, d, s, HOLE, &t0, &t1)) return 0;
     *lit_len = t1 - t0;
     st_inscatter_problem p;
     for (int k = 0; k < 3; k++) p.origin[k] = c->pos[k], p.dir[k] = d[k], p.light[k] = LIGHT[k];
@@ -97,7 +69,7 @@ static int robust(const st_test_cam *c, int i, int j, double margin, int lit) {
         double d[3], t0, t1;
         for (int q = 0; q < 3; q++) d[q] = c->f[q] + x * c->r[q] + y * c->u[q];
         st_v_norm(d);
-        if (lit_interval(c->pos, d, room_exit(c->pos, d), HOLE + (lit ? -0.02 : 0.02), &t0, &t1) != lit) return 0;
+        if (toth_lit_interval(LIGHT, Y0, Y1, c->pos, d, room_exit(c->pos, d), HOLE + (lit ? -0.02 : 0.02), &t0, &t1) != lit) return 0;
     }
     return 1;
 }

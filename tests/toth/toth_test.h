@@ -103,4 +103,35 @@ static inline double toth_quad_oracle(const st_inscatter_problem *p) {
     return st_integrate(toth_integrand_cb, (void *)p, 0.0, p->length, 1e-300, 1e-10);
 }
 
+
+// Lit interval [t0, t1] of the view ray o + t d (0 <= t <= s) below a slab
+// y in [y0, y1] with a square opening |x|, |z| <= hole: the segment to the
+// light passes the opening at both slab faces. Eight half-spaces
+// s (L_k + (x_k - L_k)(Y - L_y)/(x_y - L_y)) <= hole for k in {x, z},
+// s = +-1, Y in {y0, y1}; times (L_y - x_y) > 0 each is linear in x:
+// s (L_y - Y) x_k + (hole - s L_k) x_y + (s L_k Y - hole L_y) <= 0.
+static inline int toth_lit_interval(const double light[3], double y0, double y1, const double o[3],
+                                    const double d[3], double s, double hole, double *t0, double *t1) {
+    double lo = 0, hi = s;
+    const double Ys[2] = {y0, y1};
+    for (int y = 0; y < 2; y++)
+        for (int k = 0; k < 3; k += 2)
+            for (int sg = -1; sg <= 1; sg += 2) {
+                double a[3] = {0, hole - sg * light[k], 0};
+                a[k] = sg * (light[1] - Ys[y]);
+                double b = -(sg * light[k] * Ys[y] - hole * light[1]);
+                double ad = a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
+                double ao = a[0] * o[0] + a[1] * o[1] + a[2] * o[2];
+                if (fabs(ad) < 1e-15) {
+                    if (ao > b) return 0;
+                    continue;
+                }
+                double t = (b - ao) / ad;
+                if (ad > 0) hi = fmin(hi, t);
+                else lo = fmax(lo, t);
+            }
+    *t0 = lo, *t1 = hi;
+    return hi > lo;
+}
+
 #endif
