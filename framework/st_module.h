@@ -131,6 +131,24 @@ typedef struct st_plugin {
 
 typedef const st_plugin *(*st_plugin_fn)(void);
 
+// Pointer lifetimes (what a plugin may keep, and for how long):
+// - `params` given to create: this instance's own array of num_params values,
+//   at one address from create until destroy returns, whatever modules are
+//   loaded, unloaded or re-ordered meanwhile. The world writes it (scene
+//   values before create, st_world_set_param later, then param_changed); the
+//   plugin only reads it. Keep the pointer, do not copy the values.
+// - `w` given to create: valid until destroy returns.
+// - st_frame and everything it points to (matrices, cam_pos, scene): valid
+//   during the hook call only; textures in it may be re-created on resize.
+// - What the plugin returns (st_pass_info and its strings, st_uniform tables,
+//   st_shader*) must stay valid until the next call of the same hook or until
+//   destroy; the world copies st_pass_info when it rebuilds the pass list
+//   (after create, after a switch, after every set_param) and keeps the
+//   strings it points to until the next rebuild.
+// - The st_plugin descriptor and the parameter table: static in the plugin;
+//   the loader copies the descriptor, not the tables, so they live as long as
+//   the .so (until after cleanup).
+
 // ---- loader -------------------------------------------------------------
 
 typedef struct st_plugin_lib st_plugin_lib;

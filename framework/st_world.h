@@ -127,6 +127,9 @@ bool st_world_reload_shaders(st_world *w, st_err *err);
 
 // ---- Modules and stats ---------------------------------------------------
 
+// Module i in frame order. `params` is the instance's own array (the one its
+// plugin reads): valid until that module is switched off or the world is
+// destroyed; write it only through st_world_set_param.
 typedef struct st_module_info {
     const st_plugin *plugin;
     double *params; // plugin->num_params values
