@@ -1,4 +1,4 @@
-// atlas_gi: texture-atlas global illumination (Merz 2010, DESIGN.md).
+// atlas_gi: texture-atlas global illumination (Merz 2010, docs/physics.md).
 // The whole scene lives in one atlas (TEXCOORD_1, or generated: atlas.c).
 // Pass "gbuffer" rasterizes every triangle at its atlas position (plus one
 // point per texel the rasterizer would miss) into a G-buffer atlas: world

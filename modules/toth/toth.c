@@ -7,7 +7,7 @@
 //           pixel, leaving out neighbours on another surface
 //   compose (full resolution)  depth-aware upsampling when the march ran at
 //           half or quarter resolution, and L = L_surface e^(-sigma_t s) + L_in
-// The integration follows DESIGN.md (Hillaire's energy-conserving step);
+// The integration follows docs/physics.md (Hillaire's energy-conserving step);
 // integrator=thesis/thesis_far reproduce the thesis' Riemann sums. Without a
 // medium, or with sigma_s = 0, no pass runs.
 #include "st_world.h"

@@ -1,6 +1,6 @@
 // G-buffer atlas: per texel the world position and area a_j, the normal and
 // validity, the albedo, and the outgoing radiance L0 = direct + emission
-// (Lambertian, DESIGN.md units; shadow_map's visibility when AG_SHADOW).
+// (Lambertian, docs/physics.md units; shadow_map's visibility when AG_SHADOW).
 #include "common/uniforms.glsl"
 #include "common/physics.glsl"
 #ifdef AG_SHADOW

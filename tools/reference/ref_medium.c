@@ -27,7 +27,7 @@ static void source(const st_ref_geometry *g, const double origin[3], const doubl
     double d = sqrt(dot3(L, L));
     if (!(d > 0.0)) return;
     // cos theta between the light's travel direction and the direction toward
-    // the camera (DESIGN.md): dot(normalize(light - x), view ray direction).
+    // the camera (docs/physics.md): dot(normalize(light - x), view ray direction).
     double ph = st_phase_eval(m->phase, dot3(L, dir) / d, m->g);
     double w[3], any = 0.0;
     for (int c = 0; c < 3; c++) {
