@@ -149,6 +149,50 @@ typedef const st_plugin *(*st_plugin_fn)(void);
 //   the loader copies the descriptor, not the tables, so they live as long as
 //   the .so (until after cleanup).
 
+// ---- struct sizes ---------------------------------------------------------
+// Besides st_plugin (abi_major/minor, struct_size), these structs cross the
+// plugin boundary. ST_PLUGIN exports the sizes the plugin was compiled with
+// as a second symbol; the loader refuses a plugin whose st_param_def,
+// st_pass_info, st_uniform, st_light_desc, st_mesh, st_target, st_buffer or
+// st_err (embedded, filled or indexed as arrays) differ from its own, or
+// whose st_frame, st_scene or st_shader (allocated by strahl, read through a
+// pointer) are larger than its own, naming the struct. A plugin without the
+// symbol is checked by abi_major/abi_minor alone. Fields are only appended.
+#define ST_PLUGIN_SIZES_SYMBOL "strahl_plugin_sizes"
+
+typedef struct st_abi_sizes {
+    uint32_t struct_size; // sizeof(st_abi_sizes): fields past it are unknown to the plugin
+    uint32_t plugin, param_def, pass_info, uniform, frame, scene, light_desc, mesh, shader, target,
+        buffer, err;
+} st_abi_sizes;
+
+#define ST_ABI_SIZES                                                                               \
+    {                                                                                              \
+        sizeof(st_abi_sizes), sizeof(st_plugin), sizeof(st_param_def), sizeof(st_pass_info),       \
+            sizeof(st_uniform), sizeof(st_frame), sizeof(st_scene), sizeof(st_light_desc),         \
+            sizeof(st_mesh), sizeof(st_shader), sizeof(st_target), sizeof(st_buffer),              \
+            sizeof(st_err)                                                                         \
+    }
+typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
+
+// ---- declaring a plugin -----------------------------------------------------
+// ST_PLUGIN(designated initializers of st_plugin) defines the descriptor with
+// the ABI version and size filled in, and exports both symbols the loader
+// looks for. ST_PARAMS(table) sets .params and .num_params from a static array.
+#define ST_PARAMS(table) .params = (table), .num_params = (int)(sizeof(table) / sizeof((table)[0]))
+#define ST_PLUGIN(...)                                                                             \
+    static const st_plugin st_plugin_descriptor_ = {.abi_major = ST_ABI_MAJOR,                     \
+                                                    .abi_minor = ST_ABI_MINOR,                     \
+                                                    .struct_size = sizeof(st_plugin),              \
+                                                    __VA_ARGS__};                                  \
+    ST_EXPORT const st_plugin *strahl_plugin(void) {                                               \
+        return &st_plugin_descriptor_;                                                             \
+    }                                                                                              \
+    ST_EXPORT const st_abi_sizes *strahl_plugin_sizes(void) {                                      \
+        static const st_abi_sizes sizes = ST_ABI_SIZES;                                            \
+        return &sizes;                                                                             \
+    }
+
 // ---- loader -------------------------------------------------------------
 
 typedef struct st_plugin_lib st_plugin_lib;

@@ -65,26 +65,9 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     return st_gl_check(PROBE_NAME, err);
 }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = PROBE_NAME,
-    .description = "test plugin: adds its parameter to one channel",
-    .params = params,
-    .num_params = 2,
-    .requires = PROBE_REQUIRES,
-    .provides = PROBE_NAME,
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .on_pass = on_pass,
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) {
-    return &plugin;
-}
+ST_PLUGIN(.name = PROBE_NAME, .description = "test plugin: adds its parameter to one channel",
+          ST_PARAMS(params), .requires = PROBE_REQUIRES, .provides = PROBE_NAME, .create = create,
+          .destroy = destroy, .num_passes = num_passes, .pass_info = pass_info, .on_pass = on_pass)
 
 // What the live instance reads through its parameter pointer; false if none.
 ST_EXPORT bool probe_seen(double out[2]) {
