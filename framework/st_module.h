@@ -3,6 +3,53 @@
 // The loader checks abi_major (equal) and abi_minor (not newer), copies
 // min(struct_size, sizeof(st_plugin)) into a zeroed descriptor so fields a
 // plugin does not know about stay NULL, and names every missing required hook.
+// docs/architecture.md explains the frame graph around it.
+//
+// A minimal plugin (one post pass that scales the image; its shader
+// "dim/dim.frag" lives in shaders/dim/ in the tree, or in
+// <module dir>/shaders/dim/ beside dim.so out of it; examples/plugin builds
+// one against an installed strahl with find_package(strahl)):
+//
+//   #include <st_module.h>
+//   #include <stdlib.h>
+//   static const st_param_def params[] = {{"gain", ST_PARAM_FLOAT, 0.5, 0, 1, NULL, "scale"}};
+//   typedef struct dim { const double *p; st_shader *sh; } dim;
+//   static const st_pass_info pass = {"dim", ST_STAGE_POST, "hdr", "hdr", ST_PASS_FULLSCREEN};
+//   static void *create(st_world *w, const double *p, st_err *err) {
+//       dim *d = calloc(1, sizeof *d);
+//       if (!d) return st_fail(err, ST_ERR_RUNTIME, "out of memory"), NULL;
+//       d->p = p; // this instance's parameters, current until destroy
+//       d->sh = st_shader_load("common/fullscreen.vert", "dim/dim.frag", NULL, err);
+//       if (!d->sh) free(d), d = NULL;
+//       return d;
+//   }
+//   static void destroy(void *s) { st_shader_destroy(((dim *)s)->sh); free(s); }
+//   static int num_passes(void *s) { return 1; }
+//   static const st_pass_info *pass_info(void *s, int i) { return &pass; }
+//   static st_shader *shader(void *s, int i) { return ((dim *)s)->sh; }
+//   static bool on_pass(void *s, int i, const st_frame *f, st_err *err) {
+//       st_shader_set_float(((dim *)s)->sh, "u_gain", (float)((dim *)s)->p[0]);
+//       return true; // the world then draws the full-screen triangle
+//   }
+//   ST_PLUGIN(.name = "dim", .description = "scales the image", ST_PARAMS(params),
+//             .create = create, .destroy = destroy, .num_passes = num_passes,
+//             .pass_info = pass_info, .shader = shader, .on_pass = on_pass)
+//
+// with dim.frag reading `uniform sampler2D st_hdr_in;` (bound by the world).
+//
+// Order of the hooks:
+//   load:     parameters = defaults, then the scene's values
+//   create(w, params), then uniforms() once              (in dependency order)
+//   num_passes(), pass_info(k) for every k               (again after every switch
+//                                                         and every parameter change)
+//   per frame, per pass in frame order: needed(k, f)     (all passes first)
+//   per live, needed pass: the world binds rendertarget(k) (or the next post
+//     target for a post pass writing "hdr"); shader(k) is bound with every
+//     uniform set; on_pass(k, f); the world draws (ST_PASS_SCENE: every model,
+//     ST_PASS_FULLSCREEN: one triangle); after_pass(k, f)
+//   st_world_set_param: the value lands in params[], then param_changed(i)
+//   st_world_reload_shaders: reload()
+//   destroy(self); after the last instance of the .so: cleanup(), dlclose
 #ifndef ST_MODULE_H
 #define ST_MODULE_H
 #include "st_gpu.h"
