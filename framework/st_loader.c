@@ -219,16 +219,41 @@ int st_param_index(const st_plugin *p, const char *name) {
     return -1;
 }
 
-static int choice_index(const char *choices, const char *s) {
-    int i = 0;
-    size_t l = strlen(s);
-    for (const char *c = choices; c && *c; i++) {
+// The k-th name of "a|b|c" and its length; NULL past the end. The one place
+// that reads the choice syntax.
+static const char *choice_at(const char *choices, int k, size_t *len) {
+    const char *c = choices;
+    for (int i = 0; c && *c; i++) {
         const char *bar = strchr(c, '|');
-        size_t n = bar ? (size_t)(bar - c) : strlen(c);
-        if (n == l && !strncmp(c, s, n)) return i;
-        if (!bar) break;
-        c = bar + 1;
+        if (i == k) {
+            *len = bar ? (size_t)(bar - c) : strlen(c);
+            return c;
+        }
+        c = bar ? bar + 1 : NULL;
     }
+    return NULL;
+}
+
+int st_param_num_choices(const st_param_def *d) {
+    size_t l;
+    int n = 0;
+    while (choice_at(d->choices, n, &l))
+        n++;
+    return n;
+}
+
+bool st_param_choice(const st_param_def *d, int k, char *out, size_t n) {
+    size_t l = 0;
+    const char *c = choice_at(d->choices, k, &l);
+    snprintf(out, n, "%.*s", (int)l, c ? c : "");
+    return c != NULL;
+}
+
+static int choice_index(const char *choices, const char *s) {
+    size_t l, sl = strlen(s);
+    const char *c;
+    for (int i = 0; (c = choice_at(choices, i, &l)); i++)
+        if (l == sl && !strncmp(c, s, l)) return i;
     return -1;
 }
 
@@ -270,18 +295,7 @@ void st_param_format(const st_param_def *d, double v, char *out, size_t n) {
     if (d->type == ST_PARAM_BOOL) {
         snprintf(out, n, "%s", v != 0 ? "true" : "false");
     } else if (d->type == ST_PARAM_ENUM) {
-        int k = (int)v, i = 0;
-        for (const char *c = d->choices; c && *c; i++) {
-            const char *bar = strchr(c, '|');
-            size_t l = bar ? (size_t)(bar - c) : strlen(c);
-            if (i == k) {
-                snprintf(out, n, "%.*s", (int)l, c);
-                return;
-            }
-            if (!bar) break;
-            c = bar + 1;
-        }
-        snprintf(out, n, "%d", k);
+        if (!st_param_choice(d, (int)v, out, n)) snprintf(out, n, "%d", (int)v);
     } else {
         snprintf(out, n, "%g", v);
     }

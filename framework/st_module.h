@@ -263,6 +263,10 @@ int st_param_index(const st_plugin *p, const char *name);
 bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out, st_err *err);
 // Formats a value for display ("0.5", "true", "area").
 void st_param_format(const st_param_def *d, double v, char *out, size_t n);
+// An enum's choices ("area|thesis"): how many, and the k-th name (false and
+// "" past the end).
+int st_param_num_choices(const st_param_def *d);
+bool st_param_choice(const st_param_def *d, int k, char *out, size_t n);
 
 #ifdef __cplusplus
 }

@@ -398,10 +398,6 @@ void st_shader_set_vec3(st_shader *sh, const char *n, const float *v) {
     GLint l = st_shader_loc(sh, n);
     if (l >= 0) glUniform3fv(l, 1, v);
 }
-void st_shader_set_vec4(st_shader *sh, const char *n, const float *v) {
-    GLint l = st_shader_loc(sh, n);
-    if (l >= 0) glUniform4fv(l, 1, v);
-}
 void st_shader_set_mat4(st_shader *sh, const char *n, const float *m) {
     GLint l = st_shader_loc(sh, n);
     if (l >= 0) glUniformMatrix4fv(l, 1, GL_FALSE, m);

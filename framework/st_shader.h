@@ -54,7 +54,6 @@ void st_shader_set_int(st_shader *sh, const char *name, int v);
 void st_shader_set_float(st_shader *sh, const char *name, float v);
 void st_shader_set_vec2(st_shader *sh, const char *name, float x, float y);
 void st_shader_set_vec3(st_shader *sh, const char *name, const float *v);
-void st_shader_set_vec4(st_shader *sh, const char *name, const float *v);
 void st_shader_set_mat4(st_shader *sh, const char *name, const float *m);
 
 // Preprocesses one file (exposed for tests): resolves includes, inserts

@@ -673,10 +673,8 @@ void st_world_destroy(st_world *w) {
 // ---- accessors and interactive changes ----------------------------------
 
 const st_scene *st_world_scene(const st_world *w) { return w->scene; }
-st_camera *st_world_camera(st_world *w) { return &w->cam; }
-const st_model *st_world_models(const st_world *w, int *n) {
-    if (n) *n = w->num_models;
-    return w->models;
+st_camera *st_world_camera(st_world *w) {
+    return &w->cam;
 }
 
 void st_world_invalidate(st_world *w, unsigned changes) { w->changes |= changes; }
@@ -771,8 +769,7 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
     } else if (d->type == ST_PARAM_BOOL) {
         value = value != 0;
     } else {
-        int nchoices = 1;
-        for (const char *c = d->choices; c && *c; c++) nchoices += *c == '|';
+        int nchoices = st_param_num_choices(d);
         if (value < 0 || value >= nchoices || value != floor(value))
             return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %g out of range", module, param, value);
     }

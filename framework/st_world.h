@@ -107,7 +107,6 @@ void st_world_draw(st_world *w, st_shader *sh);
 void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f);
 const st_scene *st_world_scene(const st_world *w);
 st_camera *st_world_camera(st_world *w);
-const st_model *st_world_models(const st_world *w, int *n);
 
 // Interactive changes; each marks what the next frame must redo.
 // Marks ST_CHANGE_* as changed for the next frame (e.g. benchmarks that
