@@ -112,6 +112,27 @@ bool st_target_read(const st_target *t, int index, float *rgba, st_err *err) {
     return st_gl_check("read back", err);
 }
 
+GLuint st_hammersley_texture(int n, float *xy) {
+    if (n < 1) return 0;
+    float *v = xy ? xy : malloc((size_t)n * 2 * sizeof *v);
+    if (!v) return 0;
+    for (int i = 0; i < n; i++) {
+        uint32_t b = (uint32_t)i, r = 0;
+        for (int k = 0; k < 32; k++, b >>= 1)
+            r = (r << 1) | (b & 1);
+        v[2 * i] = (float)((double)i / n);
+        v[2 * i + 1] = (float)(r * 2.3283064365386963e-10);
+    }
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_1D, 1, &tex);
+    glTextureStorage1D(tex, 1, GL_RG32F, n);
+    glTextureSubImage1D(tex, 0, 0, n, GL_RG, GL_FLOAT, v);
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    if (!xy) free(v);
+    return tex;
+}
+
 void st_draw_fullscreen(void) {
     if (!g_empty_vao) glCreateVertexArrays(1, &g_empty_vao);
     glBindVertexArray(g_empty_vao);

@@ -41,6 +41,12 @@ void st_target_bind(const st_target *t);
 // Reads colour attachment `index` (RGBA float) into rgba (w*h*4), top row first.
 bool st_target_read(const st_target *t, int index, float *rgba, st_err *err);
 
+// The Hammersley set X_i = (i/n, radical inverse of i in base 2), i < n, as
+// a 1D RG32F texture (nearest filtering); the points also go to xy (2n
+// floats) unless it is NULL. Returns 0 on failure. The gathers of atlas_gi
+// and ssgi sample with it.
+GLuint st_hammersley_texture(int n, float *xy);
+
 // A full-screen triangle (no vertex buffer; the vertex shader uses gl_VertexID).
 void st_draw_fullscreen(void);
 

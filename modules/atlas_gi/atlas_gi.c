@@ -303,22 +303,8 @@ static void ensure_hammersley(agi *g) {
     float *v = realloc(g->ham, (size_t)n * 2 * sizeof *v);
     if (!v) return;
     g->ham = v;
-    for (int i = 0; i < n; i++) {
-        uint32_t b = (uint32_t)i;
-        b = (b << 16) | (b >> 16);
-        b = ((b & 0x55555555u) << 1) | ((b & 0xAAAAAAAAu) >> 1);
-        b = ((b & 0x33333333u) << 2) | ((b & 0xCCCCCCCCu) >> 2);
-        b = ((b & 0x0F0F0F0Fu) << 4) | ((b & 0xF0F0F0F0u) >> 4);
-        b = ((b & 0x00FF00FFu) << 8) | ((b & 0xFF00FF00u) >> 8);
-        v[2 * i] = (float)((double)i / n);
-        v[2 * i + 1] = (float)(b * 2.3283064365386963e-10);
-    }
     if (g->ham_tex) glDeleteTextures(1, &g->ham_tex);
-    glCreateTextures(GL_TEXTURE_1D, 1, &g->ham_tex);
-    glTextureStorage1D(g->ham_tex, 1, GL_RG32F, n);
-    glTextureSubImage1D(g->ham_tex, 0, 0, n, GL_RG, GL_FLOAT, v);
-    glTextureParameteri(g->ham_tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(g->ham_tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    g->ham_tex = st_hammersley_texture(n, v);
     g->ham_n = n;
 }
 

@@ -94,49 +94,15 @@ static void *create(st_world *w, const double *p, st_err *err) {
 static int num_passes(void *self) { return 2 * ((mitchell *)self)->num_lights; }
 static const st_pass_info *pass_info(void *self, int pass) { return &((mitchell *)self)->info[pass]; }
 
-// Where light k is on screen this frame and how strongly it shows.
-static godray_light light_state(const mitchell *m, int k, const st_frame *f, float tint[3]) {
-    godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
-    return godray_project(f->view_proj, f->near_z, f->width, f->height, f->scene->lights[k].position,
-                          m->p[P_FADE_MARGIN]);
-}
-
-static bool blur_needed(const mitchell *m, int k, const st_frame *f) {
-    if (!godray_medium_active(f->scene) || !(m->p[P_EXPOSURE] > 0)) return false;
-    float tint[3];
-    godray_light l = light_state(m, k, f, tint);
-    return l.fade > 0 && (tint[0] > 0 || tint[1] > 0 || tint[2] > 0);
-}
-
 static bool needed(void *self, int pass, const st_frame *f) {
     mitchell *m = self;
-    if (pass >= m->num_lights) return blur_needed(m, pass - m->num_lights, f);
+    if (pass >= m->num_lights)
+        return m->p[P_EXPOSURE] > 0 &&
+               godray_light_active(f, pass - m->num_lights, m->p[P_FADE_MARGIN]);
     // The occlusion image depends on the view, the scene and our parameters;
     // it is only drawn when its blur is live (the world culls it otherwise).
     return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_CAMERA |
                          ST_CHANGE_PARAMS | ST_CHANGE_SIZE);
-}
-
-static void target_size(const mitchell *m, const st_frame *f, int *w, int *h) {
-    double r = m->p[P_RESOLUTION];
-    *w = (int)lround(f->width * r);
-    *h = (int)lround(f->height * r);
-    if (*w < 1) *w = 1;
-    if (*h < 1) *h = 1;
-}
-
-static bool ensure_target(mitchell *m, int k, const st_frame *f, st_err *err) {
-    int w, h;
-    target_size(m, f, &w, &h);
-    st_target *t = &m->occ[k];
-    if (t->fbo && t->width == w && t->height == h) return true;
-    st_target_destroy(t);
-    if (!st_target_create(t, w, h, 1, GL_RGBA32F, true, err)) return false;
-    // Taps that leave the screen see no emitter (no clamped edge streaks).
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
-    return st_gl_check("mitchell occlusion target", err);
 }
 
 // The light's emitting region: a sphere of light_radius seen as a
@@ -177,7 +143,9 @@ static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3
 }
 
 static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
-    if (!ensure_target(m, k, f, err)) return false;
+    int w, h;
+    godray_target_size(f, m->p[P_RESOLUTION], &w, &h);
+    if (!godray_target(&m->occ[k], w, h, GL_RGBA32F, true, err)) return false;
     const st_target *t = &m->occ[k];
     st_target_bind(t);
     float sky = (float)m->p[P_SKY];
@@ -216,7 +184,7 @@ static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
 
 static bool blur_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
     float tint[3];
-    godray_light l = light_state(m, k, f, tint);
+    godray_light l = godray_light_state(f, k, m->p[P_FADE_MARGIN], tint);
     st_shader *sh = m->blur_sh; // bound by the world, builtin uniforms set
     st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, m->occ[k].color[0]);
     st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);

@@ -90,19 +90,6 @@ static int num_passes(void *self) {
 }
 static const st_pass_info *pass_info(void *self, int pass) { return &((sousa *)self)->info[pass]; }
 
-static godray_light light_state(const sousa *s, int k, const st_frame *f, float tint[3]) {
-    godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
-    return godray_project(f->view_proj, f->near_z, f->width, f->height, f->scene->lights[k].position,
-                          s->p[P_FADE_MARGIN]);
-}
-
-static bool light_active(const sousa *s, int k, const st_frame *f) {
-    if (!godray_medium_active(f->scene) || !(s->p[P_BRIGHTNESS] > 0)) return false;
-    float tint[3];
-    godray_light l = light_state(s, k, f, tint);
-    return l.fade > 0 && (tint[0] > 0 || tint[1] > 0 || tint[2] > 0);
-}
-
 static bool needed(void *self, int pass, const st_frame *f) {
     sousa *s = self;
     // The G-buffer is rewritten every frame, but its content only changes
@@ -110,47 +97,28 @@ static bool needed(void *self, int pass, const st_frame *f) {
     const unsigned view = ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_CAMERA | ST_CHANGE_SIZE | ST_CHANGE_PARAMS;
     if (pass == 0) return f->changes & view;
     int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
-    if (!light_active(s, k, f)) return false;
+    if (!(s->p[P_BRIGHTNESS] > 0) || !godray_light_active(f, k, s->p[P_FADE_MARGIN])) return false;
     if (b == BLUR3) return true; // composes onto this frame's image
     return f->changes & (view | ST_CHANGE_LIGHTS | ST_CHANGE_MEDIUM | ST_CHANGE_INPUTS);
-}
-
-static bool ensure(st_target *t, int w, int h, st_err *err) {
-    if (t->fbo && t->width == w && t->height == h) return true;
-    st_target_destroy(t);
-    if (!st_target_create(t, w, h, 1, GL_R32F, false, err)) return false;
-    // Taps that leave the screen read 0 (no clamped edge streaks).
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
-    return st_gl_check("sousa target", err);
-}
-
-static void target_size(const sousa *s, const st_frame *f, int *w, int *h) {
-    double r = s->p[P_RESOLUTION];
-    *w = (int)lround(f->width * r);
-    *h = (int)lround(f->height * r);
-    if (*w < 1) *w = 1;
-    if (*h < 1) *h = 1;
 }
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     sousa *s = self;
     int w, h;
-    target_size(s, f, &w, &h);
+    godray_target_size(f, s->p[P_RESOLUTION], &w, &h);
     if (pass == 0) {
-        if (!ensure(&s->mask, w, h, err)) return false;
+        if (!godray_target(&s->mask, w, h, GL_R32F, false, err)) return false;
         st_target_bind(&s->mask);
         st_shader_set_vec2(s->mask_sh, "u_out_size", (float)w, (float)h);
         return st_gl_check("sousa mask", err);
     }
     int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
     float tint[3];
-    godray_light l = light_state(s, k, f, tint);
+    godray_light l = godray_light_state(f, k, s->p[P_FADE_MARGIN], tint);
     st_shader *sh = b == BLUR3 ? s->compose_sh : s->blur_sh; // bound by the world
     const st_target *src = b == BLUR1 ? &s->mask : &s->tmp[k][b - 1];
     if (b != BLUR3) {
-        if (!ensure(&s->tmp[k][b], w, h, err)) return false;
+        if (!godray_target(&s->tmp[k][b], w, h, GL_R32F, false, err)) return false;
         st_target_bind(&s->tmp[k][b]);
         st_shader_set_vec2(sh, "u_out_size", (float)w, (float)h);
     } else {

@@ -62,30 +62,14 @@ static const st_pass_info *pass_info(void *self, int pass) {
 
 static st_shader *shader(void *self, int pass) { return ((ssgi *)self)->sh; }
 
-// X_i = (i/N, radical inverse of i in base 2), as atlas_gi's sample texture.
-static void ensure_hammersley(ssgi *s, int n) {
-    if (s->ham && s->ham_n == n) return;
-    float *v = malloc((size_t)n * 2 * sizeof *v);
-    if (!v) return;
-    for (int i = 0; i < n; i++) {
-        uint32_t b = (uint32_t)i, r = 0;
-        for (int k = 0; k < 32; k++, b >>= 1) r = (r << 1) | (b & 1);
-        v[2 * i] = (float)((double)i / n);
-        v[2 * i + 1] = (float)(r * 2.3283064365386963e-10);
-    }
-    if (s->ham) glDeleteTextures(1, &s->ham);
-    glCreateTextures(GL_TEXTURE_1D, 1, &s->ham);
-    glTextureStorage1D(s->ham, 1, GL_RG32F, n);
-    glTextureSubImage1D(s->ham, 0, 0, n, GL_RG, GL_FLOAT, v);
-    glTextureParameteri(s->ham, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(s->ham, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    free(v);
-    s->ham_n = n;
-}
-
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     ssgi *s = self;
-    ensure_hammersley(s, (int)s->p[P_SAMPLES]);
+    int n = (int)s->p[P_SAMPLES];
+    if (!s->ham || s->ham_n != n) { // the sample set of atlas_gi, over the image
+        if (s->ham) glDeleteTextures(1, &s->ham);
+        s->ham = st_hammersley_texture(n, NULL);
+        s->ham_n = s->ham ? n : 0;
+    }
     st_shader_texture(s->sh, "ss_hammersley", GL_TEXTURE_1D, s->ham);
     st_shader_set_int(s->sh, "ss_samples", s->ham_n);
     st_shader_set_int(s->sh, "ss_estimator", (int)s->p[P_ESTIMATOR]);

@@ -1,0 +1,50 @@
+// Screen-space light handling shared by the image-space god-ray modules
+// (mitchell, sousa) and their tests: where a point light lands on the screen,
+// how strongly its shafts are faded, the light's tint, and the reduced-size
+// targets both blur in.
+//
+// Fade rules (docs/architecture.md: nothing runs that the scene does not need):
+// - behind the camera or at its position (view depth w <= near): 0, and the
+//   projected position is never computed, so no mirrored rays;
+// - between near and 2 near of view depth: smoothstep up to 1 (the disc and
+//   the projection are unreliable that close to the camera plane);
+// - off screen: 1 - smoothstep(0, margin, d), d the distance of the projected
+//   position outside the [0,1]^2 screen in screen heights (aspect-corrected).
+// The product is continuous in the light's position, so shafts never pop, and
+// a fade of exactly 0 lets the module skip its passes.
+#ifndef GODRAY_SCREEN_H
+#define GODRAY_SCREEN_H
+#include "st_module.h"
+
+typedef struct godray_light {
+    float uv[2]; // texture coordinates of the light, (0,0) bottom left; (0.5,0.5) when fade = 0
+    float fade;  // [0, 1]
+    float w;     // view depth (clip w), metres in front of the camera
+} godray_light;
+
+// view_proj column-major (GL); p the light's world position.
+godray_light godray_project(const float *view_proj, float near_z, int width, int height,
+                            const float p[3], double margin);
+
+// A light's tint: its intensity divided by the largest channel of any light in
+// the scene, so the brightest light is at most 1 per channel (the thesis draws
+// the light object "in the light colour" into an 8-bit target) and weaker
+// lights keep their ratio. Zero when every light is black.
+void godray_tint(const st_light_desc *lights, int num_lights, int k, float out[3]);
+
+// Shafts need something to scatter: a medium with sigma_s > 0 in some channel.
+bool godray_medium_active(const st_scene *s);
+
+// Light k this frame (margin: the module's fade_margin), and its tint.
+godray_light godray_light_state(const st_frame *f, int k, double margin, float tint[3]);
+// Light k casts shafts this frame: a scattering medium, fade > 0, not black.
+bool godray_light_active(const st_frame *f, int k, double margin);
+
+// A target `scale` times the screen per axis, at least 1 x 1.
+void godray_target_size(const st_frame *f, double scale, int *w, int *h);
+// (Re)creates t when its size differs: one colour texture of `format` (and a
+// depth texture if asked) whose taps outside the image read 0, so blurs
+// toward an off-screen light get no clamped edge streaks.
+bool godray_target(st_target *t, int w, int h, GLenum format, bool depth, st_err *err);
+
+#endif
