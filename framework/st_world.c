@@ -12,6 +12,12 @@
 
 #define MAX_MODULES 16
 #define MAX_SLOTS 128
+#define MAX_RESOURCES 128 // distinct resource names in one pass list
+
+// A set of resources, by id (index into st_world.res).
+typedef struct st_resset {
+    uint64_t bits[MAX_RESOURCES / 64];
+} st_resset;
 
 // A loaded module. Each instance is its own heap block, created by load() and
 // freed by unload(), so `params` (handed to the plugin's create) and `self`
@@ -33,6 +39,7 @@ typedef struct st_slot {
     st_module_inst *mod;
     int pass;
     st_pass_info info;
+    st_resset reads, writes; // info.reads/writes as ids
     unsigned pending; // changes since the pass last ran
     bool needed, live;
     GLuint query[2]; // GL_TIMESTAMP before and after
@@ -59,6 +66,8 @@ struct st_world {
     float light_pos[ST_MAX_LIGHTS][3], light_int[ST_MAX_LIGHTS][3];
     int num_lights;
     char regular_reads[512]; // what the regular pass consumes
+    char res[MAX_RESOURCES][ST_NAME_MAX]; // resource names, interned per pass list; 0 is "hdr"
+    int num_res;
 };
 
 // ---- builtin uniforms (thesis: Camera and Light are uniform providers) ----
@@ -112,38 +121,72 @@ void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
 
 // ---- helpers ----------------------------------------------------------------
 
-// Is `name` one of the comma-separated names in `list`?
+// The one tokenizer for comma-separated name lists ("a, b,c?"): copies the
+// next name into out (spaces trimmed, at most ST_NAME_MAX - 1 bytes), sets
+// *optional for a trailing '?' (which is dropped), and returns where to go on,
+// or NULL at the end of the list.
+static const char *next_name(const char *p, char out[ST_NAME_MAX], bool *optional) {
+    while (p && (*p == ' ' || *p == ','))
+        p++;
+    if (!p || !*p) return NULL;
+    const char *e = p;
+    while (*e && *e != ',')
+        e++;
+    const char *t = e;
+    while (t > p && t[-1] == ' ')
+        t--;
+    bool opt = t > p && t[-1] == '?';
+    if (opt) t--;
+    size_t n = (size_t)(t - p) < ST_NAME_MAX ? (size_t)(t - p) : ST_NAME_MAX - 1;
+    memcpy(out, p, n);
+    out[n] = 0;
+    if (optional) *optional = opt;
+    return e;
+}
+
+// Is `name` one of the (non-optional or optional) names in `list`?
 static bool list_has(const char *list, const char *name) {
-    size_t l = strlen(name);
-    for (const char *p = list; p && *p;) {
-        while (*p == ' ' || *p == ',') p++;
-        const char *e = p;
-        while (*e && *e != ',') e++;
-        const char *t = e;
-        while (t > p && t[-1] == ' ') t--;
-        if ((size_t)(t - p) == l && !strncmp(p, name, l)) return true;
-        p = e;
-    }
+    char tok[ST_NAME_MAX];
+    for (const char *p = list; (p = next_name(p, tok, NULL));)
+        if (!strcmp(tok, name)) return true;
     return false;
 }
 
-// Do two comma-separated lists share a name?
-static bool lists_meet(const char *a, const char *b) {
-    char tmp[ST_NAME_MAX];
-    for (const char *p = a; p && *p;) {
-        while (*p == ' ' || *p == ',') p++;
-        const char *e = p;
-        while (*e && *e != ',') e++;
-        const char *t = e;
-        while (t > p && t[-1] == ' ') t--;
-        if (t > p && (size_t)(t - p) < sizeof tmp) {
-            snprintf(tmp, sizeof tmp, "%.*s", (int)(t - p), p);
-            if (list_has(b, tmp)) return true;
-        }
-        p = e;
+// Resource sets: names are interned once per pass list, frames work on bits.
+static int res_id(st_world *w, const char *name) {
+    for (int i = 0; i < w->num_res; i++)
+        if (!strcmp(w->res[i], name)) return i;
+    if (w->num_res == MAX_RESOURCES) return -1;
+    snprintf(w->res[w->num_res], ST_NAME_MAX, "%s", name);
+    return w->num_res++;
+}
+
+static bool res_parse(st_world *w, const char *list, st_resset *out, st_err *err) {
+    memset(out, 0, sizeof *out);
+    char tok[ST_NAME_MAX];
+    for (const char *p = list; (p = next_name(p, tok, NULL));) {
+        if (!tok[0]) continue;
+        int id = res_id(w, tok);
+        if (id < 0)
+            return st_fail(err, ST_ERR_RUNTIME, "more than %d resource names in the passes",
+                           MAX_RESOURCES);
+        out->bits[id / 64] |= 1ull << (id % 64);
     }
+    return true;
+}
+
+static bool res_meet(const st_resset *a, const st_resset *b) {
+    for (int i = 0; i < MAX_RESOURCES / 64; i++)
+        if (a->bits[i] & b->bits[i]) return true;
     return false;
 }
+
+static void res_add(st_resset *a, const st_resset *b) {
+    for (int i = 0; i < MAX_RESOURCES / 64; i++)
+        a->bits[i] |= b->bits[i];
+}
+
+enum { RES_HDR = 0 }; // interned first by build_slots
 
 static st_pass_stats *stats_for(st_world *w, const char *module, const char *pass) {
     for (int i = 0; i < w->num_stats; i++)
@@ -176,6 +219,9 @@ static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_in
     if (!s->info.reads) s->info.reads = "";
     if (!s->info.writes) s->info.writes = "";
     s->pending = ST_CHANGE_ALL;
+    if (!res_parse(w, s->info.reads, &s->reads, err) ||
+        !res_parse(w, s->info.writes, &s->writes, err))
+        return false;
     const char *mname = mi ? mi->p->name : "world";
     char pname[ST_NAME_MAX];
     snprintf(pname, sizeof pname, "%s", s->info.name);
@@ -219,6 +265,8 @@ static bool build_slots(st_world *w, st_err *err) {
         keep_pass[i] = w->slots[i].pass;
     }
     free_slots(w);
+    w->num_res = 0;
+    res_id(w, "hdr"); // RES_HDR
     w->regular_reads[0] = 0;
     for (int m = 0; m < w->num_mods; m++) {
         const st_plugin *p = w->mods[m]->p;
@@ -299,7 +347,7 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     if (!s->mod) return regular_pass(w, f, err);
     st_module_inst *mi = s->mod;
     const st_plugin *p = mi->p;
-    bool to_hdr = s->info.stage == ST_STAGE_POST && list_has(s->info.writes, "hdr");
+    bool to_hdr = s->info.stage == ST_STAGE_POST && (s->writes.bits[0] & (1ull << RES_HDR));
     GLuint fbo = p->rendertarget ? p->rendertarget(mi->self, s->pass) : 0;
     f->hdr_in = w->cam.current;
     if (fbo) {
@@ -363,18 +411,15 @@ bool st_world_frame(st_world *w, st_err *err) {
         s->needed = !p || !p->needed || p->needed(s->mod->self, s->pass, &f);
         if (!s->needed) continue;
         for (int j = i + 1; j < w->num_slots; j++)
-            if (lists_meet(s->info.writes, w->slots[j].info.reads)) w->slots[j].pending |= ST_CHANGE_INPUTS;
+            if (res_meet(&s->writes, &w->slots[j].reads)) w->slots[j].pending |= ST_CHANGE_INPUTS;
     }
     // Backward: the final image is the root; a pass is live if a later live
     // pass reads what it writes. A skipped pass reads nothing this frame.
-    char live[1024] = "hdr";
+    st_resset live = {{1ull << RES_HDR}};
     for (int i = w->num_slots - 1; i >= 0; i--) {
         st_slot *s = &w->slots[i];
-        s->live = (s->info.flags & ST_PASS_SIDE_EFFECT) || lists_meet(s->info.writes, live);
-        if (s->live && s->needed && s->info.reads[0]) {
-            size_t l = strlen(live);
-            snprintf(live + l, sizeof live - l, ",%s", s->info.reads);
-        }
+        s->live = (s->info.flags & ST_PASS_SIDE_EFFECT) || res_meet(&s->writes, &live);
+        if (s->live && s->needed) res_add(&live, &s->reads);
     }
     for (int i = 0; i < w->num_slots; i++) {
         st_slot *s = &w->slots[i];
@@ -524,35 +569,25 @@ static bool resolve(st_world *w, st_err *err) {
         bool progress = false;
         for (int i = 0; i < w->num_mods; i++) {
             if (placed[i]) continue;
-            const char *req = w->mods[i]->p->requires;
-            bool ok = true;
+            bool ok = true, optional;
             char tmp[ST_NAME_MAX];
-            for (const char *r = req; r && *r && ok;) {
-                while (*r == ' ' || *r == ',') r++;
-                const char *e = r;
-                while (*e && *e != ',') e++;
-                if (e > r) {
-                    snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
-                    // "name?" is optional: after its provider when one is loaded.
-                    size_t tl = strlen(tmp);
-                    bool optional = tl && tmp[tl - 1] == '?';
-                    if (optional) tmp[tl - 1] = 0;
-                    bool found = false, any = false;
-                    for (int j = 0; j < w->num_mods; j++) {
-                        if (j == i || !list_has(w->mods[j]->p->provides, tmp)) continue;
-                        any = true;
-                        found |= placed[j];
-                    }
-                    if (!any && optional) found = true;
-                    if (!any && !optional)
-                        return st_fail(
-                            err, ST_ERR_INPUT,
-                            "%s: module '%s' requires '%s', which no module in the scene provides "
-                            "(add {\"name\": \"%s\"} to modules)",
-                            w->scene->path, w->mods[i]->p->name, tmp, tmp);
-                    ok = found;
+            for (const char *r = w->mods[i]->p->requires;
+                 ok && (r = next_name(r, tmp, &optional));) {
+                if (!tmp[0]) continue;
+                // "name?" is optional: after its provider when one is loaded.
+                bool found = false, any = false;
+                for (int j = 0; j < w->num_mods; j++) {
+                    if (j == i || !list_has(w->mods[j]->p->provides, tmp)) continue;
+                    any = true;
+                    found |= placed[j];
                 }
-                r = e;
+                if (!any && !optional)
+                    return st_fail(
+                        err, ST_ERR_INPUT,
+                        "%s: module '%s' requires '%s', which no module in the scene provides "
+                        "(add {\"name\": \"%s\"} to modules)",
+                        w->scene->path, w->mods[i]->p->name, tmp, tmp);
+                ok = found || (!any && optional);
             }
             if (!ok) continue;
             sorted[n++] = w->mods[i];
@@ -710,29 +745,29 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
         // Load what it requires first (turning on toth turns on shadow_map).
         const char *req = w->mods[w->num_mods - 1]->p->requires;
         char tmp[ST_NAME_MAX];
-        for (const char *r = req; r && *r;) {
-            while (*r == ' ' || *r == ',') r++;
-            const char *e = r;
-            while (*e && *e != ',') e++;
-            if (e > r && e[-1] != '?') { // optional requirements are not loaded
-                snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
-                bool have = false;
-                for (int j = 0; j < w->num_mods; j++)
-                    have |= list_has(w->mods[j]->p->provides, tmp);
-                if (!have && !load(w, tmp, err)) {
-                    unload(w, w->num_mods - 1);
-                    return false;
-                }
+        bool optional;
+        for (const char *r = req; (r = next_name(r, tmp, &optional));) {
+            if (!tmp[0] || optional) continue; // optional requirements are not loaded
+            bool have = false;
+            for (int j = 0; j < w->num_mods; j++)
+                have |= list_has(w->mods[j]->p->provides, tmp);
+            if (!have && !load(w, tmp, err)) {
+                for (int i = w->num_mods - 1; i >= 0; i--) // everything this call loaded
+                    if (w->mods[i]->serial > before) unload(w, i);
+                return false;
             }
-            r = e;
         }
     } else {
         // Refuse to remove a provider others still need.
-        const char *prov = w->mods[m]->p->provides;
+        // (An optional requirement "name?" does not hold it.)
+        char tmp[ST_NAME_MAX];
+        bool optional;
         for (int j = 0; j < w->num_mods; j++)
-            if (j != m && lists_meet(prov, w->mods[j]->p->requires))
-                return st_fail(err, ST_ERR_INPUT, "module '%s' is required by '%s'", module,
-                               w->mods[j]->p->name);
+            for (const char *r = w->mods[j]->p->requires;
+                 j != m && (r = next_name(r, tmp, &optional));)
+                if (tmp[0] && !optional && list_has(w->mods[m]->p->provides, tmp))
+                    return st_fail(err, ST_ERR_INPUT, "module '%s' is required by '%s'", module,
+                                   w->mods[j]->p->name);
         w->mods[m]->p->destroy(w->mods[m]->self);
         w->mods[m]->self = NULL;
         unload(w, m);
