@@ -194,7 +194,7 @@ void view_mouse_wheel(view *v, double dy);
 // Builds the stats table, the panel (and handles its mouse input), the help
 // box and the message lines.
 void view_overlay(view *v);
-// Parameter slider mapping (log scale for wide positive ranges).
+// Parameter slider mapping (view_param.c; log scale for wide positive ranges).
 double view_param_to_t(const st_param_def *d, double value);
 double view_param_from_t(const st_param_def *d, double t);
 
