@@ -4,6 +4,7 @@
 // defaults, at their range limits and in between; occlusion image at a
 // fraction of the output size (bilinear taps between texels). Error measure:
 // |gpu - C| / max(1, |C|) per value (absolute up to 1, relative above).
+#include "st_test_support.h"
 #include "mitchell/godray_test.h"
 
 static st_shader *sh;
@@ -46,11 +47,7 @@ static void run_case(const char *what, const gimg *occ, const gimg *hdr, const m
 
 int main(void) {
     st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    if (!ctx) {
-        fprintf(stderr, "context: %s\n", err.msg);
-        return 1;
-    }
+    st_context *ctx = st_test_context();
     sh = st_shader_load("common/fullscreen.vert", "mitchell/blur.frag", NULL, &err);
     CHECK(sh != NULL, "load blur shader: %s", err.msg);
     if (!sh) return st_test_summary("test_mitchell_blur");

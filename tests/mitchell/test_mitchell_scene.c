@@ -10,6 +10,7 @@
 // - a static view draws the occlusion image once;
 // - stress: light at a pixel centre, at the camera, behind it, on a surface,
 //   inside the near range; every parameter at its range limits: all finite.
+#include "st_test_support.h"
 #include "mitchell/godray_test.h"
 #include "godray_screen.h"
 #include <cjson/cJSON.h>
@@ -310,15 +311,13 @@ static void test_idle(void) {
     st_scene_free(&sc);
 
     // The same through the command line's --stats=json.
-    char path[512], out[512], cmd[2048];
-    static char buf[1 << 16];
+    char path[512], out[512];
+    int rc;
     snprintf(path, sizeof path, "%s/idle.json", ST_TEST_SCRATCH);
     snprintf(out, sizeof out, "%s/idle.exr", ST_TEST_SCRATCH);
     st_test_write(path, scene_json(light, "", NULL, "", NULL));
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --frames 2 --stats=json 2>/dev/null", ST_TEST_STRAHL, path, out);
-    int rc = st_test_capture(buf, sizeof buf, cmd);
+    cJSON *j = st_test_stats_json(path, out, "--frames 2", &rc);
     CHECK(rc == 0, "strahl render rc %d", rc);
-    cJSON *j = cJSON_Parse(buf);
     CHECK(j != NULL, "--stats=json output is JSON");
     int seen = 0;
     cJSON *p, *passes = j ? cJSON_GetObjectItem(j, "passes") : NULL;
@@ -395,12 +394,7 @@ static void test_stress(void) {
 }
 
 int main(void) {
-    st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    if (!ctx) {
-        fprintf(stderr, "context: %s\n", err.msg);
-        return 1;
-    }
+    st_context *ctx = st_test_context();
     test_occlusion_content();
     test_light_pixel();
     test_additive();

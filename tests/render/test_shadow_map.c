@@ -1,5 +1,6 @@
 // Shadows: floor points whose segment to the light crosses a floating box
 // get no direct light with shadow_map, the unshadowed value without it.
+#include "st_test_support.h"
 #include "st_test_render.h"
 
 static const double I = 3.0, LP[3] = {0, 1.8, 0}, RHO = 0.75;
@@ -17,21 +18,6 @@ static void write_scene(const char *path, const char *modules) {
              " \"modules\": [%s]}\n",
              LP[0], LP[1], LP[2], I, I, I, RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], modules);
     st_test_write(path, json);
-}
-
-// Is floor point p shadowed, robustly (all 4 jittered neighbours agree)?
-static int shadow_state(const double p[3], double jitter) {
-    int in = 0;
-    const double off[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-    for (int k = 0; k < 5; k++) {
-        double q[3] = {p[0] + off[k][0] * jitter, 0, p[2] + off[k][1] * jitter};
-        double d[3] = {LP[0] - q[0], LP[1] - q[1], LP[2] - q[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int c = 0; c < 3; c++) d[c] /= len;
-        double t = st_test_ray_box(q, d, BMIN, BMAX);
-        in += t >= 0 && t < len;
-    }
-    return in == 5 ? 1 : in == 0 ? 0 : -1; // -1: near the shadow edge
 }
 
 int main(void) {
@@ -57,7 +43,7 @@ int main(void) {
                 for (int k = 0; k < 3; k++) p[k] = c.pos[k] + t * d[k];
                 if (fabs(p[0]) > 3.9 || fabs(p[2]) > 3.9) continue;
                 // Footprint of a pixel on the floor, about t * angle per pixel.
-                int s = shadow_state(p, 2.5 * t * 2 * c.tan_half / 96);
+                int s = st_test_shadow_state(p, 2.5 * t * 2 * c.tan_half / 96, LP, BMIN, BMAX);
                 if (s < 0) continue;
                 double l[3] = {LP[0] - p[0], LP[1] - p[1], LP[2] - p[2]};
                 double d2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];

@@ -1,16 +1,13 @@
 // --stats=json: which passes ran, were skipped or culled. No shadow pass
 // without shadow_map; one per light with it, rendered once for a static scene.
 #include "st_test_render.h"
+#include "st_test_support.h"
 #include <cjson/cJSON.h>
 
-static char buf[1 << 16];
-
 static cJSON *stats(const char *scene, const char *out, const char *extra) {
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json %s 2>/dev/null", ST_TEST_STRAHL, scene, out, extra);
-    int rc = st_test_capture(buf, sizeof buf, cmd);
+    int rc;
+    cJSON *j = st_test_stats_json(scene, out, extra, &rc);
     CHECK(rc == 0, "stats render rc %d", rc);
-    cJSON *j = cJSON_Parse(buf);
     CHECK(j != NULL, "stats output is JSON");
     return j;
 }

@@ -8,6 +8,7 @@
 // - shaders/sousa/mask.frag turns a synthetic G-buffer (camera distance, -1
 //   where empty) into linear depth / far, 1 where empty (thesis A.6), at full
 //   and half resolution, within 1e-5.
+#include "st_test_support.h"
 #include "mitchell/godray_test.h"
 
 static st_shader *blur, *compose, *mask_sh;
@@ -131,11 +132,7 @@ static void test_mask(int ms) {
 
 int main(void) {
     st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    if (!ctx) {
-        fprintf(stderr, "context: %s\n", err.msg);
-        return 1;
-    }
+    st_context *ctx = st_test_context();
     blur = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", NULL, &err);
     compose = blur ? st_shader_load("common/fullscreen.vert", "sousa/blur.frag", "SOUSA_COMPOSE 1", &err) : NULL;
     mask_sh = compose ? st_shader_load("common/fullscreen.vert", "sousa/mask.frag", NULL, &err) : NULL;

@@ -10,6 +10,7 @@
 //   in --stats=json); a static view computes mask, blur 1 and 2 once;
 // - stress: light at a pixel centre, at the camera, behind it, on a surface;
 //   every parameter at its range limits: all finite.
+#include "st_test_support.h"
 #include "mitchell/godray_test.h"
 #include "godray_screen.h"
 #include <cjson/cJSON.h>
@@ -237,15 +238,13 @@ static void test_idle(void) {
     st_scene_free(&sc);
 
     // --stats=json of the command line, no medium.
-    char path[512], out[512], cmd[2048];
-    static char buf[1 << 16];
+    char path[512], out[512];
+    int rc;
     snprintf(path, sizeof path, "%s/idle.json", ST_TEST_SCRATCH);
     snprintf(out, sizeof out, "%s/idle.exr", ST_TEST_SCRATCH);
     st_test_write(path, scene_json(light, WALL, NULL, "", NULL));
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --frames 2 --stats=json 2>/dev/null", ST_TEST_STRAHL, path, out);
-    int rc = st_test_capture(buf, sizeof buf, cmd);
+    cJSON *j = st_test_stats_json(path, out, "--frames 2", &rc);
     CHECK(rc == 0, "strahl render rc %d", rc);
-    cJSON *j = cJSON_Parse(buf);
     CHECK(j != NULL, "--stats=json output is JSON");
     int seen = 0;
     cJSON *p, *passes = j ? cJSON_GetObjectItem(j, "passes") : NULL;
@@ -315,12 +314,7 @@ static void test_stress(void) {
 }
 
 int main(void) {
-    st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    if (!ctx) {
-        fprintf(stderr, "context: %s\n", err.msg);
-        return 1;
-    }
+    st_context *ctx = st_test_context();
     test_end_to_end(6, 0.19f);
     test_end_to_end(4, 0.3f);
     test_end_to_end(12, 0.1f);

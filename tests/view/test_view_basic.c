@@ -2,6 +2,7 @@
 // changes, camera moves, resize, screenshots and per-pass stats. Screenshots
 // must equal the headless `strahl render` of the same state (within 1e-4),
 // and the stats must show which passes ran or were skipped.
+#include "st_test_support.h"
 #include "view_test.h"
 
 static const double LP[3] = {0, 1.8, 0};
@@ -22,21 +23,6 @@ static void write_scene(const char *path, const char *modules) {
              W, H, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], LP[0], LP[1], LP[2], BMIN[0], BMIN[1], BMIN[2],
              BMAX[0], BMAX[1], BMAX[2], modules);
     st_test_write(path, json);
-}
-
-// 1: floor point robustly in the box's shadow, 0: robustly lit, -1: edge.
-static int shadow_state(const double p[3], double jitter) {
-    int in = 0;
-    const double off[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-    for (int k = 0; k < 5; k++) {
-        double q[3] = {p[0] + off[k][0] * jitter, 0, p[2] + off[k][1] * jitter};
-        double d[3] = {LP[0] - q[0], LP[1] - q[1], LP[2] - q[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int c = 0; c < 3; c++) d[c] /= len;
-        double t = st_test_ray_box(q, d, BMIN, BMAX);
-        in += t >= 0 && t < len;
-    }
-    return in == 5 ? 1 : in == 0 ? 0 : -1;
 }
 
 int main(int argc, char **argv) {
@@ -114,7 +100,8 @@ int main(int argc, char **argv) {
             if (d[1] >= 0 || st_test_ray_box(c.pos, d, BMIN, BMAX) >= 0) continue;
             double t = -c.pos[1] / d[1], p[3];
             for (int k = 0; k < 3; k++) p[k] = c.pos[k] + t * d[k];
-            if (shadow_state(p, 2.5 * t * 2 * c.tan_half / H) != 1) continue;
+            if (st_test_shadow_state(p, 2.5 * t * 2 * c.tan_half / H, LP, BMIN, BMAX) != 1)
+                continue;
             shadowed++;
             max_on = fmax(max_on, st_image_px(&on, i, j)[0]);
             min_off = fmin(min_off, st_image_px(&off, i, j)[0]);

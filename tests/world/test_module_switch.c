@@ -10,6 +10,7 @@
 // must equal that of a world created fresh with the same modules, order and
 // parameters.
 #include "st_test_render.h"
+#include "st_test_support.h"
 #include "st_world.h"
 #include <dlfcn.h>
 
@@ -244,10 +245,7 @@ int main(void) {
     const char *old = getenv("STRAHL_MODULE_PATH");
     snprintf(path, sizeof path, "%s%s%s", ST_TEST_PROBE_DIR, old ? ":" : "", old ? old : "");
     setenv("STRAHL_MODULE_PATH", path, 1);
-    st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    CHECK(ctx != NULL, "context: %s", err.msg);
-    if (!ctx) return st_test_summary("test_module_switch");
+    st_context *ctx = st_test_context();
     part_probes();
     part_real();
     st_context_destroy(ctx);

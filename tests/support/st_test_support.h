@@ -1,0 +1,26 @@
+// The test support library (tests/support, linked into every test by
+// st_add_test): scaffolding that several test programs need. Functions here
+// return what they found; the calling test CHECKs it (the CHECK counters are
+// per test program, in st_test.h).
+#ifndef ST_TEST_SUPPORT_H
+#define ST_TEST_SUPPORT_H
+#ifndef _GNU_SOURCE
+#define _GNU_SOURCE // as st_test.h: popen, M_PI
+#endif
+#include "st_gl.h"
+#include <cjson/cJSON.h>
+
+// A headless GL context; on failure prints why and exits 1 (nothing to test).
+st_context *st_test_context(void);
+
+// Runs `strahl render SCENE -o OUT --stats=json EXTRA` and parses its output.
+// *rc gets the exit code; NULL when the output is not JSON.
+cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra, int *rc);
+
+// Is floor point p (y = 0) in the shadow that the box [bmin, bmax] casts from
+// a point light at lp? 1 robustly shadowed, 0 robustly lit, -1 near the edge
+// (the 4 neighbours at distance `jitter` disagree).
+int st_test_shadow_state(const double p[3], double jitter, const double lp[3], const double bmin[3],
+                         const double bmax[3]);
+
+#endif
