@@ -39,6 +39,12 @@ int st_err_exit_code(const st_err *err) {
     return err->kind == ST_ERR_INPUT ? ST_EXIT_INPUT : ST_EXIT_RUNTIME;
 }
 
+void *st_calloc(size_t size, st_err *err) {
+    void *p = calloc(1, size);
+    if (!p) st_fail(err, ST_ERR_RUNTIME, "out of memory (%zu bytes)", size);
+    return p;
+}
+
 char *st_read_file(const char *path, size_t *len, st_err *err) {
     FILE *f = fopen(path, "rb");
     if (!f) {

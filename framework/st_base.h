@@ -29,6 +29,10 @@ bool st_fail(st_err *err, st_err_kind kind, const char *fmt, ...)
 void st_err_prefix(st_err *err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 int st_err_exit_code(const st_err *err);
 
+// Zeroed memory for one object of `size` bytes, or NULL with "out of memory"
+// in err (a plugin's create: `fog *f = st_calloc(sizeof *f, err);`).
+void *st_calloc(size_t size, st_err *err);
+
 // Whole-file read; NUL-terminated. Returns NULL and fills err on failure.
 char *st_read_file(const char *path, size_t *len, st_err *err);
 // Joins dir and rel unless rel is absolute. out must hold n bytes.

@@ -16,8 +16,8 @@
 //   typedef struct dim { const double *p; st_shader *sh; } dim;
 //   static const st_pass_info pass = {"dim", ST_STAGE_POST, "hdr", "hdr", ST_PASS_FULLSCREEN};
 //   static void *create(st_world *w, const double *p, st_err *err) {
-//       dim *d = calloc(1, sizeof *d);
-//       if (!d) return st_fail(err, ST_ERR_RUNTIME, "out of memory"), NULL;
+//       dim *d = st_calloc(sizeof *d, err);
+//       if (!d) return NULL;
 //       d->p = p; // this instance's parameters, current until destroy
 //       d->sh = st_shader_load("common/fullscreen.vert", "dim/dim.frag", NULL, err);
 //       if (!d->sh) free(d), d = NULL;

@@ -28,11 +28,8 @@ typedef struct fog {
 } fog;
 
 static void *create(st_world *w, const double *p, st_err *err) {
-    fog *f = calloc(1, sizeof *f);
-    if (!f) {
-        st_fail(err, ST_ERR_RUNTIME, "out of memory");
-        return NULL;
-    }
+    fog *f = st_calloc(sizeof *f, err);
+    if (!f) return NULL;
     f->p = p;
     // "height_fog/..." is read from the shaders/height_fog folder beside
     // this .so; "common/..." from strahl's own shaders.

@@ -63,11 +63,8 @@ static void destroy(void *self) {
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
-    mitchell *m = calloc(1, sizeof *m);
-    if (!m) {
-        st_fail(err, ST_ERR_RUNTIME, "out of memory");
-        return NULL;
-    }
+    mitchell *m = st_calloc(sizeof *m, err);
+    if (!m) return NULL;
     m->w = w;
     m->p = p;
     m->num_lights = st_world_scene(w)->num_lights;

@@ -83,11 +83,8 @@ static float scene_far(const st_scene *sc) {
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
-    shadow_map *s = calloc(1, sizeof *s);
-    if (!s) {
-        st_fail(err, ST_ERR_RUNTIME, "out of memory");
-        return NULL;
-    }
+    shadow_map *s = st_calloc(sizeof *s, err);
+    if (!s) return NULL;
     s->w = w;
     s->p = p;
     s->far_z = scene_far(st_world_scene(w));

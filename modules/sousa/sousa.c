@@ -53,11 +53,8 @@ static void destroy(void *self) {
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
-    sousa *s = calloc(1, sizeof *s);
-    if (!s) {
-        st_fail(err, ST_ERR_RUNTIME, "out of memory");
-        return NULL;
-    }
+    sousa *s = st_calloc(sizeof *s, err);
+    if (!s) return NULL;
     s->w = w;
     s->p = p;
     s->num_lights = st_world_scene(w)->num_lights;

@@ -30,11 +30,8 @@ typedef struct ssgi {
 } ssgi;
 
 static void *create(st_world *w, const double *p, st_err *err) {
-    ssgi *s = calloc(1, sizeof *s);
-    if (!s) {
-        st_fail(err, ST_ERR_RUNTIME, "out of memory");
-        return NULL;
-    }
+    ssgi *s = st_calloc(sizeof *s, err);
+    if (!s) return NULL;
     s->w = w;
     s->p = p;
     s->sh = st_shader_load("common/fullscreen.vert", "ssgi/gather.frag", NULL, err);
