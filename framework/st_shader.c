@@ -311,7 +311,10 @@ static GLuint build(const st_shader *sh, st_err *err) {
     }
     char what[300];
     snprintf(what, sizeof what, "%s + %s", sh->vs, sh->fs);
-    return link_program(s, 2, what, err);
+    GLuint p = link_program(s, 2, what, err);
+    // Named after its files in debuggers (RenderDoc, apitrace).
+    if (p) glObjectLabel(GL_PROGRAM, p, -1, what);
+    return p;
 }
 
 static st_shader *create(const char *vs, const char *fs, const char *cs, const char *defines,

@@ -437,7 +437,13 @@ bool st_world_frame(st_world *w, st_err *err) {
         f.changes = s->pending;
         double t0 = st_now_ms();
         if (s->query[0]) glQueryCounter(s->query[0], GL_TIMESTAMP);
+        // One debug group per pass, named as in --stats, so GPU captures
+        // (RenderDoc, apitrace) read like the stats table.
+        char group[2 * ST_NAME_MAX + 2];
+        snprintf(group, sizeof group, "%s/%s", ps->module, ps->pass);
+        glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, (GLuint)i, -1, group);
         bool ok = run_slot(w, s, &f, err);
+        glPopDebugGroup();
         if (s->query[1]) glQueryCounter(s->query[1], GL_TIMESTAMP);
         if (!ok) return false;
         double t1 = st_now_ms();
@@ -634,9 +640,24 @@ static bool create_targets(st_world *w, st_err *err) {
     st_target_destroy(&c->scene);
     st_target_destroy(&c->post[0]);
     st_target_destroy(&c->post[1]);
-    return st_target_create(&c->scene, c->width, c->height, 3, GL_RGBA32F, true, err) &&
-           st_target_create(&c->post[0], c->width, c->height, 1, GL_RGBA32F, false, err) &&
-           st_target_create(&c->post[1], c->width, c->height, 1, GL_RGBA32F, false, err);
+    if (!st_target_create(&c->scene, c->width, c->height, 3, GL_RGBA32F, true, err) ||
+        !st_target_create(&c->post[0], c->width, c->height, 1, GL_RGBA32F, false, err) ||
+        !st_target_create(&c->post[1], c->width, c->height, 1, GL_RGBA32F, false, err))
+        return false;
+    // The resource names of the pass list, for debuggers.
+    glObjectLabel(GL_FRAMEBUFFER, c->scene.fbo, -1, "camera.scene");
+    glObjectLabel(GL_TEXTURE, c->scene.color[0], -1, "hdr");
+    glObjectLabel(GL_TEXTURE, c->scene.color[1], -1, "gbuffer");
+    glObjectLabel(GL_TEXTURE, c->scene.color[2], -1, "albedo");
+    glObjectLabel(GL_TEXTURE, c->scene.depth, -1, "depth");
+    for (int i = 0; i < 2; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "camera.post%d", i);
+        glObjectLabel(GL_FRAMEBUFFER, c->post[i].fbo, -1, name);
+        snprintf(name, sizeof name, "hdr (post %d)", i);
+        glObjectLabel(GL_TEXTURE, c->post[i].color[0], -1, name);
+    }
+    return st_gl_check("camera targets", err);
 }
 
 st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_err *err) {
