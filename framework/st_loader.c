@@ -51,9 +51,10 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
         bool grows; // may be smaller in the plugin
     } fields[] = {
 #define F(f, g) {"st_" #f, offsetof(st_abi_sizes, f), g}
-        F(plugin, false), F(param_def, false), F(pass_info, false),  F(uniform, false),
-        F(frame, true),   F(scene, true),      F(light_desc, false), F(mesh, false),
-        F(shader, true),  F(target, false),    F(buffer, false),     F(err, false),
+        F(plugin, false),      F(param_def, false), F(pass_info, false),  F(uniform, false),
+        F(frame, true),        F(scene, true),      F(light_desc, false), F(mesh, false),
+        F(shader, true),       F(target, false),    F(buffer, false),     F(err, false),
+        F(target_desc, false),
 #undef F
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {

@@ -107,6 +107,14 @@ typedef struct st_pass_info {
     unsigned flags;
 } st_pass_info;
 
+// A target the world owns for a module (st_world_declare_target).
+typedef struct st_target_desc {
+    GLenum format;    // colour format of one colour texture (GL_RGBA32F, GL_R32F, ...)
+    double scale;     // size as a fraction of the screen per axis (0: 1); at least 1 x 1
+    bool depth;       // with a depth texture (for depth-tested scene passes)
+    bool border_zero; // taps outside the image read 0 (else the edge is clamped)
+} st_target_desc;
+
 // What changed since a pass last ran (accumulated while it was skipped or culled).
 enum {
     ST_CHANGE_FIRST = 1u << 0,    // never ran
@@ -210,7 +218,7 @@ typedef const st_plugin *(*st_plugin_fn)(void);
 typedef struct st_abi_sizes {
     uint32_t struct_size; // sizeof(st_abi_sizes): fields past it are unknown to the plugin
     uint32_t plugin, param_def, pass_info, uniform, frame, scene, light_desc, mesh, shader, target,
-        buffer, err;
+        buffer, err, target_desc;
 } st_abi_sizes;
 
 #define ST_ABI_SIZES                                                                               \
@@ -218,7 +226,7 @@ typedef struct st_abi_sizes {
         sizeof(st_abi_sizes), sizeof(st_plugin), sizeof(st_param_def), sizeof(st_pass_info),       \
             sizeof(st_uniform), sizeof(st_frame), sizeof(st_scene), sizeof(st_light_desc),         \
             sizeof(st_mesh), sizeof(st_shader), sizeof(st_target), sizeof(st_buffer),              \
-            sizeof(st_err)                                                                         \
+            sizeof(st_err), sizeof(st_target_desc)                                                 \
     }
 typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
 

@@ -13,6 +13,7 @@
 #define MAX_MODULES 16
 #define MAX_SLOTS 128
 #define MAX_RESOURCES 128 // distinct resource names in one pass list
+#define MAX_TARGETS 64    // world-owned targets
 
 // A set of resources, by id (index into st_world.res).
 typedef struct st_resset {
@@ -68,6 +69,12 @@ struct st_world {
     char regular_reads[512]; // what the regular pass consumes
     char res[MAX_RESOURCES][ST_NAME_MAX]; // resource names, interned per pass list; 0 is "hdr"
     int num_res;
+    struct {
+        char name[ST_NAME_MAX];
+        st_target_desc desc;
+        st_target t;
+    } targets[MAX_TARGETS]; // declared by modules (st_world_declare_target)
+    int num_targets;
 };
 
 // ---- builtin uniforms (thesis: Camera and Light are uniform providers) ----
@@ -343,6 +350,70 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
     return st_gl_check("regular pass", err);
 }
 
+// ---- world-owned targets ------------------------------------------------------
+
+static int find_target(const st_world *w, const char *name) {
+    for (int i = 0; i < w->num_targets; i++)
+        if (!strcmp(w->targets[i].name, name)) return i;
+    return -1;
+}
+
+// Allocates target i at its size for the current screen (no-op if it has it).
+static bool ensure_target(st_world *w, int i, st_err *err) {
+    const st_target_desc *d = &w->targets[i].desc;
+    st_target *t = &w->targets[i].t;
+    double scale = d->scale > 0 ? d->scale : 1;
+    int tw = (int)lround(w->cam.width * scale), th = (int)lround(w->cam.height * scale);
+    tw = tw < 1 ? 1 : tw;
+    th = th < 1 ? 1 : th;
+    if (t->fbo && t->width == tw && t->height == th) return true;
+    st_target_destroy(t);
+    if (!st_target_create(t, tw, th, 1, d->format, d->depth, err)) return false;
+    GLenum wrap = d->border_zero ? GL_CLAMP_TO_BORDER : GL_CLAMP_TO_EDGE;
+    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, wrap);
+    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, wrap);
+    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
+    glObjectLabel(GL_TEXTURE, t->color[0], -1, w->targets[i].name);
+    glObjectLabel(GL_FRAMEBUFFER, t->fbo, -1, w->targets[i].name);
+    return st_gl_check(w->targets[i].name, err);
+}
+
+bool st_world_declare_target(st_world *w, const char *name, const st_target_desc *d, st_err *err) {
+    if (strlen(name) >= ST_NAME_MAX || !strchr(name, '.'))
+        return st_fail(err, ST_ERR_RUNTIME, "target '%s': not a \"<module>.<name>\" name", name);
+    int i = find_target(w, name);
+    if (i < 0) {
+        if (w->num_targets == MAX_TARGETS)
+            return st_fail(err, ST_ERR_RUNTIME, "too many targets (max %d)", MAX_TARGETS);
+        i = w->num_targets++;
+        memset(&w->targets[i], 0, sizeof w->targets[i]);
+        snprintf(w->targets[i].name, ST_NAME_MAX, "%s", name);
+    }
+    st_target_desc old = w->targets[i].desc;
+    w->targets[i].desc = *d;
+    if (old.format != d->format || old.scale != d->scale || old.depth != d->depth ||
+        old.border_zero != d->border_zero)
+        st_target_destroy(&w->targets[i].t); // re-created at the next use
+    return true;
+}
+
+const st_target *st_world_target(st_world *w, const char *name) {
+    int i = find_target(w, name);
+    st_err ignore = {0};
+    return i >= 0 && ensure_target(w, i, &ignore) ? &w->targets[i].t : NULL;
+}
+
+// Frees the targets of module `module` ("<module>.*").
+static void free_targets(st_world *w, const char *module) {
+    size_t l = module ? strlen(module) : 0; // NULL: all
+    for (int i = w->num_targets - 1; i >= 0; i--) {
+        if (module && (strncmp(w->targets[i].name, module, l) || w->targets[i].name[l] != '.'))
+            continue;
+        st_target_destroy(&w->targets[i].t);
+        w->targets[i] = w->targets[--w->num_targets];
+    }
+}
+
 static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     if (!s->mod) return regular_pass(w, f, err);
     st_module_inst *mi = s->mod;
@@ -354,6 +425,14 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     } else if (to_hdr) {
         st_target_bind(&w->cam.post[w->cam.post_out]);
+    } else {
+        // The world-owned target this pass writes, if any.
+        for (int i = 0; i < w->num_targets; i++) {
+            if (!list_has(s->info.writes, w->targets[i].name)) continue;
+            if (!ensure_target(w, i, err)) return false;
+            st_target_bind(&w->targets[i].t);
+            break;
+        }
     }
     if (to_hdr) glViewport(0, 0, w->cam.width, w->cam.height);
     glDisable(GL_BLEND);
@@ -535,6 +614,7 @@ static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
 static void unload(st_world *w, int m) {
     st_module_inst *mi = w->mods[m];
     if (mi->self) mi->p->destroy(mi->self);
+    free_targets(w, mi->p->name);
     st_plugin_close(mi->lib);
     free(mi);
     // Only the pointers move; the other instances stay where they are.
@@ -715,6 +795,7 @@ void st_world_destroy(st_world *w) {
     for (int m = 0; m < w->num_mods; m++)
         if (w->mods[m]->self) w->mods[m]->p->destroy(w->mods[m]->self), w->mods[m]->self = NULL;
     while (w->num_mods) unload(w, w->num_mods - 1);
+    free_targets(w, NULL);
     free_slots(w);
     st_shader_destroy(w->regular);
     st_model_type_destroy(&w->type);

@@ -124,6 +124,21 @@ bool st_world_get_param(const st_world *w, const char *module, const char *param
 // Recompiles every shader; on failure the old ones stay and err says why.
 bool st_world_reload_shaders(st_world *w, st_err *err);
 
+// ---- Targets owned by the world ------------------------------------------
+
+// What a pass draws into, declared by its module; the world allocates it,
+// re-creates it when the description or the screen size changes, labels it
+// with its name for debuggers, binds it for the pass that writes it (a pass
+// whose `writes` names it, unless the module has a rendertarget hook) and
+// frees it when the module is switched off. (st_target_desc: st_module.h.)
+//
+// Declares (or re-describes) target `name`, which must be "<module>.<name>"
+// like the pass resources. Call from create and when a parameter changes it.
+bool st_world_declare_target(st_world *w, const char *name, const st_target_desc *d, st_err *err);
+// The target, allocated at the current size; NULL if undeclared or the
+// allocation failed. Valid until the next frame, resize or declare.
+const st_target *st_world_target(st_world *w, const char *name);
+
 // ---- Modules and stats ---------------------------------------------------
 
 // Module i in frame order. `params` is the instance's own array (the one its

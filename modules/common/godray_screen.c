@@ -58,20 +58,3 @@ bool godray_light_active(const st_frame *f, int k, double margin) {
     godray_light l = godray_light_state(f, k, margin, tint);
     return l.fade > 0 && (tint[0] > 0 || tint[1] > 0 || tint[2] > 0);
 }
-
-void godray_target_size(const st_frame *f, double scale, int *w, int *h) {
-    *w = (int)lround(f->width * scale);
-    *h = (int)lround(f->height * scale);
-    if (*w < 1) *w = 1;
-    if (*h < 1) *h = 1;
-}
-
-bool godray_target(st_target *t, int w, int h, GLenum format, bool depth, st_err *err) {
-    if (t->fbo && t->width == w && t->height == h) return true;
-    st_target_destroy(t);
-    if (!st_target_create(t, w, h, 1, format, depth, err)) return false;
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
-    return st_gl_check("god-ray target", err);
-}

@@ -1,7 +1,6 @@
 // Screen-space light handling shared by the image-space god-ray modules
 // (mitchell, sousa) and their tests: where a point light lands on the screen,
-// how strongly its shafts are faded, the light's tint, and the reduced-size
-// targets both blur in.
+// how strongly its shafts are faded, and the light's tint.
 //
 // Fade rules (docs/architecture.md: nothing runs that the scene does not need):
 // - behind the camera or at its position (view depth w <= near): 0, and the
@@ -39,12 +38,5 @@ bool godray_medium_active(const st_scene *s);
 godray_light godray_light_state(const st_frame *f, int k, double margin, float tint[3]);
 // Light k casts shafts this frame: a scattering medium, fade > 0, not black.
 bool godray_light_active(const st_frame *f, int k, double margin);
-
-// A target `scale` times the screen per axis, at least 1 x 1.
-void godray_target_size(const st_frame *f, double scale, int *w, int *h);
-// (Re)creates t when its size differs: one colour texture of `format` (and a
-// depth texture if asked) whose taps outside the image read 0, so blurs
-// toward an off-screen light get no clamped edge streaks.
-bool godray_target(st_target *t, int w, int h, GLenum format, bool depth, st_err *err);
 
 #endif

@@ -45,7 +45,6 @@ typedef struct mitchell {
     st_world *w;
     const double *p;
     int num_lights;
-    st_target occ[ST_MAX_LIGHTS];
     st_shader *occ_sh, *disc_sh, *blur_sh;
     GLuint empty_vao;
     st_pass_info info[2 * ST_MAX_LIGHTS];
@@ -54,12 +53,26 @@ typedef struct mitchell {
 
 static void destroy(void *self) {
     mitchell *m = self;
-    for (int k = 0; k < ST_MAX_LIGHTS; k++) st_target_destroy(&m->occ[k]);
     if (m->empty_vao) glDeleteVertexArrays(1, &m->empty_vao);
     st_shader_destroy(m->occ_sh);
     st_shader_destroy(m->disc_sh);
     st_shader_destroy(m->blur_sh);
     free(m);
+}
+
+// The occlusion images, owned by the world: `resolution` of the screen, with
+// depth for the scene pass, taps outside reading no emitter (no clamped edge
+// streaks).
+static bool declare_targets(mitchell *m, st_err *err) {
+    const st_target_desc d = {GL_RGBA32F, m->p[P_RESOLUTION], true, true};
+    for (int k = 0; k < m->num_lights; k++)
+        if (!st_world_declare_target(m->w, m->occ_name[k], &d, err)) return false;
+    return true;
+}
+
+static void param_changed(void *self, int index) {
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_RESOLUTION) declare_targets(self, &ignore);
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
@@ -83,6 +96,10 @@ static void *create(st_world *w, const double *p, st_err *err) {
         m->info[k] = (st_pass_info){"occlusion", ST_STAGE_PRE, "", m->occ_name[k], 0};
         m->info[m->num_lights + k] =
             (st_pass_info){"blur", ST_STAGE_POST, m->blur_reads[k], "hdr", ST_PASS_FULLSCREEN};
+    }
+    if (!declare_targets(m, err)) {
+        destroy(m);
+        return NULL;
     }
     return m;
 }
@@ -140,11 +157,8 @@ static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3
 }
 
 static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
-    int w, h;
-    godray_target_size(f, m->p[P_RESOLUTION], &w, &h);
-    if (!godray_target(&m->occ[k], w, h, GL_RGBA32F, true, err)) return false;
-    const st_target *t = &m->occ[k];
-    st_target_bind(t);
+    const st_target *t = st_world_target(m->w, m->occ_name[k]); // bound by the world
+    if (!t) return st_fail(err, ST_ERR_RUNTIME, "no target %s", m->occ_name[k]);
     float sky = (float)m->p[P_SKY];
     const float clear[4] = {sky * SKY_COLOR[0], sky * SKY_COLOR[1], sky * SKY_COLOR[2], 1};
     glClearBufferfv(GL_COLOR, 0, clear);
@@ -183,7 +197,9 @@ static bool blur_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
     float tint[3];
     godray_light l = godray_light_state(f, k, m->p[P_FADE_MARGIN], tint);
     st_shader *sh = m->blur_sh; // bound by the world, builtin uniforms set
-    st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, m->occ[k].color[0]);
+    const st_target *occ = st_world_target(m->w, m->occ_name[k]);
+    if (!occ) return st_fail(err, ST_ERR_RUNTIME, "no target %s", m->occ_name[k]);
+    st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, occ->color[0]);
     st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
     st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
     st_shader_set_int(sh, "u_samples", (int)m->p[P_N]);
@@ -216,4 +232,4 @@ ST_PLUGIN(.name = "mitchell",
                          "occlusion image toward each light",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
           .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
-          .reload = reload)
+          .param_changed = param_changed, .reload = reload)

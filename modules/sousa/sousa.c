@@ -36,7 +36,6 @@ typedef struct sousa {
     st_world *w;
     const double *p;
     int num_lights;
-    st_target mask, tmp[ST_MAX_LIGHTS][2]; // tmp: outputs of blur 1 and 2 per light
     st_shader *mask_sh, *blur_sh, *compose_sh;
     st_pass_info info[1 + NUM_BLUR * ST_MAX_LIGHTS];
     char names[ST_MAX_LIGHTS][2][32], reads3[ST_MAX_LIGHTS][40];
@@ -44,12 +43,26 @@ typedef struct sousa {
 
 static void destroy(void *self) {
     sousa *s = self;
-    st_target_destroy(&s->mask);
-    for (int k = 0; k < ST_MAX_LIGHTS; k++) st_target_destroy(&s->tmp[k][0]), st_target_destroy(&s->tmp[k][1]);
     st_shader_destroy(s->mask_sh);
     st_shader_destroy(s->blur_sh);
     st_shader_destroy(s->compose_sh);
     free(s);
+}
+
+// The mask and the outputs of blur 1 and 2 per light, owned by the world:
+// `resolution` of the screen, taps outside reading 0 (no clamped edge streaks).
+static bool declare_targets(sousa *s, st_err *err) {
+    const st_target_desc d = {GL_R32F, s->p[P_RESOLUTION], false, true};
+    bool ok = st_world_declare_target(s->w, "sousa.mask", &d, err);
+    for (int k = 0; ok && k < s->num_lights; k++)
+        ok = st_world_declare_target(s->w, s->names[k][0], &d, err) &&
+             st_world_declare_target(s->w, s->names[k][1], &d, err);
+    return ok;
+}
+
+static void param_changed(void *self, int index) {
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_RESOLUTION) declare_targets(self, &ignore);
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
@@ -77,6 +90,10 @@ static void *create(st_world *w, const double *p, st_err *err) {
         in[BLUR2] = (st_pass_info){"blur2", ST_STAGE_POST, s->names[k][0], s->names[k][1], ST_PASS_FULLSCREEN};
         in[BLUR3] = (st_pass_info){"blur3", ST_STAGE_POST, s->reads3[k], "hdr", ST_PASS_FULLSCREEN};
     }
+    if (!declare_targets(s, err)) {
+        destroy(s);
+        return NULL;
+    }
     return s;
 }
 
@@ -101,23 +118,21 @@ static bool needed(void *self, int pass, const st_frame *f) {
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     sousa *s = self;
-    int w, h;
-    godray_target_size(f, s->p[P_RESOLUTION], &w, &h);
+    // The world has bound the target each pass writes; the last one writes the image.
+    const st_target *mask = st_world_target(s->w, "sousa.mask");
+    if (!mask) return st_fail(err, ST_ERR_RUNTIME, "no target sousa.mask");
     if (pass == 0) {
-        if (!godray_target(&s->mask, w, h, GL_R32F, false, err)) return false;
-        st_target_bind(&s->mask);
-        st_shader_set_vec2(s->mask_sh, "u_out_size", (float)w, (float)h);
+        st_shader_set_vec2(s->mask_sh, "u_out_size", (float)mask->width, (float)mask->height);
         return st_gl_check("sousa mask", err);
     }
     int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
     float tint[3];
     godray_light l = godray_light_state(f, k, s->p[P_FADE_MARGIN], tint);
     st_shader *sh = b == BLUR3 ? s->compose_sh : s->blur_sh; // bound by the world
-    const st_target *src = b == BLUR1 ? &s->mask : &s->tmp[k][b - 1];
+    const st_target *src = b == BLUR1 ? mask : st_world_target(s->w, s->names[k][b - 1]);
+    if (!src) return st_fail(err, ST_ERR_RUNTIME, "no target %s", s->names[k][b - 1]);
     if (b != BLUR3) {
-        if (!godray_target(&s->tmp[k][b], w, h, GL_R32F, false, err)) return false;
-        st_target_bind(&s->tmp[k][b]);
-        st_shader_set_vec2(sh, "u_out_size", (float)w, (float)h);
+        st_shader_set_vec2(sh, "u_out_size", (float)src->width, (float)src->height); // all one size
     } else {
         st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
         st_shader_set_vec3(sh, "u_color", tint);
@@ -150,4 +165,4 @@ ST_PLUGIN(.name = "sousa",
                          "with steps TAPS^-1, TAPS^-2, TAPS^-3",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
           .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
-          .reload = reload)
+          .param_changed = param_changed, .reload = reload)

@@ -8,7 +8,8 @@
 // Part 2: the real plugins shadow_map, ssgi, mitchell and sousa are switched
 // in two orders with parameters set in between; after each step the image
 // must equal that of a world created fresh with the same modules, order and
-// parameters.
+// parameters, and with every module switched off the GPU memory is back
+// where it started (the targets mitchell and sousa declare are the world's).
 #include "st_test_render.h"
 #include "st_test_support.h"
 #include "st_world.h"
@@ -144,6 +145,8 @@ static const struct {
     {"mitchell", "decay", {0.96875, 0.9375, 1}},
     {"sousa", "taps", {4, 8, 3}},
     {"sousa", "brightness", {0.5, 0.75, 0.25}},
+    {"mitchell", "resolution", {0.5, 0.25, 1}},
+    {"sousa", "resolution", {0.5, 1, 0.25}},
 };
 #define NUM_TWEAKS (int)(sizeof tweaks / sizeof tweaks[0])
 
@@ -190,6 +193,7 @@ static void real_sequence(const st_scene *sc, const char *const *steps, int nste
     st_world *w = st_world_create(sc, NULL, &err);
     CHECK(w != NULL, "world: %s", err.msg);
     if (!w) return;
+    size_t bytes0 = st_gpu_bytes(); // the world's own targets and buffers
     for (int s = 0; s < nsteps; s++) {
         const char *m = steps[s] + 1;
         bool on = steps[s][0] == '+';
@@ -219,6 +223,14 @@ static void real_sequence(const st_scene *sc, const char *const *steps, int nste
         st_image_free(&a);
         st_image_free(&b);
     }
+    // Switched off, a module leaves no GPU memory behind (its targets are
+    // the world's and go with it).
+    while (st_world_num_modules(w) > 0) {
+        const char *m = st_world_module(w, st_world_num_modules(w) - 1).plugin->name;
+        CHECK(st_world_enable(w, m, false, &err), "off %s: %s", m, err.msg);
+    }
+    CHECK(st_gpu_bytes() == bytes0, "GPU bytes after every module is off: %zu, before: %zu",
+          st_gpu_bytes(), bytes0);
     st_world_destroy(w);
 }
 
