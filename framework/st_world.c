@@ -37,7 +37,8 @@ typedef struct st_module_inst {
 
 // One pass in frame order. mod == NULL is the world's regular pass.
 typedef struct st_slot {
-    st_module_inst *mod;
+    st_module_inst *mod; // dangling between an unload and the next build_slots
+    unsigned serial;     // mod's serial (0: regular), readable even then
     int pass;
     st_pass_info info;
     st_resset reads, writes; // info.reads/writes as ids
@@ -220,6 +221,7 @@ static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_in
     st_slot *s = &w->slots[w->num_slots];
     memset(s, 0, sizeof *s);
     s->mod = mi;
+    s->serial = mi ? mi->serial : 0;
     s->pass = pass;
     s->info = *info;
     if (!s->info.name) s->info.name = "pass";
@@ -268,7 +270,7 @@ static bool build_slots(st_world *w, st_err *err) {
     int keep_pass[MAX_SLOTS], nkeep = w->num_slots;
     for (int i = 0; i < nkeep; i++) {
         keep[i] = w->slots[i].pending;
-        keep_serial[i] = w->slots[i].mod ? w->slots[i].mod->serial : 0;
+        keep_serial[i] = w->slots[i].serial;
         keep_pass[i] = w->slots[i].pass;
     }
     free_slots(w);
@@ -302,9 +304,8 @@ static bool build_slots(st_world *w, st_err *err) {
     // A pass that existed before keeps what it had pending.
     for (int i = 0; i < w->num_slots; i++) {
         st_slot *s = &w->slots[i];
-        unsigned serial = s->mod ? s->mod->serial : 0;
         for (int k = 0; k < nkeep; k++)
-            if (keep_serial[k] == serial && keep_pass[k] == s->pass) s->pending = keep[k];
+            if (keep_serial[k] == s->serial && keep_pass[k] == s->pass) s->pending = keep[k];
     }
     return true;
 }

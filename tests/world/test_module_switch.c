@@ -89,10 +89,11 @@ static void probe_sequence(const st_scene *sc, const int on[3], const int off[3]
 static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
 
 static void part_probes(void) {
+    void *handles[3] = {0};
     for (int k = 0; k < 3; k++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s.so", ST_TEST_PROBE_DIR, probes[k]);
-        void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL); // kept open: the world's handle is the same
+        void *h = handles[k] = dlopen(path, RTLD_NOW | RTLD_LOCAL); // the world's handle is the same
         CHECK(h != NULL, "dlopen %s: %s", path, dlerror());
         if (!h) return;
         *(void **)&seen[k] = dlsym(h, "probe_seen");
@@ -109,6 +110,8 @@ static void part_probes(void) {
         for (int b = 0; b < 6; b++)
             probe_sequence(&sc, perms[a], perms[b], &counter);
     st_scene_free(&sc);
+    for (int k = 0; k < 3; k++)
+        dlclose(handles[k]);
 }
 
 // ---- part 2: the real plugins ---------------------------------------------
