@@ -40,6 +40,29 @@ typedef struct {
     size_t gpu_bytes;
 } row;
 
+static const char help_text[] =
+    "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [options]\n"
+    "Time against error: every combination of the swept values renders in a fresh world;\n"
+    "one CSV row per setting, the Pareto front on stdout, optionally a log-log plot.\n"
+    "  --reference REF.exr        reference image of the same size (required)\n"
+    "  --sweep MODULE.PARAM=v,... values to sweep (required, up to 4; the first is the\n"
+    "                             x along each curve of the plot)\n"
+    "  --csv OUT.csv              output table (required; written atomically)\n"
+    "  --append                   add rows to an existing CSV (default: overwrite)\n"
+    "  --plot OUT.png|OUT.svg     log-log plot of time against error (default: none)\n"
+    "  --frames F                 timed frames per setting, 1..10000 (default 10)\n"
+    "  --warmup W                 untimed frames first, 0..10000 (default 2)\n"
+    "  --metric rmse|relmse|scaled_rmse|max_abs   error column (default rmse)\n"
+    "  --budget-error X           also print the cheapest setting with error <= X (default: off)\n"
+    "  --mode recompute|steady    recompute: redo cached passes every frame (default);\n"
+    "                             steady: time a static scene\n"
+    "  --set MODULE.PARAM=VALUE   fixed parameter for every setting (repeatable)\n"
+    "  --size WxH                 render size (default: the scene's; must match REF)\n"
+    "  -h, --help                 this text\n"
+    "example:\n"
+    "  strahl bench scenes/godrays_window.json --reference ref.exr --size 128x128 \\\n"
+    "      --sweep toth.samples=16,64,256 --sweep toth.interleave=1,2 --csv toth.csv --plot toth.png\n";
+
 static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     memset(sw, 0, sizeof *sw);
     const char *dot = strchr(s, '.'), *eq = strchr(s, '=');
@@ -164,7 +187,10 @@ int st_cmd_bench(int argc, char **argv) {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool nx = i + 1 < argc;
-        if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(help_text, stdout);
+            return ST_EXIT_OK;
+        } else if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
         else if (!strcmp(a, "--csv") && nx) csv = argv[++i];
         else if (!strcmp(a, "--plot") && nx) plot = argv[++i];
         else if (!strcmp(a, "--append")) append = true;

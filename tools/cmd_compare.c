@@ -7,6 +7,17 @@
 #include <stdio.h>
 #include <string.h>
 
+static const char help_text[] =
+    "usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png]\n"
+    "Error of A against the reference B, per channel and over R,G,B: rmse, relmse\n"
+    "((a-b)^2 / (b^2 + 0.01)), psnr (peak = max of B), max_abs, the scale s minimising\n"
+    "|s A - B| and the rmse after scaling.\n"
+    "  --json             one JSON object instead of the table (default: text)\n"
+    "  --heatmap OUT.png  |A - B| as a colour ramp (default: none)\n"
+    "  -h, --help         this text\n"
+    "example:\n"
+    "  strahl compare out/toth.exr ref.exr --heatmap out/diff.png\n";
+
 static int fail(const st_err *err) {
     fprintf(stderr, "strahl compare: %s\n", err->msg);
     return st_err_exit_code(err);
@@ -85,9 +96,7 @@ int st_cmd_compare(int argc, char **argv) {
         } else if (!strncmp(arg, "--heatmap=", 10)) {
             heatmap = arg + 10;
         } else if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
-            printf("usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png]\n"
-                   "  B is the reference; prints rmse, relmse, psnr, max_abs, the scale s\n"
-                   "  minimising |s A - B| and the rmse after scaling, per channel and overall.\n");
+            fputs(help_text, stdout);
             return ST_EXIT_OK;
         } else if (arg[0] == '-' && arg[1]) {
             return bad_usage("unknown option", arg);

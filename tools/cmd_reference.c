@@ -15,10 +15,26 @@
 
 #define MAX_SETS 64
 
-static const char *usage_text =
-    "usage: strahl reference SCENE.json -o OUT.exr [--spp N] [--aov combined|direct|indirect|inscatter]\n"
-    "         [--seed S] [--size WxH] [--bounces K] [--bounce-visibility on|off] [--estimator area|thesis]\n"
-    "         [--steps N] [--threads N] [--set MODULE.PARAM=VALUE]...\n";
+static const char usage_text[] =
+    "usage: strahl reference SCENE.json -o OUT.exr [options]\n"
+    "The CPU reference (Embree, all cores): R, G, B and the per-pixel standard error\n"
+    "of the mean (stderr.R/G/B).\n"
+    "  -o OUT.exr                output (required; .exr only, written atomically)\n"
+    "  --spp N                   samples per pixel, 1..10000000 (default 64)\n"
+    "  --aov combined|direct|indirect|inscatter   what to render (default combined)\n"
+    "  --seed S                  random seed, unsigned 64-bit (default 0); runs with\n"
+    "                            different seeds are independent shards for strahl merge\n"
+    "  --size WxH                image size (default: the scene's)\n"
+    "  --bounces K               diffuse bounces, 0..16 (default 1)\n"
+    "  --bounce-visibility on|off  visibility test in the bounce (default on)\n"
+    "  --estimator area|thesis   bounce estimator (default area)\n"
+    "  --steps N                 strata per view ray for in-scattering, 1..1000000 (default 256)\n"
+    "  --threads N               worker threads, 1..256 (default: all online cores)\n"
+    "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
+    "  -h, --help                this text\n"
+    "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"
+    "example:\n"
+    "  strahl reference scenes/godrays_window.json -o ref.exr --size 128x128 --spp 64 --bounces 0\n";
 
 static bool parse_choice(const char *s, const char *const *names, int n, int *out) {
     for (int i = 0; i < n; i++)

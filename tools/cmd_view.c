@@ -14,6 +14,20 @@
 
 #define MAX_SETS 64
 
+static const char help_text[] =
+    "usage: strahl view SCENE.json [options]\n"
+    "An interactive window on a scene (press H in it for the keys).\n"
+    "  --script FILE             run the commands in FILE, then exit (default: interactive)\n"
+    "  --size WxH                render size (default: the scene's image size)\n"
+    "  --set MODULE.PARAM=VALUE  change a module parameter (repeatable)\n"
+    "  --exposure EV             display exposure in stops, -64..64 (default 0)\n"
+    "  --ui-scale S              overlay text scale, 0.5..8 (default 1)\n"
+    "  --shots DIR               screenshot folder (default .)\n"
+    "  --hide-panel              start with the parameter panel hidden (default shown)\n"
+    "  -h, --help                this text\n"
+    "example:\n"
+    "  strahl view scenes/godrays_colonnade.json --set toth.samples=64\n";
+
 static int usage_error(const char *fmt, const char *arg) {
     st_err err = {0};
     st_fail(&err, ST_ERR_INPUT, fmt, arg);
@@ -30,7 +44,10 @@ int st_cmd_view(int argc, char **argv) {
         const char *a = argv[i];
         bool has_next = i + 1 < argc;
         char *e;
-        if (!strcmp(a, "--script") && has_next) {
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(help_text, stdout);
+            return ST_EXIT_OK;
+        } else if (!strcmp(a, "--script") && has_next) {
             script = argv[++i];
         } else if (!strcmp(a, "--set") && has_next) {
             if (num_sets == MAX_SETS) return usage_error("too many --set (max 64)%s", "");
