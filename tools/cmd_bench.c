@@ -35,7 +35,8 @@ typedef struct {
     double frame_ms, module_gpu_ms, module_cpu_ms;
     char passes[256]; // "pass=gpu ms;..." of the swept modules
     st_metrics m;
-    double error;
+    double error, error_raw; // error with the reference's variance removed, and without
+    bool noisy_ref;          // the reference's noise is > 1/3 of the error
     long peak_rss_kb;
     size_t gpu_bytes;
 } row;
@@ -44,6 +45,10 @@ static const char help_text[] =
     "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [options]\n"
     "Time against error: every combination of the swept values renders in a fresh world;\n"
     "one CSV row per setting, the Pareto front on stdout, optionally a log-log plot.\n"
+    "When REF has standard-error channels (strahl reference), the error column has the\n"
+    "reference's own variance removed (mean((a-b)^2 - s^2), see strahl compare --help);\n"
+    "error_raw keeps the raw value, and a warning names the settings whose error the\n"
+    "reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3).\n"
     "  --reference REF.exr        reference image of the same size (required)\n"
     "  --sweep MODULE.PARAM=v,... values to sweep (required, up to 4; the first is the\n"
     "                             x along each curve of the plot)\n"
@@ -81,15 +86,17 @@ static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     return true;
 }
 
-static double error_of(const st_metrics *m, const char *metric) {
-    if (!strcmp(metric, "relmse")) return m->relmse[3];
-    if (!strcmp(metric, "scaled_rmse")) return m->scaled_rmse[3];
+// debiased: with the reference's own variance removed (equal to the raw value
+// when the reference has no standard-error channels; max_abs has no such form).
+static double error_of(const st_metrics *m, const char *metric, bool debiased) {
+    if (!strcmp(metric, "relmse")) return debiased ? m->relmse_debiased[3] : m->relmse[3];
+    if (!strcmp(metric, "scaled_rmse")) return debiased ? m->scaled_rmse_debiased[3] : m->scaled_rmse[3];
     if (!strcmp(metric, "max_abs")) return m->max_abs[3];
-    return m->rmse[3];
+    return debiased ? m->rmse_debiased[3] : m->rmse[3];
 }
 
 // Renders one setting; fills r. The scene has the setting applied already.
-static bool run_one(const st_scene *scene, const st_image *ref, int frames, int warmup, bool recompute,
+static bool run_one(const st_scene *scene, const st_image *ref, const st_image *ref_se, int frames, int warmup, bool recompute,
                     const char *metric, const sweep *sweeps, int nsweeps, row *r, st_err *err) {
     st_world_opts opts = {.timing = true};
     st_world *w = st_world_create(scene, &opts, err);
@@ -109,10 +116,11 @@ static bool run_one(const st_scene *scene, const st_image *ref, int frames, int 
         glFinish();
         if (f >= warmup) ft[timed++] = (float)(st_now_ms() - t0);
     }
-    ok = ok && st_world_read(w, &img, err) && st_image_compare(&img, ref, &r->m, err);
+    ok = ok && st_world_read(w, &img, err) && st_image_compare_noisy(&img, ref, ref_se, &r->m, err);
     if (ok) {
         r->frame_ms = st_median_f(ft, timed);
-        r->error = error_of(&r->m, metric);
+        r->error = error_of(&r->m, metric, true);
+        r->error_raw = error_of(&r->m, metric, false);
         // Per-module pass time: medians over the runs of each swept module's passes.
         r->module_gpu_ms = r->module_cpu_ms = 0;
         for (int i = 0; i < st_world_num_pass_stats(w); i++) {
@@ -245,9 +253,12 @@ int st_cmd_bench(int argc, char **argv) {
         if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg")))
             return st_fail(&err, ST_ERR_INPUT, "--plot %s: expected .png or .svg", plot), st_report("bench", &err);
     }
-    st_image ref = {0};
-    if (!st_image_read_exr(ref_path, &ref, &err)) {
+    st_image ref = {0}, ref_se = {0};
+    st_exr_meta ref_meta = {0};
+    if (!st_image_read_exr(ref_path, &ref, &err) || !st_image_read_exr_stderr(ref_path, &ref_se, &err) ||
+        !st_image_read_exr_meta(ref_path, &ref_meta, &err)) {
         err.kind = ST_ERR_INPUT;
+        st_image_free(&ref);
         return st_report("bench", &err);
     }
     // Validate the scene and every swept value before any rendering.
@@ -302,9 +313,10 @@ int st_cmd_bench(int argc, char **argv) {
             goto fail;
         }
         fprintf(stderr, "bench [%d/%d] %s\n", idx + 1, total, r->setting);
-        bool ok = run_one(&scene, &ref, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
+        bool ok = run_one(&scene, &ref, &ref_se, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
         st_scene_free(&scene);
         if (!ok) goto fail;
+        r->noisy_ref = st_warn_reference_noise("bench", ref_path, &r->m, ref_meta.spp);
         done++;
     }
     {
@@ -323,14 +335,17 @@ int st_cmd_bench(int argc, char **argv) {
             fclose(old);
         } else {
             fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_median,"
-                       "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,pass_gpu_ms\n", metric);
+                       "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,pass_gpu_ms,"
+                       "error_raw,ref_noise_rms,ref_noise_warning\n", metric);
         }
         for (int i = 0; i < done; i++) {
             row *r = &rows[i];
-            fprintf(f, "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s\n", scene_path,
+            fprintf(f, "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%.9g,%.9g,%d\n",
+                    scene_path,
                     r->setting, r->curve, r->x, frames, r->frame_ms, r->module_gpu_ms, r->module_cpu_ms, r->error,
                     r->m.rmse[3], r->m.relmse[3], isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3],
-                    r->m.scale, r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes);
+                    r->m.scale, r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
+                    r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
         }
         if (fclose(f) != 0 || rename(tmp, csv) != 0) {
             unlink(tmp);
@@ -343,10 +358,11 @@ int st_cmd_bench(int argc, char **argv) {
         row *sorted[MAX_ROWS];
         for (int i = 0; i < done; i++) sorted[i] = &rows[i];
         qsort(sorted, (size_t)done, sizeof sorted[0], cmp_time);
-        printf("%-48s %12s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric);
+        printf("%-48s %12s %14s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric, "raw");
         for (int i = 0; i < done; i++)
-            printf("%-48s %12.3f %14.3f %14.6g\n", sorted[i]->setting, sorted[i]->frame_ms,
-                   sorted[i]->module_gpu_ms, sorted[i]->error);
+            printf("%-48s %12.3f %14.3f %14.6g %14.6g%s\n", sorted[i]->setting, sorted[i]->frame_ms,
+                   sorted[i]->module_gpu_ms, sorted[i]->error, sorted[i]->error_raw,
+                   sorted[i]->noisy_ref ? "  (reference too noisy)" : "");
         printf("Pareto front (faster settings with a lower %s):\n", metric);
         double best = INFINITY;
         for (int i = 0; i < done; i++) {
@@ -372,6 +388,7 @@ fail:
 out:
     st_context_destroy(ctx);
     st_image_free(&ref);
+    st_image_free(&ref_se);
     free(rows);
     return rc;
 }

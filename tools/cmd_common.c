@@ -1,5 +1,6 @@
 #include "cmd_common.h"
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,4 +47,20 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
 int st_report(const char *cmd, const st_err *err) {
     fprintf(stderr, "strahl %s: %s\n", cmd, err->msg);
     return st_err_exit_code(err);
+}
+
+bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp) {
+    if (!st_metrics_noise_dominates(m)) return false;
+    double noise = m->ref_noise_rms[3], err = m->rmse_debiased[3];
+    fprintf(stderr,
+            "strahl %s: warning: %s: the reference's noise (rms standard error %.3g) is more than a "
+            "third of the error it measures (debiased rmse %.3g, raw %.3g)",
+            cmd, ref_path, noise, err, m->rmse[3]);
+    // The standard error falls as 1/sqrt(spp): a third of err needs spp (3 noise / err)^2.
+    if (ref_spp > 0 && err > 0) {
+        double want = ceil(ref_spp * (3 * noise / err) * (3 * noise / err));
+        fprintf(stderr, "; render it with at least %.0f spp (it has %d)", fmin(want, 1e9), ref_spp);
+    }
+    fputc('\n', stderr);
+    return true;
 }

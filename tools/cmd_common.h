@@ -2,6 +2,7 @@
 // argument parsing helpers that report bad input the same way everywhere.
 #ifndef ST_CMD_COMMON_H
 #define ST_CMD_COMMON_H
+#include "st_image.h"
 #include "st_scene.h"
 
 // Parses "WxH" (1..16384 each).
@@ -11,6 +12,10 @@ bool st_parse_int(const char *s, long lo, long hi, long *out);
 // Loads a scene and applies --set assignments and a --size override.
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
                         st_scene *scene, st_err *err);
+// Prints a warning to stderr when the reference's noise is more than a third
+// of the error it measures (st_metrics_noise_dominates), with the spp that
+// would bring it to a third (ref_spp 0: unknown). Returns whether it warned.
+bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

@@ -18,7 +18,7 @@
 static const char usage_text[] =
     "usage: strahl reference SCENE.json -o OUT.exr [options]\n"
     "The CPU reference (Embree, all cores): R, G, B and the per-pixel standard error\n"
-    "of the mean (stderr.R/G/B).\n"
+    "of the mean (stderr.R/G/B); the header records spp and the seed (strahl merge reads them).\n"
     "  -o OUT.exr                output (required; .exr only, written atomically)\n"
     "  --spp N                   samples per pixel, 1..10000000 (default 64)\n"
     "  --aov combined|direct|indirect|inscatter   what to render (default combined)\n"
@@ -142,7 +142,9 @@ int st_cmd_reference(int argc, char **argv) {
         st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the result; nothing written", bad_px);
         return st_report("reference", &err);
     }
-    ok = st_image_write_exr_named(out_path, &img, names, &err);
+    st_exr_meta meta = {.spp = o.spp};
+    snprintf(meta.seeds, sizeof meta.seeds, "%llu", (unsigned long long)o.seed);
+    ok = st_image_write_exr_meta(out_path, &img, names, &meta, &err);
     int w = img.width, h = img.height;
     st_image_free(&img);
     if (!ok) return st_report("reference", &err);
