@@ -156,6 +156,8 @@ static bool exr_write_file(const char *file, const char *path, const st_image *i
     if (meta && meta->spp > 0 && (rc = exr_attr_set_int(ctx, part, "spp", meta->spp))) goto done;
     if (meta && meta->seeds[0] && (rc = exr_attr_set_string(ctx, part, "strahl.seeds", meta->seeds)))
         goto done;
+    if (meta && meta->config[0] && (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
+        goto done;
     what = "cannot define header";
     if ((rc = exr_write_header(ctx))) goto done;
     int32_t lines = 0;
@@ -440,6 +442,10 @@ bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err) {
     if (exr_attr_get_string(ctx, 0, "strahl.seeds", &len, &seeds) == EXR_ERR_SUCCESS && seeds &&
         len > 0)
         snprintf(meta->seeds, sizeof meta->seeds, "%.*s", (int)len, seeds);
+    const char *config = NULL;
+    if (exr_attr_get_string(ctx, 0, "strahl.config", &len, &config) == EXR_ERR_SUCCESS && config &&
+        len > 0)
+        snprintf(meta->config, sizeof meta->config, "%.*s", (int)len, config);
     exr_finish(&ctx);
     return true;
 }

@@ -36,10 +36,12 @@ bool st_image_write_exr_named(const char *path, const st_image *img, const char 
                               st_err *err);
 // Header attributes of a Monte Carlo image: `spp` (int) and `strahl.seeds`
 // (the seeds of the runs it averages, comma-separated), so shards rendered
-// with different seeds can be merged with the right weights. 0 / "": absent.
+// with different seeds can be merged with the right weights, and
+// `strahl.config` so shards of different renders are not. 0 / "": absent.
 typedef struct st_exr_meta {
     int spp;
-    char seeds[512];
+    char seeds[4096];
+    char config[1024]; // `strahl.config`: what was rendered (scene, size, options)
 } st_exr_meta;
 bool st_image_write_exr_meta(const char *path, const st_image *img, const char *const *names,
                              const st_exr_meta *meta, st_err *err);

@@ -63,6 +63,9 @@ static const char help_text[] =
     "                             steady: time a static scene\n"
     "  --set MODULE.PARAM=VALUE   fixed parameter for every setting (repeatable)\n"
     "  --size WxH                 render size (default: the scene's; must match REF)\n"
+    "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
+    "                             (default 1/1: all); only shard 1 writes the CSV header,\n"
+    "                             so `cat` of shards 1..N in order is the whole table\n"
     "  -h, --help                 this text\n"
     "example:\n"
     "  strahl bench scenes/godrays_window.json --reference ref.exr --size 128x128 \\\n"
@@ -190,6 +193,7 @@ int st_cmd_bench(int argc, char **argv) {
     int nsets = 0, nsweeps = 0, width = 0, height = 0;
     long frames = 10, warmup = 2;
     double budget = -1;
+    long shard_i = 0, shard_n = 0;
     bool append = false, recompute = true;
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
@@ -230,6 +234,13 @@ int st_cmd_bench(int argc, char **argv) {
         } else if (!strcmp(a, "--warmup") && nx) {
             if (!st_parse_int(argv[++i], 0, 10000, &warmup))
                 return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", argv[i]), st_report("bench", &err);
+        } else if (!strcmp(a, "--shard") && nx) {
+            const char *v = argv[++i], *slash = strchr(v, '/');
+            char num[32];
+            snprintf(num, sizeof num, "%.*s", slash ? (int)(slash - v) : 0, v);
+            if (!slash || !st_parse_int(slash + 1, 1, 100000, &shard_n) || !st_parse_int(num, 1, shard_n, &shard_i))
+                return st_fail(&err, ST_ERR_INPUT, "--shard %s: expected I/N with 1 <= I <= N", v),
+                       st_report("bench", &err);
         } else if (!strcmp(a, "--budget-error") && nx) {
             char *e;
             budget = strtod(argv[++i], &e);
@@ -281,7 +292,10 @@ int st_cmd_bench(int argc, char **argv) {
         char assign[MAX_SWEEPS][256];
         int n = 0, rest = idx;
         for (int s = 0; s < nsets; s++) all[n++] = sets[s];
-        row *r = &rows[idx];
+        // --shard I/N: settings I-1, I-1+N, ... (round robin, so shards of a
+        // sweep ordered by cost get similar work).
+        if (shard_n > 1 && idx % shard_n != shard_i - 1) continue;
+        row *r = &rows[done];
         for (int k = 0; k < nsweeps; k++) {
             int v = rest % sweeps[k].num_values;
             rest /= sweeps[k].num_values;
@@ -333,7 +347,7 @@ int st_cmd_bench(int argc, char **argv) {
             char line[4096];
             while (fgets(line, sizeof line, old)) fputs(line, f);
             fclose(old);
-        } else {
+        } else if (shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
             fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_median,"
                        "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,pass_gpu_ms,"
                        "error_raw,ref_noise_rms,ref_noise_warning\n", metric);

@@ -130,6 +130,7 @@ int st_cmd_reference(int argc, char **argv) {
     if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
         return st_report("reference", &err);
     st_image img;
+    const int w0 = scene.width, h0 = scene.height;
     double t0 = st_now_ms();
     bool ok = st_ref_render(&scene, &o, &img, &err);
     double secs = (st_now_ms() - t0) / 1000.0;
@@ -144,6 +145,12 @@ int st_cmd_reference(int argc, char **argv) {
     }
     st_exr_meta meta = {.spp = o.spp};
     snprintf(meta.seeds, sizeof meta.seeds, "%llu", (unsigned long long)o.seed);
+    // What the pixels depend on besides spp and seed (--set is not: the
+    // reference reads no module): shards merge only if this matches.
+    static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
+    snprintf(meta.config, sizeof meta.config, "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d",
+                       scene_path, w0, h0, aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
+                       o.estimator == ST_REF_EST_THESIS ? "thesis" : "area", o.march_steps > 0 ? o.march_steps : 256);
     ok = st_image_write_exr_meta(out_path, &img, names, &meta, &err);
     int w = img.width, h = img.height;
     st_image_free(&img);

@@ -41,6 +41,7 @@ int main(int argc, char **argv) {
         {"reference", st_cmd_reference,
          "SCENE.json -o OUT.exr [--spp N] [--seed S] [--aov combined|direct|indirect|inscatter]"},
         {"compare", st_cmd_compare, "A.exr B.exr [--json] [--heatmap OUT.png]"},
+        {"merge", st_cmd_merge, "SHARD.exr SHARD.exr... -o OUT.exr"},
         {"bench", st_cmd_bench,
          "SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [--plot OUT.png]"},
     };

@@ -7,7 +7,7 @@
 #include "st_module.h"
 
 static const char *const commands[] = {"render",    "view",    "modules",
-                                       "reference", "compare", "bench"};
+                                       "reference", "compare", "bench", "merge"};
 
 // Appends to opts (NUL-separated, at most max) every "-..." literal that is
 // the second argument of a strcmp/strncmp in src; returns the count.
