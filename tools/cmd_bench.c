@@ -282,6 +282,9 @@ int st_cmd_bench(int argc, char **argv) {
     row *rows = calloc((size_t)total, sizeof *rows);
     st_context *ctx = NULL;
     int rc = 0, done = 0;
+    st_progress bar;
+    // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
+    st_progress_begin(&bar, "bench", "settings", shard_n > 1 ? (int)((total - shard_i + shard_n) / shard_n) : total);
     if (!rows) {
         st_fail(&err, ST_ERR_RUNTIME, "out of memory");
         goto fail;
@@ -326,12 +329,19 @@ int st_cmd_bench(int argc, char **argv) {
             st_scene_free(&scene);
             goto fail;
         }
-        fprintf(stderr, "bench [%d/%d] %s\n", idx + 1, total, r->setting);
+        st_progress_update(&bar, done, r->setting);
         bool ok = run_one(&scene, &ref, &ref_se, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
         st_scene_free(&scene);
         if (!ok) goto fail;
         r->noisy_ref = st_warn_reference_noise("bench", ref_path, &r->m, ref_meta.spp);
         done++;
+    }
+    {
+        // Before anything goes to stdout, so the table does not run into the bar.
+        char extra[64] = "";
+        if (shard_n > 1) snprintf(extra, sizeof extra, "shard %ld/%ld", shard_i, shard_n);
+        st_progress_end(&bar, done, extra);
+        bar.drawn = false;
     }
     {
         // CSV (atomically; --append adds rows to an existing file).
@@ -398,6 +408,7 @@ int st_cmd_bench(int argc, char **argv) {
     if (plot && !write_plot(plot, csv, metric, &err)) goto fail;
     goto out;
 fail:
+    if (bar.drawn) fputc('\n', stderr); // end the bar's line before the message
     rc = st_report("bench", &err);
 out:
     st_context_destroy(ctx);

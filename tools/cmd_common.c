@@ -1,9 +1,11 @@
+#define _POSIX_C_SOURCE 200809L
 #include "cmd_common.h"
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 bool st_parse_size(const char *s, int *w, int *h) {
     char *e;
@@ -63,4 +65,45 @@ bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_met
     }
     fputc('\n', stderr);
     return true;
+}
+
+void st_progress_begin(st_progress *p, const char *label, const char *unit, int total) {
+    *p = (st_progress){.label = label, .unit = unit, .total = total, .tty = isatty(STDERR_FILENO) == 1};
+    p->t0 = p->last = st_now_ms();
+}
+
+static void progress_draw(st_progress *p, int done, const char *item, bool final) {
+    double el = (st_now_ms() - p->t0) / 1000.0;
+    double frac = p->total > 0 ? (double)done / p->total : 1.0;
+    char bar[31];
+    int fill = (int)(frac * 30);
+    for (int k = 0; k < 30; k++) bar[k] = k < fill ? '#' : '.';
+    bar[30] = 0;
+    // \r and clear to the end of the line: the item text changes length.
+    fprintf(stderr, "\r\033[K%s [%s] %d/%d %s, %.1f s", p->label, bar, done, p->total, p->unit, el);
+    if (!final && done > 0) fprintf(stderr, ", %.1f s left", el / frac - el);
+    if (!final && done == 0) fprintf(stderr, ", ETA after the first");
+    if (item && !final) fprintf(stderr, "  %.60s", item);
+    if (final) fputc('\n', stderr);
+    fflush(stderr);
+    p->drawn = true;
+}
+
+void st_progress_update(st_progress *p, int done, const char *item) {
+    if (!p->tty) return;
+    double now = st_now_ms();
+    // A changed item is drawn at once (bench: one per setting), rows 4x/s.
+    if (now - p->t0 < 1000.0 && !item) return;
+    if (!item && now - p->last < 250.0) return;
+    p->last = now;
+    progress_draw(p, done, item, false);
+}
+
+void st_progress_end(st_progress *p, int done, const char *extra) {
+    if (p->tty) {
+        if (p->drawn) progress_draw(p, done, NULL, true);
+        return;
+    }
+    fprintf(stderr, "strahl %s: %d %s in %.1f s%s%s\n", p->label, done, p->unit, (st_now_ms() - p->t0) / 1000.0,
+            extra && extra[0] ? ", " : "", extra ? extra : "");
 }

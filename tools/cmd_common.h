@@ -16,6 +16,21 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
 // of the error it measures (st_metrics_noise_dominates), with the spp that
 // would bring it to a third (ref_spp 0: unknown). Returns whether it warned.
 bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp);
+// Progress of a long command on stderr: on a terminal a bar with the
+// elapsed time and an ETA (redrawn at most 4 times a second, from 1 s on);
+// otherwise nothing until st_progress_end's one summary line.
+typedef struct st_progress {
+    const char *label; // "reference", "bench"
+    const char *unit;  // what is counted: "rows", "settings"
+    int total;
+    double t0, last;
+    bool tty, drawn;
+} st_progress;
+void st_progress_begin(st_progress *p, const char *label, const char *unit, int total);
+// done of total finished; item (may be NULL) names what runs now.
+void st_progress_update(st_progress *p, int done, const char *item);
+// Ends the bar (terminal) or prints "strahl LABEL: DONE UNIT in T s[, extra]".
+void st_progress_end(st_progress *p, int done, const char *extra);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

@@ -55,6 +55,11 @@ static bool parse_u64(const char *s, uint64_t *out) {
     return true;
 }
 
+static void on_rows(void *user, int done, int rows) {
+    (void)rows;
+    st_progress_update(user, done, NULL);
+}
+
 static int bad(st_err *err, const char *fmt, const char *arg) {
     st_fail(err, ST_ERR_INPUT, fmt, arg);
     return st_report("reference", err);
@@ -64,7 +69,7 @@ int st_cmd_reference(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL;
     char *sets[MAX_SETS];
     int num_sets = 0, width = 0, height = 0;
-    st_ref_options o = {.spp = 64, .bounces = 1, .progress = isatty(STDERR_FILENO)};
+    st_ref_options o = {.spp = 64, .bounces = 1};
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -132,8 +137,14 @@ int st_cmd_reference(int argc, char **argv) {
     st_image img;
     const int w0 = scene.width, h0 = scene.height;
     double t0 = st_now_ms();
+    st_progress bar;
+    st_progress_begin(&bar, "reference", "rows", h0);
+    o.progress = on_rows;
+    o.progress_user = &bar;
     bool ok = st_ref_render(&scene, &o, &img, &err);
     double secs = (st_now_ms() - t0) / 1000.0;
+    // On a terminal the bar ends here; otherwise the stdout line below is the summary.
+    if (bar.tty) st_progress_end(&bar, ok ? h0 : 0, NULL);
     st_scene_free(&scene);
     if (!ok) return st_report("reference", &err);
     static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
