@@ -139,6 +139,13 @@ done
 fi
 
 # ---- plots and tables -------------------------------------------------------
+# The brute-force setting each plot marks (strahl plot --baseline).
+baseline() {
+    case $1 in
+    toth) echo --baseline toth.samples=256,toth.interleave=1,toth.resolution=full ;;
+    atlas_gi) echo --baseline atlas_gi.samples=400,atlas_gi.atlas_size=1024,atlas_gi.estimator=area ;;
+    esac
+}
 for m in toth mitchell sousa atlas_gi; do
     csv=$OUT/$m.csv
     [ -f "$csv" ] || continue
@@ -148,11 +155,8 @@ for m in toth mitchell sousa atlas_gi; do
         name=$(basename "$scene" .json)
         part=$OUT/${m}_${name}.csv
         { head -1 "$csv"; grep "^$scene," "$csv"; } > "$part"
-        gnuplot -e "set terminal pngcairo size 900,600; set output '$OUT/${m}_${name}.png'; \
-            set datafile separator ','; set logscale xy; set grid; set key outside right; \
-            set title '$m on $name' noenhanced; set xlabel 'median frame time [ms]'; set ylabel '$metric vs reference'; \
-            curves = system(\"tail -n +2 $part | cut -d, -f3 | sort -u | tr ' ' '_' | tr '\\\\n' ' '\"); \
-            plot for [c in curves] '< tail -n +2 $part | tr \" \" \"_\"' using ((strcol(3) eq c) ? \$6 : 1/0):((strcol(3) eq c) ? \$9 : 1/0) with linespoints title c noenhanced"
+        # shellcheck disable=SC2046 # baseline: an option and its value, or nothing
+        "$S" plot "$part" -o "$OUT/${m}_${name}.png" $(baseline "$m")
         rm -f "$part"
     done
 done

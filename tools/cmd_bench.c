@@ -54,7 +54,10 @@ static const char help_text[] =
     "                             x along each curve of the plot)\n"
     "  --csv OUT.csv              output table (required; written atomically)\n"
     "  --append                   add rows to an existing CSV (default: overwrite)\n"
-    "  --plot OUT.png|OUT.svg     log-log plot of time against error (default: none)\n"
+    "  --plot OUT.png|OUT.svg     log-log plot of time against error (default: none; the\n"
+    "                             same as strahl plot OUT.csv afterwards, see its --help)\n"
+    "  --baseline M.P=V,...       mark this setting in the plot, e.g. the brute-force one\n"
+    "                             (default: none)\n"
     "  --frames F                 timed frames per setting, 1..10000 (default 10)\n"
     "  --warmup W                 untimed frames first, 0..10000 (default 2)\n"
     "  --metric rmse|relmse|scaled_rmse|max_abs   error column (default rmse)\n"
@@ -154,40 +157,8 @@ static int cmp_time(const void *a, const void *b) {
     return (x->frame_ms > y->frame_ms) - (x->frame_ms < y->frame_ms);
 }
 
-static bool write_plot(const char *plot, const char *csv, const char *metric, st_err *err) {
-    const char *dot = strrchr(plot, '.');
-    bool svg = dot && !strcasecmp(dot, ".svg");
-    char tmp[1100], gp[1200];
-    snprintf(tmp, sizeof tmp, "%s.tmp-%d", plot, (int)getpid());
-    snprintf(gp, sizeof gp, "%s.gp", tmp);
-    FILE *f = fopen(gp, "w");
-    if (!f) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write gnuplot script", gp);
-    fprintf(f,
-            "set terminal %s size 900,600\nset output '%s'\nset datafile separator ','\n"
-            "set logscale xy\nset xlabel 'median frame time [ms]'\nset ylabel '%s against the reference'\n"
-            "set key outside right\nset grid\n"
-            "curves = system(\"tail -n +2 '%s' | cut -d, -f3 | sort -u | tr ' ' '_' | tr '\\n' ' '\")\n"
-            "plot for [c in curves] '< tail -n +2 %s | tr \" \" \"_\"' using ((strcol(3) eq c) ? $6 : 1/0):"
-            "((strcol(3) eq c) ? $9 : 1/0) with linespoints title c noenhanced\n",
-            svg ? "svg" : "pngcairo", tmp, metric, csv, csv);
-    fclose(f);
-    char cmd[3000];
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>&1", gp);
-    int rc = system(cmd);
-    unlink(gp);
-    if (rc != 0) {
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s (is gnuplot-nox installed?)", plot);
-    }
-    if (rename(tmp, plot) != 0) {
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write", plot);
-    }
-    return true;
-}
-
 int st_cmd_bench(int argc, char **argv) {
-    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse";
+    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse", *baseline = NULL;
     char *sets[MAX_SETS];
     sweep sweeps[MAX_SWEEPS];
     int nsets = 0, nsweeps = 0, width = 0, height = 0;
@@ -205,6 +176,7 @@ int st_cmd_bench(int argc, char **argv) {
         } else if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
         else if (!strcmp(a, "--csv") && nx) csv = argv[++i];
         else if (!strcmp(a, "--plot") && nx) plot = argv[++i];
+        else if (!strcmp(a, "--baseline") && nx) baseline = argv[++i];
         else if (!strcmp(a, "--append")) append = true;
         else if (!strcmp(a, "--mode") && nx) {
             const char *m = argv[++i];
@@ -405,7 +377,7 @@ int st_cmd_bench(int argc, char **argv) {
                 printf("no setting reaches %s <= %g\n", metric, budget);
         }
     }
-    if (plot && !write_plot(plot, csv, metric, &err)) goto fail;
+    if (plot && !st_plot_csv(&csv, 1, plot, metric, baseline, NULL, &err)) goto fail;
     goto out;
 fail:
     if (bar.drawn) fputc('\n', stderr); // end the bar's line before the message

@@ -31,6 +31,11 @@ void st_progress_begin(st_progress *p, const char *label, const char *unit, int 
 void st_progress_update(st_progress *p, int done, const char *item);
 // Ends the bar (terminal) or prints "strahl LABEL: DONE UNIT in T s[, extra]".
 void st_progress_end(st_progress *p, int done, const char *extra);
+// The time-against-error plot of bench CSVs (tools/cmd_plot.c); metric names
+// the error column when the CSVs have no header (NULL: from the header);
+// baseline "M.P=V,..." marks that setting (NULL: none).
+bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric, const char *baseline,
+                 const char *title, st_err *err);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

@@ -13,6 +13,7 @@
 #pragma weak st_cmd_compare
 #pragma weak st_cmd_bench
 #pragma weak st_cmd_merge
+#pragma weak st_cmd_plot
 
 #ifndef ST_VERSION
 #define ST_VERSION "unknown"
@@ -42,6 +43,7 @@ int main(int argc, char **argv) {
          "SCENE.json -o OUT.exr [--spp N] [--seed S] [--aov combined|direct|indirect|inscatter]"},
         {"compare", st_cmd_compare, "A.exr B.exr [--json] [--heatmap OUT.png]"},
         {"merge", st_cmd_merge, "SHARD.exr SHARD.exr... -o OUT.exr"},
+        {"plot", st_cmd_plot, "BENCH.csv... -o OUT.png|OUT.svg [--baseline MODULE.PARAM=V,...]"},
         {"bench", st_cmd_bench,
          "SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [--plot OUT.png]"},
     };
