@@ -154,9 +154,11 @@ static bool exr_write_file(const char *file, const char *path, const st_image *i
     }
     what = "cannot add attribute";
     if (meta && meta->spp > 0 && (rc = exr_attr_set_int(ctx, part, "spp", meta->spp))) goto done;
-    if (meta && meta->seeds[0] && (rc = exr_attr_set_string(ctx, part, "strahl.seeds", meta->seeds)))
+    if (meta && meta->seeds[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.seeds", meta->seeds)))
         goto done;
-    if (meta && meta->config[0] && (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
+    if (meta && meta->config[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
         goto done;
     what = "cannot define header";
     if ((rc = exr_write_header(ctx))) goto done;

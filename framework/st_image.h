@@ -86,9 +86,9 @@ typedef struct st_metrics {
     // first-order bias that the noise of w brings (4 (a-b) b s^2 w^2).
     // Without s these equal the raw values and ref_noise_rms is 0.
     bool has_ref_noise;
-    double ref_noise_rms[4];    // sqrt(mean(s^2))
-    double rmse_debiased[4];    // sqrt(max(0, mean((a-b)^2 - s^2)))
-    double relmse_debiased[4];  // max(0, mean(((a-b)^2 - s^2) w - 4 (a-b) b s^2 w^2))
+    double ref_noise_rms[4];        // sqrt(mean(s^2))
+    double rmse_debiased[4];        // sqrt(max(0, mean((a-b)^2 - s^2)))
+    double relmse_debiased[4];      // max(0, mean(((a-b)^2 - s^2) w - 4 (a-b) b s^2 w^2))
     double scaled_rmse_debiased[4]; // as rmse, for s a against b
 } st_metrics;
 

@@ -86,12 +86,14 @@ bool st_image_compare_noisy(const st_image *a, const st_image *b, const st_image
                        b_stderr->width, b_stderr->height, b_stderr->channels, b->width, b->height);
     size_t bad = st_image_count_nonfinite(b_stderr);
     if (bad)
-        return st_fail(err, ST_ERR_INPUT, "reference standard error has %zu non-finite values", bad);
+        return st_fail(err, ST_ERR_INPUT, "reference standard error has %zu non-finite values",
+                       bad);
     const size_t n = (size_t)a->width * a->height;
     double vv[4] = {0}, se[4] = {0}, rel[4] = {0}, sse[4] = {0};
     for (size_t i = 0; i < n; i++) {
         for (int c = 0; c < 3; c++) {
-            double x = chan(a, i, c), y = chan(b, i, c), s = b_stderr->data[i * b_stderr->channels + c];
+            double x = chan(a, i, c), y = chan(b, i, c),
+                   s = b_stderr->data[i * b_stderr->channels + c];
             double d = x - y, ds = m->scale * x - y, v = s * s;
             vv[c] += v;
             se[c] += d * d - v;
