@@ -339,16 +339,29 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
         unlink(gp);
         return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write gnuplot script", gp);
     }
-    char cmd[3000];
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>&1", gp);
+    // gnuplot's chatter (e.g. "empty x range" for a single point) goes to a
+    // log that is shown only when it fails.
+    char log[1300], cmd[4000];
+    snprintf(log, sizeof log, "%s.log", tmp);
+    snprintf(cmd, sizeof cmd, "gnuplot '%s' >'%s' 2>&1", gp, log);
     int rc = system(cmd);
     unlink(gp);
     unlink(dat);
     if (rc != 0) {
+        char msg[512] = "";
+        FILE *lf = fopen(log, "r");
+        if (lf) {
+            size_t got = fread(msg, 1, sizeof msg - 1, lf);
+            msg[got] = 0;
+            msg[strcspn(msg, "\n")] = 0;
+            fclose(lf);
+        }
+        unlink(log);
         unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s (is gnuplot-nox installed?)",
-                       out);
+        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s (is gnuplot-nox installed?)%s%s", out,
+                       msg[0] ? ": " : "", msg);
     }
+    unlink(log);
     if (rename(tmp, out) != 0) {
         unlink(tmp);
         return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write", out);
