@@ -37,7 +37,7 @@ int main(int argc, char **argv) {
         {"render", st_cmd_render,
          "SCENE.json -o OUT.exr|OUT.png [--set MODULE.PARAM=VALUE]... [--size WxH] [--frames N] "
          "[--stats[=json]] [--exposure EV]"},
-        {"view", st_cmd_view, "SCENE.json [--script FILE]"},
+        {"view", st_cmd_view, "SCENE.json [--script FILE] [--size WxH] [--window WxH]"},
         {"modules", st_cmd_modules, "[--json]"},
         {"reference", st_cmd_reference,
          "SCENE.json -o OUT.exr [--spp N] [--seed S] [--aov combined|direct|indirect|inscatter]"},

@@ -88,6 +88,25 @@ int main(void) {
     }
     free(all);
     free(cat);
+    // Progress: not a terminal -> one summary line on stderr and no bar; on a
+    // terminal (script(1) gives it one) a bar with an ETA.
+    snprintf(fmt, sizeof fmt, "bench '%%s' %s --csv p.csv 2>progress.txt", sweep);
+    CHECK(sh(fmt, scene) == 0, "bench for progress");
+    snprintf(path, sizeof path, "%s/progress.txt", dir);
+    char *prog = st_read_file(path, NULL, &err);
+    int summary = 0;
+    for (const char *p = prog; p && (p = strstr(p, "strahl bench: ")); p++)
+        summary++;
+    CHECK(prog && summary == 1 && strstr(prog, "6 settings in") && !strchr(prog, '\r'),
+          "non-terminal progress: '%s'", prog ? prog : "");
+    free(prog);
+    char cmd[8192], out[16384];
+    snprintf(cmd, sizeof cmd, "cd '%s' && script -qec \"'%s' bench '%s' %s --csv q.csv\" /dev/null",
+             dir, ST_TEST_STRAHL, scene, sweep);
+    CHECK(st_test_capture(out, sizeof out, cmd) == 0, "bench under script(1)");
+    CHECK(strstr(out, "bench [") && strstr(out, "s left") && strstr(out, "6/6 settings"),
+          "terminal progress bar");
+
     const char *bad[] = {"0/4", "5/4", "2", "a/b", "1/0"};
     for (int i = 0; i < 5; i++) {
         char f2[1200];
