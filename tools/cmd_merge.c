@@ -134,7 +134,8 @@ int st_cmd_merge(int argc, char **argv) {
                 st_fail(&err, ST_ERR_INPUT, "%s: too many seeds to record in the header", in[k]);
                 goto fail;
             }
-            snprintf(all->seeds + l, sizeof all->seeds - l, ",%s", m->seeds);
+            all->seeds[l] = ',';
+            memcpy(all->seeds + l + 1, m->seeds, strlen(m->seeds) + 1); // fits: checked above
         }
         total += m->spp;
         if (total > 2147483647LL) {
