@@ -125,7 +125,7 @@ static exr_result_t exr_compress_or_store(exr_encode_pipeline_t *e) {
 
 // Writes the whole image as FLOAT scanlines with ZIP compression to `file`.
 static bool exr_write_file(const char *file, const char *path, const st_image *img,
-                           const char *const *names, st_err *err) {
+                           const char *const *names, const st_exr_meta *meta, st_err *err) {
     exr_msg[0] = 0;
     exr_context_initializer_t init = exr_init();
     exr_context_t ctx = NULL;
@@ -152,6 +152,15 @@ static bool exr_write_file(const char *file, const char *path, const st_image *i
             goto done;
         }
     }
+    what = "cannot add attribute";
+    if (meta && meta->spp > 0 && (rc = exr_attr_set_int(ctx, part, "spp", meta->spp))) goto done;
+    if (meta && meta->seeds[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.seeds", meta->seeds)))
+        goto done;
+    if (meta && meta->config[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
+        goto done;
+    what = "cannot define header";
     if ((rc = exr_write_header(ctx))) goto done;
     int32_t lines = 0;
     if ((rc = exr_get_scanlines_per_chunk(ctx, part, &lines))) goto done;
@@ -196,8 +205,8 @@ done:
     return true;
 }
 
-bool st_image_write_exr_named(const char *path, const st_image *img, const char *const *names,
-                              st_err *err) {
+bool st_image_write_exr_meta(const char *path, const st_image *img, const char *const *names,
+                             const st_exr_meta *meta, st_err *err) {
     if (!check_writable(path, img, err)) return false;
     for (int c = 0; c < img->channels; c++) {
         if (!names || !names[c] || !names[c][0])
@@ -211,11 +220,16 @@ bool st_image_write_exr_named(const char *path, const st_image *img, const char 
         return st_fail(err, ST_ERR_INPUT, "%s: image too wide for EXR", path);
     char tmp[4200];
     if (!tmp_name(tmp, sizeof tmp, path, err)) return false;
-    if (!exr_write_file(tmp, path, img, names, err)) {
+    if (!exr_write_file(tmp, path, img, names, meta, err)) {
         unlink(tmp);
         return false;
     }
     return commit_tmp(tmp, path, err);
+}
+
+bool st_image_write_exr_named(const char *path, const st_image *img, const char *const *names,
+                              st_err *err) {
+    return st_image_write_exr_meta(path, img, names, NULL, err);
 }
 
 bool st_image_write_exr(const char *path, const st_image *img, st_err *err) {
@@ -416,6 +430,40 @@ bool st_image_read_exr(const char *path, st_image *out, st_err *err) {
         st_fail(err, ST_ERR_INPUT, "%s: no R,G,B or Y channels (has: %s)", path,
                 chl->num_channels ? list : "none");
     }
+    exr_finish(&ctx);
+    return ok;
+}
+
+bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err) {
+    *meta = (st_exr_meta){0};
+    exr_context_t ctx;
+    if (!exr_open(path, &ctx, err)) return false;
+    int32_t spp = 0, len = 0;
+    const char *seeds = NULL;
+    if (exr_attr_get_int(ctx, 0, "spp", &spp) == EXR_ERR_SUCCESS && spp > 0) meta->spp = spp;
+    if (exr_attr_get_string(ctx, 0, "strahl.seeds", &len, &seeds) == EXR_ERR_SUCCESS && seeds &&
+        len > 0)
+        snprintf(meta->seeds, sizeof meta->seeds, "%.*s", (int)len, seeds);
+    const char *config = NULL;
+    if (exr_attr_get_string(ctx, 0, "strahl.config", &len, &config) == EXR_ERR_SUCCESS && config &&
+        len > 0)
+        snprintf(meta->config, sizeof meta->config, "%.*s", (int)len, config);
+    exr_finish(&ctx);
+    return true;
+}
+
+bool st_image_read_exr_stderr(const char *path, st_image *out, st_err *err) {
+    static const char *const names[] = {"stderr.R", "stderr.G", "stderr.B"};
+    *out = (st_image){0};
+    exr_context_t ctx;
+    if (!exr_open(path, &ctx, err)) return false;
+    const exr_attr_chlist_t *chl = NULL;
+    bool ok = true;
+    exr_result_t rc = exr_get_channels(ctx, 0, &chl);
+    if (rc || !chl)
+        ok = exr_fail(err, ST_ERR_INPUT, path, "bad channel list", rc);
+    else if (has_channel(chl, names[0]) && has_channel(chl, names[1]) && has_channel(chl, names[2]))
+        ok = exr_read_named(ctx, path, names, 3, out, err);
     exr_finish(&ctx);
     return ok;
 }

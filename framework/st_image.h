@@ -34,6 +34,21 @@ bool st_image_write_exr(const char *path, const st_image *img, st_err *err);
 // `names[k]` names channel k of `img` (e.g. "R","G","B","stderr.R",...).
 bool st_image_write_exr_named(const char *path, const st_image *img, const char *const *names,
                               st_err *err);
+// Header attributes of a Monte Carlo image: `spp` (int) and `strahl.seeds`
+// (the seeds of the runs it averages, comma-separated), so shards rendered
+// with different seeds can be merged with the right weights, and
+// `strahl.config` so shards of different renders are not. 0 / "": absent.
+typedef struct st_exr_meta {
+    int spp;
+    char seeds[4096];
+    char config[1024]; // `strahl.config`: what was rendered (scene, size, options)
+} st_exr_meta;
+bool st_image_write_exr_meta(const char *path, const st_image *img, const char *const *names,
+                             const st_exr_meta *meta, st_err *err);
+bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err);
+// The per-pixel standard error channels stderr.R/G/B as a 3-channel image;
+// `out` stays empty (data NULL, still true) when the file has none.
+bool st_image_read_exr_stderr(const char *path, st_image *out, st_err *err);
 // Any scanline or tiled (level 0) EXR, HALF or FLOAT, first part: R,G,B(,A)
 // as 3 (4) channels, else Y as 1 channel. `out` is allocated; free it.
 bool st_image_read_exr(const char *path, st_image *out, st_err *err); // RGB(A) as float
@@ -64,9 +79,27 @@ typedef struct st_metrics {
                          // for methods that are not physically scaled
     double scaled_rmse[4]; // rmse of s a against b
     double mean_a[4], mean_b[4];
+    // With the reference's per-pixel standard error s (st_image_compare_noisy):
+    // E[(a-b)^2] = (a-mu)^2 + s^2 for a reference b of mean mu, so the error
+    // against mu is estimated without bias by mean((a-b)^2 - s^2), clamped at
+    // 0; relmse likewise with the weight w = 1/(b^2 + 1e-2), less the
+    // first-order bias that the noise of w brings (4 (a-b) b s^2 w^2).
+    // Without s these equal the raw values and ref_noise_rms is 0.
+    bool has_ref_noise;
+    double ref_noise_rms[4];        // sqrt(mean(s^2))
+    double rmse_debiased[4];        // sqrt(max(0, mean((a-b)^2 - s^2)))
+    double relmse_debiased[4];      // max(0, mean(((a-b)^2 - s^2) w - 4 (a-b) b s^2 w^2))
+    double scaled_rmse_debiased[4]; // as rmse, for s a against b
 } st_metrics;
 
 bool st_image_compare(const st_image *a, const st_image *b, st_metrics *m, st_err *err);
+// As st_image_compare, plus the debiased errors; b_stderr (same size, 3
+// channels, may be NULL or empty) is the standard error of b's pixels.
+bool st_image_compare_noisy(const st_image *a, const st_image *b, const st_image *b_stderr,
+                            st_metrics *m, st_err *err);
+// Whether the reference's noise is large against the error it measures:
+// ref_noise_rms > rmse_debiased / 3 over all channels (false without noise data).
+bool st_metrics_noise_dominates(const st_metrics *m);
 // Heat map of |a - b| (mean over R,G,B) divided by its maximum and mapped
 // to a black-blue-red-yellow-white ramp, 8-bit PNG, written atomically.
 bool st_image_write_heatmap(const char *path, const st_image *a, const st_image *b, st_err *err);

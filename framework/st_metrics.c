@@ -72,6 +72,61 @@ bool st_image_compare(const st_image *a, const st_image *b, st_metrics *m, st_er
     return true;
 }
 
+bool st_image_compare_noisy(const st_image *a, const st_image *b, const st_image *b_stderr,
+                            st_metrics *m, st_err *err) {
+    if (!st_image_compare(a, b, m, err)) return false;
+    for (int c = 0; c < 4; c++) {
+        m->rmse_debiased[c] = m->rmse[c];
+        m->relmse_debiased[c] = m->relmse[c];
+        m->scaled_rmse_debiased[c] = m->scaled_rmse[c];
+    }
+    if (!b_stderr || !b_stderr->data) return true;
+    if (b_stderr->width != b->width || b_stderr->height != b->height || b_stderr->channels < 3)
+        return st_fail(err, ST_ERR_INPUT, "reference standard error is %dx%dx%d, expected %dx%dx3",
+                       b_stderr->width, b_stderr->height, b_stderr->channels, b->width, b->height);
+    size_t bad = st_image_count_nonfinite(b_stderr);
+    if (bad)
+        return st_fail(err, ST_ERR_INPUT, "reference standard error has %zu non-finite values",
+                       bad);
+    const size_t n = (size_t)a->width * a->height;
+    double vv[4] = {0}, se[4] = {0}, rel[4] = {0}, sse[4] = {0};
+    for (size_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++) {
+            double x = chan(a, i, c), y = chan(b, i, c),
+                   s = b_stderr->data[i * b_stderr->channels + c];
+            double d = x - y, ds = m->scale * x - y, v = s * s;
+            vv[c] += v;
+            se[c] += d * d - v;
+            // The weight w(b) = 1/(b^2 + 0.01) is noisy too and correlates
+            // with d: to first order E[(d^2 - s^2) w(b)] = delta^2 w(mu)
+            // - 2 delta s^2 w'(mu), w' = -2 mu w^2; the last term is
+            // estimated from d, b, s and removed.
+            double wgt = 1.0 / (y * y + 1e-2);
+            rel[c] += (d * d - v) * wgt - 4.0 * d * y * v * wgt * wgt;
+            sse[c] += ds * ds - v;
+        }
+    }
+    m->has_ref_noise = true;
+    for (int c = 0; c < 3; c++) {
+        vv[3] += vv[c];
+        se[3] += se[c];
+        rel[3] += rel[c];
+        sse[3] += sse[c];
+    }
+    for (int c = 0; c < 4; c++) {
+        double cnt = c < 3 ? (double)n : 3.0 * n;
+        m->ref_noise_rms[c] = sqrt(vv[c] / cnt);
+        m->rmse_debiased[c] = sqrt(fmax(se[c] / cnt, 0.0));
+        m->relmse_debiased[c] = fmax(rel[c] / cnt, 0.0);
+        m->scaled_rmse_debiased[c] = sqrt(fmax(sse[c] / cnt, 0.0));
+    }
+    return true;
+}
+
+bool st_metrics_noise_dominates(const st_metrics *m) {
+    return m->has_ref_noise && m->ref_noise_rms[3] > m->rmse_debiased[3] / 3.0;
+}
+
 // Ramp stops black - blue - red - yellow - white at t = 0, 1/4, 1/2, 3/4, 1.
 static void ramp(double t, uint8_t rgb[3]) {
     static const double stop[5][3] = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};

@@ -35,10 +35,44 @@ typedef struct {
     double frame_ms, module_gpu_ms, module_cpu_ms;
     char passes[256]; // "pass=gpu ms;..." of the swept modules
     st_metrics m;
-    double error;
+    double error, error_raw; // error with the reference's variance removed, and without
+    bool noisy_ref;          // the reference's noise is > 1/3 of the error
     long peak_rss_kb;
     size_t gpu_bytes;
 } row;
+
+static const char help_text[] =
+    "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [options]\n"
+    "Time against error: every combination of the swept values renders in a fresh world;\n"
+    "one CSV row per setting, the Pareto front on stdout, optionally a log-log plot.\n"
+    "When REF has standard-error channels (strahl reference), the error column has the\n"
+    "reference's own variance removed (mean((a-b)^2 - s^2), see strahl compare --help);\n"
+    "error_raw keeps the raw value, and a warning names the settings whose error the\n"
+    "reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3).\n"
+    "  --reference REF.exr        reference image of the same size (required)\n"
+    "  --sweep MODULE.PARAM=v,... values to sweep (required, up to 4; the first is the\n"
+    "                             x along each curve of the plot)\n"
+    "  --csv OUT.csv              output table (required; written atomically)\n"
+    "  --append                   add rows to an existing CSV (default: overwrite)\n"
+    "  --plot OUT.png|OUT.svg     log-log plot of time against error (default: none; the\n"
+    "                             same as strahl plot OUT.csv afterwards, see its --help)\n"
+    "  --baseline M.P=V,...       mark this setting in the plot, e.g. the brute-force one\n"
+    "                             (default: none)\n"
+    "  --frames F                 timed frames per setting, 1..10000 (default 10)\n"
+    "  --warmup W                 untimed frames first, 0..10000 (default 2)\n"
+    "  --metric rmse|relmse|scaled_rmse|max_abs   error column (default rmse)\n"
+    "  --budget-error X           also print the cheapest setting with error <= X (default: off)\n"
+    "  --mode recompute|steady    recompute: redo cached passes every frame (default);\n"
+    "                             steady: time a static scene\n"
+    "  --set MODULE.PARAM=VALUE   fixed parameter for every setting (repeatable)\n"
+    "  --size WxH                 render size (default: the scene's; must match REF)\n"
+    "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
+    "                             (default 1/1: all); only shard 1 writes the CSV header,\n"
+    "                             so `cat` of shards 1..N in order is the whole table\n"
+    "  -h, --help                 this text\n"
+    "example:\n"
+    "  strahl bench scenes/godrays_window.json --reference ref.exr --size 128x128 \\\n"
+    "      --sweep toth.samples=16,64,256 --sweep toth.interleave=1,2 --csv toth.csv --plot toth.png\n";
 
 static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     memset(sw, 0, sizeof *sw);
@@ -58,15 +92,17 @@ static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     return true;
 }
 
-static double error_of(const st_metrics *m, const char *metric) {
-    if (!strcmp(metric, "relmse")) return m->relmse[3];
-    if (!strcmp(metric, "scaled_rmse")) return m->scaled_rmse[3];
+// debiased: with the reference's own variance removed (equal to the raw value
+// when the reference has no standard-error channels; max_abs has no such form).
+static double error_of(const st_metrics *m, const char *metric, bool debiased) {
+    if (!strcmp(metric, "relmse")) return debiased ? m->relmse_debiased[3] : m->relmse[3];
+    if (!strcmp(metric, "scaled_rmse")) return debiased ? m->scaled_rmse_debiased[3] : m->scaled_rmse[3];
     if (!strcmp(metric, "max_abs")) return m->max_abs[3];
-    return m->rmse[3];
+    return debiased ? m->rmse_debiased[3] : m->rmse[3];
 }
 
 // Renders one setting; fills r. The scene has the setting applied already.
-static bool run_one(const st_scene *scene, const st_image *ref, int frames, int warmup, bool recompute,
+static bool run_one(const st_scene *scene, const st_image *ref, const st_image *ref_se, int frames, int warmup, bool recompute,
                     const char *metric, const sweep *sweeps, int nsweeps, row *r, st_err *err) {
     st_world_opts opts = {.timing = true};
     st_world *w = st_world_create(scene, &opts, err);
@@ -86,10 +122,11 @@ static bool run_one(const st_scene *scene, const st_image *ref, int frames, int 
         glFinish();
         if (f >= warmup) ft[timed++] = (float)(st_now_ms() - t0);
     }
-    ok = ok && st_world_read(w, &img, err) && st_image_compare(&img, ref, &r->m, err);
+    ok = ok && st_world_read(w, &img, err) && st_image_compare_noisy(&img, ref, ref_se, &r->m, err);
     if (ok) {
         r->frame_ms = st_median_f(ft, timed);
-        r->error = error_of(&r->m, metric);
+        r->error = error_of(&r->m, metric, true);
+        r->error_raw = error_of(&r->m, metric, false);
         // Per-module pass time: medians over the runs of each swept module's passes.
         r->module_gpu_ms = r->module_cpu_ms = 0;
         for (int i = 0; i < st_world_num_pass_stats(w); i++) {
@@ -120,53 +157,26 @@ static int cmp_time(const void *a, const void *b) {
     return (x->frame_ms > y->frame_ms) - (x->frame_ms < y->frame_ms);
 }
 
-static bool write_plot(const char *plot, const char *csv, const char *metric, st_err *err) {
-    const char *dot = strrchr(plot, '.');
-    bool svg = dot && !strcasecmp(dot, ".svg");
-    char tmp[1100], gp[1200];
-    snprintf(tmp, sizeof tmp, "%s.tmp-%d", plot, (int)getpid());
-    snprintf(gp, sizeof gp, "%s.gp", tmp);
-    FILE *f = fopen(gp, "w");
-    if (!f) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write gnuplot script", gp);
-    fprintf(f,
-            "set terminal %s size 900,600\nset output '%s'\nset datafile separator ','\n"
-            "set logscale xy\nset xlabel 'median frame time [ms]'\nset ylabel '%s against the reference'\n"
-            "set key outside right\nset grid\n"
-            "curves = system(\"tail -n +2 '%s' | cut -d, -f3 | sort -u | tr ' ' '_' | tr '\\n' ' '\")\n"
-            "plot for [c in curves] '< tail -n +2 %s | tr \" \" \"_\"' using ((strcol(3) eq c) ? $6 : 1/0):"
-            "((strcol(3) eq c) ? $9 : 1/0) with linespoints title c noenhanced\n",
-            svg ? "svg" : "pngcairo", tmp, metric, csv, csv);
-    fclose(f);
-    char cmd[3000];
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>&1", gp);
-    int rc = system(cmd);
-    unlink(gp);
-    if (rc != 0) {
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s (is gnuplot-nox installed?)", plot);
-    }
-    if (rename(tmp, plot) != 0) {
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write", plot);
-    }
-    return true;
-}
-
 int st_cmd_bench(int argc, char **argv) {
-    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse";
+    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse", *baseline = NULL;
     char *sets[MAX_SETS];
     sweep sweeps[MAX_SWEEPS];
     int nsets = 0, nsweeps = 0, width = 0, height = 0;
     long frames = 10, warmup = 2;
     double budget = -1;
+    long shard_i = 0, shard_n = 0;
     bool append = false, recompute = true;
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool nx = i + 1 < argc;
-        if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(help_text, stdout);
+            return ST_EXIT_OK;
+        } else if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
         else if (!strcmp(a, "--csv") && nx) csv = argv[++i];
         else if (!strcmp(a, "--plot") && nx) plot = argv[++i];
+        else if (!strcmp(a, "--baseline") && nx) baseline = argv[++i];
         else if (!strcmp(a, "--append")) append = true;
         else if (!strcmp(a, "--mode") && nx) {
             const char *m = argv[++i];
@@ -196,6 +206,13 @@ int st_cmd_bench(int argc, char **argv) {
         } else if (!strcmp(a, "--warmup") && nx) {
             if (!st_parse_int(argv[++i], 0, 10000, &warmup))
                 return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", argv[i]), st_report("bench", &err);
+        } else if (!strcmp(a, "--shard") && nx) {
+            const char *v = argv[++i], *slash = strchr(v, '/');
+            char num[32];
+            snprintf(num, sizeof num, "%.*s", slash ? (int)(slash - v) : 0, v);
+            if (!slash || !st_parse_int(slash + 1, 1, 100000, &shard_n) || !st_parse_int(num, 1, shard_n, &shard_i))
+                return st_fail(&err, ST_ERR_INPUT, "--shard %s: expected I/N with 1 <= I <= N", v),
+                       st_report("bench", &err);
         } else if (!strcmp(a, "--budget-error") && nx) {
             char *e;
             budget = strtod(argv[++i], &e);
@@ -219,9 +236,12 @@ int st_cmd_bench(int argc, char **argv) {
         if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg")))
             return st_fail(&err, ST_ERR_INPUT, "--plot %s: expected .png or .svg", plot), st_report("bench", &err);
     }
-    st_image ref = {0};
-    if (!st_image_read_exr(ref_path, &ref, &err)) {
+    st_image ref = {0}, ref_se = {0};
+    st_exr_meta ref_meta = {0};
+    if (!st_image_read_exr(ref_path, &ref, &err) || !st_image_read_exr_stderr(ref_path, &ref_se, &err) ||
+        !st_image_read_exr_meta(ref_path, &ref_meta, &err)) {
         err.kind = ST_ERR_INPUT;
+        st_image_free(&ref);
         return st_report("bench", &err);
     }
     // Validate the scene and every swept value before any rendering.
@@ -234,6 +254,9 @@ int st_cmd_bench(int argc, char **argv) {
     row *rows = calloc((size_t)total, sizeof *rows);
     st_context *ctx = NULL;
     int rc = 0, done = 0;
+    st_progress bar;
+    // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
+    st_progress_begin(&bar, "bench", "settings", shard_n > 1 ? (int)((total - shard_i + shard_n) / shard_n) : total);
     if (!rows) {
         st_fail(&err, ST_ERR_RUNTIME, "out of memory");
         goto fail;
@@ -244,7 +267,10 @@ int st_cmd_bench(int argc, char **argv) {
         char assign[MAX_SWEEPS][256];
         int n = 0, rest = idx;
         for (int s = 0; s < nsets; s++) all[n++] = sets[s];
-        row *r = &rows[idx];
+        // --shard I/N: settings I-1, I-1+N, ... (round robin, so shards of a
+        // sweep ordered by cost get similar work).
+        if (shard_n > 1 && idx % shard_n != shard_i - 1) continue;
+        row *r = &rows[done];
         for (int k = 0; k < nsweeps; k++) {
             int v = rest % sweeps[k].num_values;
             rest /= sweeps[k].num_values;
@@ -275,11 +301,19 @@ int st_cmd_bench(int argc, char **argv) {
             st_scene_free(&scene);
             goto fail;
         }
-        fprintf(stderr, "bench [%d/%d] %s\n", idx + 1, total, r->setting);
-        bool ok = run_one(&scene, &ref, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
+        st_progress_update(&bar, done, r->setting);
+        bool ok = run_one(&scene, &ref, &ref_se, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
         st_scene_free(&scene);
         if (!ok) goto fail;
+        r->noisy_ref = st_warn_reference_noise("bench", ref_path, &r->m, ref_meta.spp);
         done++;
+    }
+    {
+        // Before anything goes to stdout, so the table does not run into the bar.
+        char extra[64] = "";
+        if (shard_n > 1) snprintf(extra, sizeof extra, "shard %ld/%ld", shard_i, shard_n);
+        st_progress_end(&bar, done, extra);
+        bar.drawn = false;
     }
     {
         // CSV (atomically; --append adds rows to an existing file).
@@ -295,16 +329,19 @@ int st_cmd_bench(int argc, char **argv) {
             char line[4096];
             while (fgets(line, sizeof line, old)) fputs(line, f);
             fclose(old);
-        } else {
+        } else if (shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
             fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_median,"
-                       "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,pass_gpu_ms\n", metric);
+                       "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,pass_gpu_ms,"
+                       "error_raw,ref_noise_rms,ref_noise_warning\n", metric);
         }
         for (int i = 0; i < done; i++) {
             row *r = &rows[i];
-            fprintf(f, "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s\n", scene_path,
+            fprintf(f, "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%.9g,%.9g,%d\n",
+                    scene_path,
                     r->setting, r->curve, r->x, frames, r->frame_ms, r->module_gpu_ms, r->module_cpu_ms, r->error,
                     r->m.rmse[3], r->m.relmse[3], isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3],
-                    r->m.scale, r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes);
+                    r->m.scale, r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
+                    r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
         }
         if (fclose(f) != 0 || rename(tmp, csv) != 0) {
             unlink(tmp);
@@ -317,10 +354,11 @@ int st_cmd_bench(int argc, char **argv) {
         row *sorted[MAX_ROWS];
         for (int i = 0; i < done; i++) sorted[i] = &rows[i];
         qsort(sorted, (size_t)done, sizeof sorted[0], cmp_time);
-        printf("%-48s %12s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric);
+        printf("%-48s %12s %14s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric, "raw");
         for (int i = 0; i < done; i++)
-            printf("%-48s %12.3f %14.3f %14.6g\n", sorted[i]->setting, sorted[i]->frame_ms,
-                   sorted[i]->module_gpu_ms, sorted[i]->error);
+            printf("%-48s %12.3f %14.3f %14.6g %14.6g%s\n", sorted[i]->setting, sorted[i]->frame_ms,
+                   sorted[i]->module_gpu_ms, sorted[i]->error, sorted[i]->error_raw,
+                   sorted[i]->noisy_ref ? "  (reference too noisy)" : "");
         printf("Pareto front (faster settings with a lower %s):\n", metric);
         double best = INFINITY;
         for (int i = 0; i < done; i++) {
@@ -339,13 +377,15 @@ int st_cmd_bench(int argc, char **argv) {
                 printf("no setting reaches %s <= %g\n", metric, budget);
         }
     }
-    if (plot && !write_plot(plot, csv, metric, &err)) goto fail;
+    if (plot && !st_plot_csv(&csv, 1, plot, metric, baseline, NULL, &err)) goto fail;
     goto out;
 fail:
+    if (bar.drawn) fputc('\n', stderr); // end the bar's line before the message
     rc = st_report("bench", &err);
 out:
     st_context_destroy(ctx);
     st_image_free(&ref);
+    st_image_free(&ref_se);
     free(rows);
     return rc;
 }

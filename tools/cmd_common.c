@@ -1,8 +1,11 @@
+#define _POSIX_C_SOURCE 200809L
 #include "cmd_common.h"
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 bool st_parse_size(const char *s, int *w, int *h) {
     char *e;
@@ -46,4 +49,61 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
 int st_report(const char *cmd, const st_err *err) {
     fprintf(stderr, "strahl %s: %s\n", cmd, err->msg);
     return st_err_exit_code(err);
+}
+
+bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp) {
+    if (!st_metrics_noise_dominates(m)) return false;
+    double noise = m->ref_noise_rms[3], err = m->rmse_debiased[3];
+    fprintf(stderr,
+            "strahl %s: warning: %s: the reference's noise (rms standard error %.3g) is more than a "
+            "third of the error it measures (debiased rmse %.3g, raw %.3g)",
+            cmd, ref_path, noise, err, m->rmse[3]);
+    // The standard error falls as 1/sqrt(spp): a third of err needs spp (3 noise / err)^2.
+    if (ref_spp > 0 && err > 0) {
+        double want = ceil(ref_spp * (3 * noise / err) * (3 * noise / err));
+        fprintf(stderr, "; render it with at least %.0f spp (it has %d)", fmin(want, 1e9), ref_spp);
+    }
+    fputc('\n', stderr);
+    return true;
+}
+
+void st_progress_begin(st_progress *p, const char *label, const char *unit, int total) {
+    *p = (st_progress){.label = label, .unit = unit, .total = total, .tty = isatty(STDERR_FILENO) == 1};
+    p->t0 = p->last = st_now_ms();
+}
+
+static void progress_draw(st_progress *p, int done, const char *item, bool final) {
+    double el = (st_now_ms() - p->t0) / 1000.0;
+    double frac = p->total > 0 ? (double)done / p->total : 1.0;
+    char bar[31];
+    int fill = (int)(frac * 30);
+    for (int k = 0; k < 30; k++) bar[k] = k < fill ? '#' : '.';
+    bar[30] = 0;
+    // \r and clear to the end of the line: the item text changes length.
+    fprintf(stderr, "\r\033[K%s [%s] %d/%d %s, %.1f s", p->label, bar, done, p->total, p->unit, el);
+    if (!final && done > 0) fprintf(stderr, ", %.1f s left", el / frac - el);
+    if (!final && done == 0) fprintf(stderr, ", ETA after the first");
+    if (item && !final) fprintf(stderr, "  %.60s", item);
+    if (final) fputc('\n', stderr);
+    fflush(stderr);
+    p->drawn = true;
+}
+
+void st_progress_update(st_progress *p, int done, const char *item) {
+    if (!p->tty) return;
+    double now = st_now_ms();
+    // A changed item is drawn at once (bench: one per setting), rows 4x/s.
+    if (now - p->t0 < 1000.0 && !item) return;
+    if (!item && now - p->last < 250.0) return;
+    p->last = now;
+    progress_draw(p, done, item, false);
+}
+
+void st_progress_end(st_progress *p, int done, const char *extra) {
+    if (p->tty) {
+        if (p->drawn) progress_draw(p, done, NULL, true);
+        return;
+    }
+    fprintf(stderr, "strahl %s: %d %s in %.1f s%s%s\n", p->label, done, p->unit, (st_now_ms() - p->t0) / 1000.0,
+            extra && extra[0] ? ", " : "", extra ? extra : "");
 }

@@ -2,6 +2,7 @@
 // argument parsing helpers that report bad input the same way everywhere.
 #ifndef ST_CMD_COMMON_H
 #define ST_CMD_COMMON_H
+#include "st_image.h"
 #include "st_scene.h"
 
 // Parses "WxH" (1..16384 each).
@@ -11,6 +12,30 @@ bool st_parse_int(const char *s, long lo, long hi, long *out);
 // Loads a scene and applies --set assignments and a --size override.
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
                         st_scene *scene, st_err *err);
+// Prints a warning to stderr when the reference's noise is more than a third
+// of the error it measures (st_metrics_noise_dominates), with the spp that
+// would bring it to a third (ref_spp 0: unknown). Returns whether it warned.
+bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp);
+// Progress of a long command on stderr: on a terminal a bar with the
+// elapsed time and an ETA (redrawn at most 4 times a second, from 1 s on);
+// otherwise nothing until st_progress_end's one summary line.
+typedef struct st_progress {
+    const char *label; // "reference", "bench"
+    const char *unit;  // what is counted: "rows", "settings"
+    int total;
+    double t0, last;
+    bool tty, drawn;
+} st_progress;
+void st_progress_begin(st_progress *p, const char *label, const char *unit, int total);
+// done of total finished; item (may be NULL) names what runs now.
+void st_progress_update(st_progress *p, int done, const char *item);
+// Ends the bar (terminal) or prints "strahl LABEL: DONE UNIT in T s[, extra]".
+void st_progress_end(st_progress *p, int done, const char *extra);
+// The time-against-error plot of bench CSVs (tools/cmd_plot.c); metric names
+// the error column when the CSVs have no header (NULL: from the header);
+// baseline "M.P=V,..." marks that setting (NULL: none).
+bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric, const char *baseline,
+                 const char *title, st_err *err);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

@@ -1,11 +1,28 @@
 // strahl compare A.exr B.exr [--json] [--heatmap OUT.png]
 // Error metrics of A against the reference B. Output is printed only after
 // everything (including the heat map) succeeded.
+#include "cmd_common.h"
 #include "st_cmd.h"
 #include "st_image.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+
+static const char help_text[] =
+    "usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png]\n"
+    "Error of A against the reference B, per channel and over R,G,B: rmse, relmse\n"
+    "((a-b)^2 / (b^2 + 0.01)), psnr (peak = max of B), max_abs, the scale s minimising\n"
+    "|s A - B| and the rmse after scaling.\n"
+    "When B has per-pixel standard error channels (stderr.R/G/B, as strahl reference\n"
+    "writes), also the errors with B's own noise removed: rmse_debiased =\n"
+    "sqrt(max(0, mean((a-b)^2 - s^2))), relmse_debiased and scaled_rmse_debiased alike,\n"
+    "and ref_noise_rms = sqrt(mean(s^2)); a warning goes to stderr when ref_noise_rms\n"
+    "exceeds a third of rmse_debiased (the reference is too noisy to resolve the error).\n"
+    "  --json             one JSON object instead of the table (default: text)\n"
+    "  --heatmap OUT.png  |A - B| as a colour ramp (default: none)\n"
+    "  -h, --help         this text\n"
+    "example:\n"
+    "  strahl compare out/toth.exr ref.exr --heatmap out/diff.png\n";
 
 static int fail(const st_err *err) {
     fprintf(stderr, "strahl compare: %s\n", err->msg);
@@ -51,16 +68,23 @@ static void print_json(const st_metrics *m, int w, int h) {
     json_rgba("scaled_rmse", m->scaled_rmse, false);
     json_rgba("mean_a", m->mean_a, false);
     json_rgba("mean_b", m->mean_b, false);
+    if (m->has_ref_noise) {
+        json_rgba("rmse_debiased", m->rmse_debiased, false);
+        json_rgba("relmse_debiased", m->relmse_debiased, false);
+        json_rgba("scaled_rmse_debiased", m->scaled_rmse_debiased, false);
+        json_rgba("ref_noise_rms", m->ref_noise_rms, false);
+    }
+    printf("\"reference_noise_warning\":%s,", st_metrics_noise_dominates(m) ? "true" : "false");
     printf("\"width\":%d,\"height\":%d}\n", w, h);
 }
 
 static void text_row(const char *name, const double v[4]) {
-    printf("%-12s %16.9g %16.9g %16.9g %16.9g\n", name, v[0], v[1], v[2], v[3]);
+    printf("%-20s %16.9g %16.9g %16.9g %16.9g\n", name, v[0], v[1], v[2], v[3]);
 }
 
 static void print_text(const st_metrics *m, int w, int h, const char *a, const char *b) {
     printf("image        %s\nreference    %s\nsize         %dx%d\n", a, b, w, h);
-    printf("%-12s %16s %16s %16s %16s\n", "metric", "R", "G", "B", "all");
+    printf("%-20s %16s %16s %16s %16s\n", "metric", "R", "G", "B", "all");
     text_row("rmse", m->rmse);
     text_row("relmse", m->relmse);
     text_row("psnr", m->psnr); // printf writes "inf" for identical images
@@ -68,7 +92,13 @@ static void print_text(const st_metrics *m, int w, int h, const char *a, const c
     text_row("scaled_rmse", m->scaled_rmse);
     text_row("mean_a", m->mean_a);
     text_row("mean_b", m->mean_b);
-    printf("%-12s %16.9g\n", "scale", m->scale);
+    printf("%-20s %16.9g\n", "scale", m->scale);
+    if (!m->has_ref_noise) return;
+    // Raw numbers above, the reference's own variance removed below.
+    text_row("rmse_debiased", m->rmse_debiased);
+    text_row("relmse_debiased", m->relmse_debiased);
+    text_row("scaled_rmse_debiased", m->scaled_rmse_debiased);
+    text_row("ref_noise_rms", m->ref_noise_rms);
 }
 
 int st_cmd_compare(int argc, char **argv) {
@@ -85,9 +115,7 @@ int st_cmd_compare(int argc, char **argv) {
         } else if (!strncmp(arg, "--heatmap=", 10)) {
             heatmap = arg + 10;
         } else if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
-            printf("usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png]\n"
-                   "  B is the reference; prints rmse, relmse, psnr, max_abs, the scale s\n"
-                   "  minimising |s A - B| and the rmse after scaling, per channel and overall.\n");
+            fputs(help_text, stdout);
             return ST_EXIT_OK;
         } else if (arg[0] == '-' && arg[1]) {
             return bad_usage("unknown option", arg);
@@ -105,12 +133,14 @@ int st_cmd_compare(int argc, char **argv) {
     if (heatmap && !heatmap[0]) return bad_usage("empty heat map path", heatmap);
 
     st_err err = {0};
-    st_image a = {0}, b = {0};
+    st_image a = {0}, b = {0}, bs = {0};
+    st_exr_meta meta = {0};
     st_metrics m;
     int rc = ST_EXIT_OK;
-    if (!st_image_read_exr(files[0], &a, &err) || !st_image_read_exr(files[1], &b, &err)) {
+    if (!st_image_read_exr(files[0], &a, &err) || !st_image_read_exr(files[1], &b, &err) ||
+        !st_image_read_exr_stderr(files[1], &bs, &err) || !st_image_read_exr_meta(files[1], &meta, &err)) {
         rc = fail(&err);
-    } else if (!st_image_compare(&a, &b, &m, &err)) {
+    } else if (!st_image_compare_noisy(&a, &b, &bs, &m, &err)) {
         // Name both files: the message itself only knows "image"/"reference".
         st_err_prefix(&err, "%s vs %s: ", files[0], files[1]);
         rc = fail(&err);
@@ -121,8 +151,10 @@ int st_cmd_compare(int argc, char **argv) {
     } else {
         print_text(&m, a.width, a.height, files[0], files[1]);
     }
+    if (rc == ST_EXIT_OK) st_warn_reference_noise("compare", files[1], &m, meta.spp);
     st_image_free(&a);
     st_image_free(&b);
+    st_image_free(&bs);
     if (rc == ST_EXIT_OK && fflush(stdout) != 0) {
         fprintf(stderr, "strahl compare: cannot write output\n");
         rc = ST_EXIT_RUNTIME;

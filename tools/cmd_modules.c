@@ -25,9 +25,23 @@ static const char *type_name(st_param_type t) {
     return "?";
 }
 
+static const char help_text[] =
+    "usage: strahl modules [--json]\n"
+    "Lists every installed plugin (found in $STRAHL_MODULE_PATH, the build and the\n"
+    "install folder) with its requirements and parameters: type, default, range or\n"
+    "choices, help.\n"
+    "  --json      machine-readable list (default: text)\n"
+    "  -h, --help  this text\n"
+    "example:\n"
+    "  strahl modules --json\n";
+
 int st_cmd_modules(int argc, char **argv) {
     bool json = false;
     for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) {
+            fputs(help_text, stdout);
+            return 0;
+        }
         if (!strcmp(argv[i], "--json")) json = true;
         else {
             fprintf(stderr, "strahl modules: unexpected argument '%s'\n", argv[i]);

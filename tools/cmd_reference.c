@@ -15,10 +15,26 @@
 
 #define MAX_SETS 64
 
-static const char *usage_text =
-    "usage: strahl reference SCENE.json -o OUT.exr [--spp N] [--aov combined|direct|indirect|inscatter]\n"
-    "         [--seed S] [--size WxH] [--bounces K] [--bounce-visibility on|off] [--estimator area|thesis]\n"
-    "         [--steps N] [--threads N] [--set MODULE.PARAM=VALUE]...\n";
+static const char usage_text[] =
+    "usage: strahl reference SCENE.json -o OUT.exr [options]\n"
+    "The CPU reference (Embree, all cores): R, G, B and the per-pixel standard error\n"
+    "of the mean (stderr.R/G/B); the header records spp and the seed (strahl merge reads them).\n"
+    "  -o OUT.exr                output (required; .exr only, written atomically)\n"
+    "  --spp N                   samples per pixel, 1..10000000 (default 64)\n"
+    "  --aov combined|direct|indirect|inscatter   what to render (default combined)\n"
+    "  --seed S                  random seed, unsigned 64-bit (default 0); runs with\n"
+    "                            different seeds are independent shards for strahl merge\n"
+    "  --size WxH                image size (default: the scene's)\n"
+    "  --bounces K               diffuse bounces, 0..16 (default 1)\n"
+    "  --bounce-visibility on|off  visibility test in the bounce (default on)\n"
+    "  --estimator area|thesis   bounce estimator (default area)\n"
+    "  --steps N                 strata per view ray for in-scattering, 1..1000000 (default 256)\n"
+    "  --threads N               worker threads, 1..256 (default: all online cores)\n"
+    "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
+    "  -h, --help                this text\n"
+    "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"
+    "example:\n"
+    "  strahl reference scenes/godrays_window.json -o ref.exr --size 128x128 --spp 64 --bounces 0\n";
 
 static bool parse_choice(const char *s, const char *const *names, int n, int *out) {
     for (int i = 0; i < n; i++)
@@ -39,6 +55,11 @@ static bool parse_u64(const char *s, uint64_t *out) {
     return true;
 }
 
+static void on_rows(void *user, int done, int rows) {
+    (void)rows;
+    st_progress_update(user, done, NULL);
+}
+
 static int bad(st_err *err, const char *fmt, const char *arg) {
     st_fail(err, ST_ERR_INPUT, fmt, arg);
     return st_report("reference", err);
@@ -48,7 +69,7 @@ int st_cmd_reference(int argc, char **argv) {
     const char *scene_path = NULL, *out_path = NULL;
     char *sets[MAX_SETS];
     int num_sets = 0, width = 0, height = 0;
-    st_ref_options o = {.spp = 64, .bounces = 1, .progress = isatty(STDERR_FILENO)};
+    st_ref_options o = {.spp = 64, .bounces = 1};
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -114,9 +135,16 @@ int st_cmd_reference(int argc, char **argv) {
     if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
         return st_report("reference", &err);
     st_image img;
+    const int w0 = scene.width, h0 = scene.height;
     double t0 = st_now_ms();
+    st_progress bar;
+    st_progress_begin(&bar, "reference", "rows", h0);
+    o.progress = on_rows;
+    o.progress_user = &bar;
     bool ok = st_ref_render(&scene, &o, &img, &err);
     double secs = (st_now_ms() - t0) / 1000.0;
+    // On a terminal the bar ends here; otherwise the stdout line below is the summary.
+    if (bar.tty) st_progress_end(&bar, ok ? h0 : 0, NULL);
     st_scene_free(&scene);
     if (!ok) return st_report("reference", &err);
     static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
@@ -126,7 +154,15 @@ int st_cmd_reference(int argc, char **argv) {
         st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the result; nothing written", bad_px);
         return st_report("reference", &err);
     }
-    ok = st_image_write_exr_named(out_path, &img, names, &err);
+    st_exr_meta meta = {.spp = o.spp};
+    snprintf(meta.seeds, sizeof meta.seeds, "%llu", (unsigned long long)o.seed);
+    // What the pixels depend on besides spp and seed (--set is not: the
+    // reference reads no module): shards merge only if this matches.
+    static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
+    snprintf(meta.config, sizeof meta.config, "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d",
+                       scene_path, w0, h0, aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
+                       o.estimator == ST_REF_EST_THESIS ? "thesis" : "area", o.march_steps > 0 ? o.march_steps : 256);
+    ok = st_image_write_exr_meta(out_path, &img, names, &meta, &err);
     int w = img.width, h = img.height;
     st_image_free(&img);
     if (!ok) return st_report("reference", &err);

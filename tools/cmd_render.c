@@ -13,6 +13,22 @@
 
 #define MAX_SETS 64
 
+static const char help_text[] =
+    "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options]\n"
+    "Renders frames of a scene headless (EGL) and writes the last one: EXR (linear\n"
+    "radiance, 32-bit float R,G,B) or PNG (sRGB, 8 bit).\n"
+    "  -o OUT.exr|OUT.png       output file (required; written atomically)\n"
+    "  --set MODULE.PARAM=VALUE change a module parameter (repeatable; default: the scene's)\n"
+    "  --size WxH               image size (default: the scene's image.width x height)\n"
+    "  --frames N               frames to render, 1..100000 (default 1; progressive\n"
+    "                           techniques such as atlas_gi accumulate over them)\n"
+    "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
+    "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
+    "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
+    "  -h, --help               this text\n"
+    "example:\n"
+    "  strahl render scenes/cornell.json -o out/cornell.png --frames 16 --stats\n";
+
 static bool out_ext_ok(const char *p) {
     const char *dot = strrchr(p, '.');
     return dot && (!strcasecmp(dot, ".exr") || !strcasecmp(dot, ".png"));
@@ -60,7 +76,10 @@ int st_cmd_render(int argc, char **argv) {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_next = i + 1 < argc;
-        if (!strcmp(a, "-o") && has_next) {
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(help_text, stdout);
+            return ST_EXIT_OK;
+        } else if (!strcmp(a, "-o") && has_next) {
             out = argv[++i];
         } else if (!strcmp(a, "--set") && has_next) {
             if (num_sets == MAX_SETS) return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("render", &err);
@@ -94,7 +113,7 @@ int st_cmd_render(int argc, char **argv) {
         }
     }
     if (!scene_path || !out)
-        return st_fail(&err, ST_ERR_INPUT, "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options]"),
+        return st_fail(&err, ST_ERR_INPUT, "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)"),
                st_report("render", &err);
     if (!out_ext_ok(out))
         return st_fail(&err, ST_ERR_INPUT, "-o %s: the output must end in .exr or .png", out),

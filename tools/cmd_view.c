@@ -14,6 +14,41 @@
 
 #define MAX_SETS 64
 
+static const char help_text[] =
+    "usage: strahl view SCENE.json [options]\n"
+    "An interactive window on a scene (press H in it for the keys).\n"
+    "  --script FILE             run the commands in FILE, then exit (default: interactive)\n"
+    "  --size WxH                render at this size, scaled into the window; screenshots\n"
+    "                            have it (default: render at the window's size; key K\n"
+    "                            switches to the scene's image size)\n"
+    "  --window WxH              window size (default: the scene's aspect at 3/4 of the\n"
+    "                            screen, at least 960x540 where it fits; with --script:\n"
+    "                            --size or the scene's image size)\n"
+    "  --set MODULE.PARAM=VALUE  change a module parameter (repeatable)\n"
+    "  --exposure EV             display exposure in stops, -64..64 (default 0)\n"
+    "  --ui-scale S              overlay text scale, 0.5..8 (default 1)\n"
+    "  --shots DIR               screenshot folder (default .)\n"
+    "  --hide-panel              start with the parameter panel hidden (default shown)\n"
+    "  -h, --help                this text\n"
+    "example:\n"
+    "  strahl view scenes/godrays_colonnade.json --set toth.samples=64\n";
+
+// A usable window for an interactive session: the scene's aspect, as large as
+// fits in 3/4 of the screen (at least 960x540 where the screen allows), never
+// more than 9/10 of it.
+static void usable_window(int sw, int sh, int *ww, int *wh) {
+    int mw = 1920, mh = 1080;
+    if (glfwInit()) { // st_context_create_window calls it again; that is allowed
+        GLFWmonitor *mon = glfwGetPrimaryMonitor();
+        const GLFWvidmode *mode = mon ? glfwGetVideoMode(mon) : NULL;
+        if (mode && mode->width > 0 && mode->height > 0) mw = mode->width, mh = mode->height;
+    }
+    double bw = fmin(fmax(960.0, 0.75 * mw), 0.9 * mw), bh = fmin(fmax(540.0, 0.75 * mh), 0.9 * mh);
+    double s = fmin(bw / sw, bh / sh);
+    *ww = (int)fmax(1.0, sw * s + 0.5);
+    *wh = (int)fmax(1.0, sh * s + 0.5);
+}
+
 static int usage_error(const char *fmt, const char *arg) {
     st_err err = {0};
     st_fail(&err, ST_ERR_INPUT, fmt, arg);
@@ -23,20 +58,25 @@ static int usage_error(const char *fmt, const char *arg) {
 int st_cmd_view(int argc, char **argv) {
     const char *scene_path = NULL, *script = NULL, *shots = ".";
     char *sets[MAX_SETS];
-    int num_sets = 0, width = 0, height = 0;
+    int num_sets = 0, width = 0, height = 0, win_w = 0, win_h = 0;
     double exposure = 0, ui_scale = 1;
     bool hide_panel = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_next = i + 1 < argc;
         char *e;
-        if (!strcmp(a, "--script") && has_next) {
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(help_text, stdout);
+            return ST_EXIT_OK;
+        } else if (!strcmp(a, "--script") && has_next) {
             script = argv[++i];
         } else if (!strcmp(a, "--set") && has_next) {
             if (num_sets == MAX_SETS) return usage_error("too many --set (max 64)%s", "");
             sets[num_sets++] = argv[++i];
         } else if (!strcmp(a, "--size") && has_next) {
             if (!st_parse_size(argv[++i], &width, &height)) return usage_error("--size %s: expected WxH, 1..16384 each", argv[i]);
+        } else if (!strcmp(a, "--window") && has_next) {
+            if (!st_parse_size(argv[++i], &win_w, &win_h)) return usage_error("--window %s: expected WxH, 1..16384 each", argv[i]);
         } else if (!strcmp(a, "--exposure") && has_next) {
             exposure = strtod(argv[++i], &e);
             if (*e || !isfinite(exposure) || fabs(exposure) > 64)
@@ -50,7 +90,7 @@ int st_cmd_view(int argc, char **argv) {
             hide_panel = true;
         } else if (a[0] == '-' || scene_path) {
             return usage_error("unexpected argument '%s' (usage: strahl view SCENE.json [--script FILE] [--size WxH] "
-                               "[--set MODULE.PARAM=VALUE]... [--exposure EV] [--ui-scale S] [--shots DIR] [--hide-panel])",
+                               "[--window WxH] [--set MODULE.PARAM=VALUE]... [--exposure EV] [--ui-scale S] [--shots DIR] [--hide-panel])",
                                a);
         } else {
             scene_path = a;
@@ -68,14 +108,24 @@ int st_cmd_view(int argc, char **argv) {
         return st_fail(&err, ST_ERR_RUNTIME, "out of memory"), st_report("view", &err);
     }
     v->script = script != NULL;
-    v->ctx = st_context_create_window(scene.width, scene.height, "strahl view", v->script ? 0 : 1, &err);
+    // Scripts (tests) keep a window of the render size, so window pixels and
+    // screenshots correspond; an interactive session opens a usable window.
+    if (!win_w) {
+        if (v->script) win_w = scene.width, win_h = scene.height;
+        else usable_window(scene.width, scene.height, &win_w, &win_h);
+    }
+    v->render_w = scene.width, v->render_h = scene.height;
+    // --size fixes the render size in an interactive window (screenshots at
+    // that size, like strahl render); in a script the window has that size.
+    v->fixed_size = width > 0 && !v->script;
+    v->ctx = st_context_create_window(win_w, win_h, "strahl view", v->script ? 0 : 1, &err);
     if (!v->ctx) goto fail;
     v->win = st_context_window(v->ctx);
     int fw, fh;
     glfwGetFramebufferSize(v->win, &fw, &fh);
-    // The world renders at the window's pixel size; `--size`/the scene size
-    // sets the window, so screenshots match `strahl render` at that size.
-    st_world_opts opts = {.width = fw, .height = fh, .timing = true};
+    st_world_opts opts = {.width = v->fixed_size ? v->render_w : fw,
+                          .height = v->fixed_size ? v->render_h : fh,
+                          .timing = true};
     v->scene = &scene;
     v->world = st_world_create(&scene, &opts, &err);
     if (!v->world) goto fail;
@@ -91,8 +141,8 @@ int st_cmd_view(int argc, char **argv) {
     snprintf(v->shot_dir, sizeof v->shot_dir, "%s", shots);
     view_refresh_modules(v);
     view_install_callbacks(v);
-    printf("strahl view: %s, %dx%d on %s; %d module(s) installed; press H for help\n", scene_path, fw, fh,
-           st_context_renderer(), v->num_mods);
+    printf("strahl view: %s, window %dx%d, rendering %dx%d on %s; %d module(s) installed; press H for help\n",
+           scene_path, fw, fh, opts.width, opts.height, st_context_renderer(), v->num_mods);
     fflush(stdout);
 
     if (script) {

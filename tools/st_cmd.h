@@ -9,5 +9,7 @@ int st_cmd_modules(int argc, char **argv);
 int st_cmd_reference(int argc, char **argv);
 int st_cmd_compare(int argc, char **argv);
 int st_cmd_bench(int argc, char **argv);
+int st_cmd_merge(int argc, char **argv);
+int st_cmd_plot(int argc, char **argv);
 
 #endif

@@ -1,5 +1,6 @@
 // strahl command line: dispatches to the subcommands in tools/cmd_*.c.
 #include "st_cmd.h"
+#include "st_module.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -11,6 +12,12 @@
 #pragma weak st_cmd_reference
 #pragma weak st_cmd_compare
 #pragma weak st_cmd_bench
+#pragma weak st_cmd_merge
+#pragma weak st_cmd_plot
+
+#ifndef ST_VERSION
+#define ST_VERSION "unknown"
+#endif
 
 typedef struct {
     const char *name;
@@ -19,8 +26,9 @@ typedef struct {
 } st_command;
 
 static int usage(FILE *f, const st_command *cmds, int n) {
-    fprintf(f, "usage: strahl COMMAND ...\n");
+    fprintf(f, "usage: strahl COMMAND ...   (strahl COMMAND --help for its options)\n");
     for (int i = 0; i < n; i++) fprintf(f, "  strahl %s %s\n", cmds[i].name, cmds[i].usage);
+    fprintf(f, "  strahl --version\n");
     return 2;
 }
 
@@ -29,16 +37,22 @@ int main(int argc, char **argv) {
         {"render", st_cmd_render,
          "SCENE.json -o OUT.exr|OUT.png [--set MODULE.PARAM=VALUE]... [--size WxH] [--frames N] "
          "[--stats[=json]] [--exposure EV]"},
-        {"view", st_cmd_view, "SCENE.json [--script FILE]"},
+        {"view", st_cmd_view, "SCENE.json [--script FILE] [--size WxH] [--window WxH]"},
         {"modules", st_cmd_modules, "[--json]"},
         {"reference", st_cmd_reference,
-         "SCENE.json -o OUT.exr [--spp N] [--aov combined|direct|indirect|inscatter]"},
+         "SCENE.json -o OUT.exr [--spp N] [--seed S] [--aov combined|direct|indirect|inscatter]"},
         {"compare", st_cmd_compare, "A.exr B.exr [--json] [--heatmap OUT.png]"},
+        {"merge", st_cmd_merge, "SHARD.exr SHARD.exr... -o OUT.exr"},
+        {"plot", st_cmd_plot, "BENCH.csv... -o OUT.png|OUT.svg [--baseline MODULE.PARAM=V,...]"},
         {"bench", st_cmd_bench,
          "SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [--plot OUT.png]"},
     };
     const int n = (int)(sizeof cmds / sizeof cmds[0]);
     if (argc < 2) return usage(stderr, cmds, n);
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
+        printf("strahl %s (plugin ABI %d.%d)\n", ST_VERSION, ST_ABI_MAJOR, ST_ABI_MINOR);
+        return 0;
+    }
     if (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "help")) {
         usage(stdout, cmds, n);
         return 0;

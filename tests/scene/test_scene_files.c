@@ -21,7 +21,11 @@ static void test_cornell(void) {
     CHECK(s.num_meshes == 7 && st_scene_triangle_count(&s) == 5 * 2 + 2 * 12, "cornell: %d meshes", s.num_meshes);
     CHECK(s.camera.position[2] == 3.4f && s.camera.target[1] == 1 && s.camera.fov_y == 40, "cornell camera");
     CHECK(s.num_lights == 1 && s.lights[0].position[1] > 1.8f && s.lights[0].position[1] < 2, "light under the ceiling");
-    CHECK(s.num_modules == 1 && st_scene_module(&s, "shadow_map"), "shadow_map module");
+    // The default scene shows direct light with shadows, one GI bounce and a thin medium with god rays.
+    CHECK(s.num_modules == 3 && st_scene_module(&s, "shadow_map") && st_scene_module(&s, "atlas_gi") &&
+              st_scene_module(&s, "toth"),
+          "shadow_map, atlas_gi and toth modules");
+    CHECK(s.medium.present && s.medium.sigma_s[0] > 0 && s.medium.sigma_s[0] * 3.4f < 1, "a thin medium");
     int red = 0, green = 0, white_walls = 0;
     for (int i = 0; i < 5 && i < s.num_meshes; i++) {
         const st_mesh *m = &s.meshes[i];

@@ -33,7 +33,10 @@ typedef struct st_ref_options {
     st_ref_estimator estimator;
     int march_steps;          // strata per view ray for in-scattering (0: 256)
     int threads;              // 0: all online cores
-    bool progress;            // progress bar with ETA on stderr (if it takes > 1 s)
+    // Called from the calling thread about every 10 ms with the rows done
+    // (and once at the end with all of them); NULL: none.
+    void (*progress)(void *user, int rows_done, int rows);
+    void *progress_user;
 } st_ref_options;
 
 // World-space triangles of all meshes in one Embree scene.

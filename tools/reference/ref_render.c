@@ -129,19 +129,6 @@ static void *worker(void *arg) {
     return NULL;
 }
 
-static void progress(double t0, int done, int total, bool final) {
-    double el = (st_now_ms() - t0) / 1000.0;
-    double frac = total ? (double)done / total : 1.0;
-    double eta = frac > 0 ? el / frac - el : 0.0;
-    char bar[31];
-    int fill = (int)(frac * 30);
-    for (int k = 0; k < 30; k++) bar[k] = k < fill ? '#' : '.';
-    bar[30] = 0;
-    fprintf(stderr, "\rreference [%s] %3d%%  %.1f s, %.1f s left ", bar, (int)(frac * 100), el, eta);
-    if (final) fputc('\n', stderr);
-    fflush(stderr);
-}
-
 static int thread_count(const st_ref_options *o, int rows) {
     long n = o->threads > 0 ? o->threads : sysconf(_SC_NPROCESSORS_ONLN);
     if (n < 1) n = 1;
@@ -175,20 +162,12 @@ bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out
     for (; started < nt; started++)
         if (pthread_create(&th[started], NULL, worker, &job)) break;
     if (started == 0) worker(&job); // no threads to be had: render here
-    const double t0 = st_now_ms();
-    bool shown = false;
-    double last = t0;
     while (atomic_load(&job.rows_done) < scene->height) {
         nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL); // cheap; keeps small renders snappy
-        double now = st_now_ms();
-        if (o->progress && now - t0 > 1000.0 && now - last > 250.0) {
-            progress(t0, atomic_load(&job.rows_done), scene->height, false);
-            shown = true;
-            last = now;
-        }
+        if (o->progress) o->progress(o->progress_user, atomic_load(&job.rows_done), scene->height);
     }
     for (int k = 0; k < started; k++) pthread_join(th[k], NULL);
-    if (shown) progress(t0, scene->height, scene->height, true);
+    if (o->progress) o->progress(o->progress_user, scene->height, scene->height);
     st_ref_geometry_free(&geo);
     return true;
 }

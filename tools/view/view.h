@@ -45,7 +45,7 @@ typedef struct view_vtx {
 
 typedef struct view_gl {
     GLuint display_prog, ui_prog, ui_vao, ui_vbo, empty_vao;
-    GLint d_img, d_scale, d_fb, ui_size;
+    GLint d_img, d_scale, d_fb, d_off, ui_size;
     view_vtx *v;
     int n, cap;
     size_t vbo_bytes;
@@ -56,7 +56,8 @@ bool view_gl_init(view_gl *g, st_err *err);
 void view_gl_free(view_gl *g);
 // Draws the world's HDR image to the window: 2^exposure, clamp, sRGB, as
 // st_image_write_png does.
-void view_gl_display(view_gl *g, GLuint tex, int fb_w, int fb_h, float exposure);
+// The image (img_w x img_h) scaled into the framebuffer, aspect kept (bars).
+void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int fb_h, float exposure);
 void view_ui_rect(view_gl *g, float x, float y, float w, float h, uint32_t rgba);
 float view_ui_text(view_gl *g, float x, float y, const char *s, uint32_t rgba); // returns width
 float view_ui_text_width(const view_gl *g, const char *s);
@@ -144,6 +145,11 @@ typedef struct view {
     double frame_ms, world_ms, frame_ms_avg, last_time;
     uint64_t frames;
     int fb_w, fb_h;
+    // The world renders at the window's size, or (fixed_size: `--size`, key
+    // K, script `render-size`) at render_w x render_h, scaled into the window
+    // with its aspect kept, so screenshots have that size.
+    bool fixed_size;
+    int render_w, render_h;
     bool frame_failed;
 
     bool script;   // no vsync, no held-key movement timing from the clock

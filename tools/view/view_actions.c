@@ -483,6 +483,14 @@ bool view_key(view *v, int key, int mods, st_err *err) {
     case GLFW_KEY_O: v->show_stats = !v->show_stats; return true;
     case GLFW_KEY_H:
     case GLFW_KEY_F1: v->show_help = !v->show_help; return true;
+    case GLFW_KEY_K:
+        v->fixed_size = !v->fixed_size;
+        if (v->fixed_size)
+            view_message(v, "rendering at the scene's size %dx%d (scaled to the window; screenshots at that size)",
+                         v->render_w, v->render_h);
+        else
+            view_message(v, "rendering at the window's size");
+        return true;
     case GLFW_KEY_C:
         v->cam.fly = !v->cam.fly;
         view_message(v, "camera: %s", v->cam.fly ? "fly (drag to look, WASD QE to move)" : "orbit");
@@ -562,6 +570,7 @@ const char *view_help_text(void) {
            "right drag, wheel\tpan, zoom (wheel over the panel scrolls it)\n"
            "W A S D, Q E\tmove forward/left/back/right, down/up (Shift: x5)\n"
            "C / R\torbit or fly camera / back to the scene camera\n"
+           "K\trender at the scene's size (screenshots) / the window's\n"
            "Tab / O\tparameter panel / timings overlay\n"
            "Up, Down\tpick a parameter (or click it)\n"
            "Left, Right\tadjust it (Shift: x10); Space: toggle, next choice\n"

@@ -175,7 +175,8 @@ bool view_frame(view *v, st_err *err) {
     }
     v->fb_w = fw, v->fb_h = fh;
     const st_camera *c = st_world_camera(v->world);
-    if ((c->width != fw || c->height != fh) && !st_world_resize(v->world, fw, fh, err)) return false;
+    const int rw = v->fixed_size ? v->render_w : fw, rh = v->fixed_size ? v->render_h : fh;
+    if ((c->width != rw || c->height != rh) && !st_world_resize(v->world, rw, rh, err)) return false;
 
     double t0 = st_now_ms();
     st_err ferr = {0};
@@ -198,7 +199,7 @@ bool view_frame(view *v, st_err *err) {
     collect_rows(v);
     v->frames++;
 
-    view_gl_display(&v->gl, st_world_camera(v->world)->current, fw, fh, v->exposure);
+    view_gl_display(&v->gl, st_world_camera(v->world)->current, rw, rh, fw, fh, v->exposure);
     view_overlay(v);
     view_ui_flush(&v->gl, fw, fh);
     for (int b = 0; b < 3; b++) v->mouse_pressed[b] = false;

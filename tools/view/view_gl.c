@@ -30,6 +30,7 @@ static const char *display_fs =
     "uniform sampler2D u_img;\n"
     "uniform float u_scale;\n"
     "uniform vec2 u_fb;\n"
+    "uniform vec2 u_off;\n"
     "out vec4 o;\n"
     "float enc(float x) {\n"
     "    x = clamp(x, 0.0, 1.0);\n"
@@ -37,7 +38,7 @@ static const char *display_fs =
     "}\n"
     "void main() {\n"
     "    ivec2 sz = textureSize(u_img, 0);\n"
-    "    ivec2 p = ivec2(gl_FragCoord.xy * vec2(sz) / u_fb);\n"
+    "    ivec2 p = ivec2((gl_FragCoord.xy - u_off) * vec2(sz) / u_fb);\n"
     "    vec3 c = texelFetch(u_img, clamp(p, ivec2(0), sz - 1), 0).rgb * u_scale;\n"
     "    if (any(isnan(c))) c = vec3(1.0, 0.0, 1.0);\n"
     "    o = vec4(enc(c.r), enc(c.g), enc(c.b), 1.0);\n"
@@ -78,6 +79,7 @@ bool view_gl_init(view_gl *g, st_err *err) {
     g->d_img = glGetUniformLocation(g->display_prog, "u_img");
     g->d_scale = glGetUniformLocation(g->display_prog, "u_scale");
     g->d_fb = glGetUniformLocation(g->display_prog, "u_fb");
+    g->d_off = glGetUniformLocation(g->display_prog, "u_off");
     g->ui_size = glGetUniformLocation(g->ui_prog, "u_size");
     glCreateVertexArrays(1, &g->empty_vao);
     glCreateVertexArrays(1, &g->ui_vao);
@@ -103,9 +105,18 @@ void view_gl_free(view_gl *g) {
     memset(g, 0, sizeof *g);
 }
 
-void view_gl_display(view_gl *g, GLuint tex, int fb_w, int fb_h, float exposure) {
+void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int fb_h, float exposure) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fb_w, fb_h);
+    // The largest rectangle of the image's aspect inside the window, centred.
+    int w = fb_w, h = fb_h;
+    if (img_w > 0 && img_h > 0 && (img_w != fb_w || img_h != fb_h)) {
+        if ((double)fb_w * img_h > (double)fb_h * img_w) w = (int)((double)fb_h * img_w / img_h + 0.5);
+        else h = (int)((double)fb_w * img_h / img_w + 0.5);
+        if (w < 1) w = 1;
+        if (h < 1) h = 1;
+    }
+    const int x0 = (fb_w - w) / 2, y0 = (fb_h - h) / 2;
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
@@ -116,11 +127,14 @@ void view_gl_display(view_gl *g, GLuint tex, int fb_w, int fb_h, float exposure)
     glBindTextureUnit(0, tex);
     glUniform1i(g->d_img, 0);
     glUniform1f(g->d_scale, exp2f(exposure));
-    glUniform2f(g->d_fb, (float)fb_w, (float)fb_h);
+    glUniform2f(g->d_fb, (float)w, (float)h);
+    glUniform2f(g->d_off, (float)x0, (float)y0);
+    glViewport(x0, y0, w, h);
     glBindVertexArray(g->empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
     glBindTextureUnit(0, 0);
+    glViewport(0, 0, fb_w, fb_h); // the overlay covers the whole window
 }
 
 static view_vtx *reserve(view_gl *g, int n) {

@@ -13,6 +13,7 @@
 //   expect-message TEXT          expect-param MODULE.PARAM VALUE
 //   expect-module MODULE on|off  mouse X Y             button left|right|middle down|up
 //   wheel CLICKS                 quit
+//   render-size W H | scene | window   (what the world renders at; see key K)
 // (mouse input acts in the next frame, as events from the window do; the
 // panel's control rectangles are in the `stats` output under "widgets")
 //
@@ -143,6 +144,19 @@ static bool run_line(view *v, char *line, st_err *err) {
         if (!(a[0] > 0)) return st_fail(err, ST_ERR_INPUT, "dolly: FACTOR must be > 0");
         view_cam_dolly(&v->cam, (float)a[0]);
         v->cam_dirty = true;
+        return true;
+    }
+    if (!strcmp(cmd, "render-size")) {
+        if (n == 2 && (!strcmp(tok[1], "scene") || !strcmp(tok[1], "window"))) {
+            v->fixed_size = !strcmp(tok[1], "scene");
+            if (v->fixed_size) v->render_w = v->scene->width, v->render_h = v->scene->height;
+            return true;
+        }
+        NUMS(2, "W H, scene or window");
+        if (a[0] < 1 || a[1] < 1 || a[0] > 16384 || a[1] > 16384)
+            return st_fail(err, ST_ERR_INPUT, "render-size: 1..16384 each");
+        v->fixed_size = true;
+        v->render_w = (int)a[0], v->render_h = (int)a[1];
         return true;
     }
     if (!strcmp(cmd, "resize")) {
