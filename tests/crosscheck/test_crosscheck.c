@@ -16,13 +16,15 @@
 //    If both renderers compute the same expectation, z is Student-t with nu
 //    degrees of freedom (at most; the reference's share of v is known far
 //    better), so E[z^2] <= nu / (nu - 2) = 9/7 in the interior. The test
-//    statistic is M = mean over pixels and channels of min(z^2, 16): the clip
+//    statistic is M = mean over pixels and channels of min(z^2, 16), leaving
+//    out values that are exactly 0 in both images (no light: no information;
+//    counted, they would pull M toward 0 and weaken the test): the clip
 //    at 4 sigma only lowers M under that hypothesis, and it bounds the weight
 //    of pixels where an edge passes within ~0.02 px of the pixel centre
 //    (Cycles' narrowest pixel filter, a Gaussian of width 0.01 px, still
 //    spans about that much; strahl samples the exact centre), which differ
 //    deterministically, not by noise. Bound: M <= 9/7 + 4 sd(min(z^2, 16)) /
-//    sqrt(P), P the number of pixels (channels are correlated, so they are
+//    sqrt(P), P the number of pixels counted (channels are correlated, so they are
 //    not counted as independent): a 4-sigma one-sided bound on the mean. A
 //    bias of b noise levels on a fraction f of the pixels raises M by about
 //    f min(b^2, 16), so e.g. 3 % too bright at 0.5 % noise on a fifth of the
@@ -50,6 +52,9 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
+    // toth's error at its defaults is mostly at the edges of the lit floor
+    // patch (half-resolution march, upsampled): resolution=full gives 0.20.
+    {"window_hg", "toth", "nrmse", 0.458},
     {NULL, NULL, NULL, 0},
 };
 
@@ -99,11 +104,13 @@ typedef struct stat_result {
 static stat_result noise_test(const st_image *ref, const st_image *cyc, const st_image *se) {
     const int w = ref->width, h = ref->height;
     double sum = 0, sum2 = 0;
-    long n = 0;
+    long n = 0, pixels = 0;
     for (int j = 0; j < h; j++) {
         for (int i = 0; i < w; i++) {
             const float *r = st_image_px(ref, i, j), *c = st_image_px(cyc, i, j);
+            bool counted = false;
             for (int k = 0; k < 3; k++) {
+                if (r[k] == 0.0f && c[k] == 0.0f) continue; // black in both: no information
                 double pooled = 0;
                 int nu = 0;
                 for (int dj = -1; dj <= 1; dj++)
@@ -119,13 +126,15 @@ static stat_result noise_test(const st_image *ref, const st_image *cyc, const st
                 double z2 = d * d / v;
                 if (!(z2 < CLIP)) z2 = CLIP; // also catches NaN
                 sum += z2, sum2 += z2 * z2, n++;
+                counted = true;
             }
+            pixels += counted;
         }
     }
     stat_result s = {0};
-    s.m = sum / n;
-    double var = fmax(sum2 / n - s.m * s.m, 0.0);
-    s.bound = 9.0 / 7.0 + K_SIGMA * sqrt(var) / sqrt((double)w * h);
+    s.m = n ? sum / n : 0.0;
+    double var = n ? fmax(sum2 / n - s.m * s.m, 0.0) : 0.0;
+    s.bound = 9.0 / 7.0 + K_SIGMA * sqrt(var) / sqrt((double)(pixels ? pixels : 1));
     return s;
 }
 
