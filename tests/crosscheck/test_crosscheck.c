@@ -59,6 +59,11 @@ static const struct {
     // Most of it in the few pixels around the light, where toth gives about
     // half of the peak (1.27 against 2.63); resolution=full gives 0.137.
     {"light_visible", "toth", "nrmse", 0.268},
+    // Image means agree (0.04362 against 0.04373); the error sits at the
+    // edges of the lit floor patch under the opening (resolution=full:
+    // relMSE 0.0011, NRMSE 0.234; shadow_map.resolution=4096: NRMSE 0.229).
+    {"hidden_light", "toth", "relmse", 0.0083},
+    {"hidden_light", "toth", "nrmse", 0.325},
     {NULL, NULL, NULL, 0},
 };
 
