@@ -71,7 +71,8 @@ def main():
             secs = float(re.search(r", ([0-9.]+) s\)", out).group(1))
             rel, nrmse = compare(strahl, ref, cyc, env)
             rows.append((name, kind, "strahl reference " + " ".join(REF_OPTS[kind]), rel, nrmse, secs * 1000.0,
-                         "%.0f s (2 seeds x %d spp)" % (sum(info["render_seconds"]), info["spp"])))
+                         "%.0f s (2 seeds x %d spp), noise NRMSE %.2g" %
+                         (sum(info["render_seconds"]), info["spp"], info["relative_rms_standard_error"])))
             with open(scene) as f:
                 sc = json.load(f)
             variants = [(" + ".join(m["name"] for m in sc["modules"]), scene)]
@@ -148,6 +149,13 @@ def main():
         "reported, not failed, until the plugin is fixed.",
         "",
         "## Table",
+        "",
+        "The Cycles column gives its render time (both seeds, on the same shared",
+        "machine) and its noise floor: the RMS standard error of its mean over the",
+        "image mean, the NRMSE a perfect method would show. The reference's own",
+        "NRMSE is mostly its own noise at the test's sample counts (bounce,",
+        "medium) or the few pixels whose centre lies on an edge (direct); its",
+        "noise statistic, which accounts for both, is in the ctest output.",
         "",
         "| case | kind | method | relMSE | NRMSE | time (ms) | Cycles |",
         "|------|------|--------|-------:|------:|----------:|--------|",
