@@ -28,8 +28,9 @@
 #    ssgi's `bounces` parameter (default 1) when the scene uses one of them,
 #    else 0. Emission lights other surfaces only through strahl's bounce
 #    (L0 = emission + direct); Cycles counts an emitter hit as direct light,
-#    so emission is gated to paths with fewer than K diffuse reflections
-#    before it (camera rays always see it);
+#    so emission is gated to paths with at most K diffuse reflections
+#    before it (camera rays always see it), and emitters are found by BSDF
+#    sampling only so that the gate sees the true depth;
 #  - camera: pinhole, fov_y the full vertical field of view (sensor fit
 #    vertical), clip start 1e-5 m (camera rays start at the clip start),
 #    Gaussian pixel filter of width 0.01 px, i.e. one ray through each pixel's
