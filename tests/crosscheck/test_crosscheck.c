@@ -1,0 +1,246 @@
+// One case of the Cycles cross-check suite (tests/data/crosscheck, made by
+// tools/crosscheck/regen.sh; docs/accuracy.md explains it). Usage:
+//   test_crosscheck CASE KIND       KIND: direct | bounce | medium
+// Renders the case with `strahl reference` and with `strahl render` (the
+// scene's modules at their default parameters) and compares both with the
+// committed Cycles image (the mean of two seeds, plus |a - b| / 2 per pixel).
+//
+// 1. strahl reference against Cycles, within the two renderers' own noise.
+//    Per pixel and channel, with r +- s_r the reference (its stderr channel),
+//    c the Cycles mean and e = |a - b| / 2 from the two seeds (E[e^2] is the
+//    variance of the mean c, one degree of freedom per pixel):
+//      v   = s_r^2 + mean of e^2 over the 3x3 neighbourhood (nu values pooled,
+//            so the estimate has nu degrees of freedom, not one)
+//          + q^2, q^2 = ulp(c)^2 / 12 the rounding of Cycles' HALF file
+//      z^2 = (r - c)^2 / v
+//    If both renderers compute the same expectation, z is Student-t with nu
+//    degrees of freedom (at most; the reference's share of v is known far
+//    better), so E[z^2] <= nu / (nu - 2) = 9/7 in the interior. The test
+//    statistic is M = mean over pixels and channels of min(z^2, 16), leaving
+//    out values that are exactly 0 in both images (no light: no information;
+//    counted, they would pull M toward 0 and weaken the test): the clip
+//    at 4 sigma only lowers M under that hypothesis, and it bounds the weight
+//    of pixels where an edge passes within ~0.02 px of the pixel centre
+//    (Cycles' narrowest pixel filter, a Gaussian of width 0.01 px, still
+//    spans about that much; strahl samples the exact centre), which differ
+//    deterministically, not by noise. Bound: M <= 9/7 + 4 sd(min(z^2, 16)) /
+//    sqrt(P), P the number of pixels counted (channels are correlated, so they are
+//    not counted as independent): a 4-sigma one-sided bound on the mean. A
+//    bias of b noise levels on a fraction f of the pixels raises M by about
+//    f min(b^2, 16), so e.g. 3 % too bright at 0.5 % noise on a fifth of the
+//    image (b = 6, f = 0.2: +3.2) fails by far.
+// 2. The GPU plugins at their defaults against Cycles, with the issue's
+//    measures relMSE = mean((a-b)^2 / (b^2 + 0.01)) and NRMSE = rmse /
+//    mean(b), b = Cycles: direct cases relMSE <= 0.001; medium cases (toth)
+//    relMSE <= 0.005 and NRMSE <= 0.05; bounce cases (atlas_gi, whose bound
+//    belongs to the atlas_gi issue): recorded, and only sane (finite, image
+//    mean within a factor 2).
+// A "crosscheck CASE METHOD ..." line per comparison goes to stdout.
+#include "st_test.h"
+#include "st_image.h"
+#include <float.h>
+
+#define CLIP 16.0
+#define K_SIGMA 4.0
+
+static const char *data_dir = ST_TEST_SOURCE_DIR "/tests/data/crosscheck";
+
+// Assertions known to fail at the plugins' current defaults: kept as
+// assertions, reported instead of failed so that CI stays green until the
+// plugin is fixed (see docs/accuracy.md). case, method, measure, measured.
+static const struct {
+    const char *name, *method, *measure;
+    double measured;
+} expected_failures[] = {
+    // toth's error at its defaults is mostly at the edges of the lit floor
+    // patch (half-resolution march, upsampled): resolution=full gives 0.20.
+    {"window_hg", "toth", "nrmse", 0.458},
+    {"window_iso", "toth", "nrmse", 0.562},
+    // Most of it in the few pixels around the light, where toth gives about
+    // half of the peak (1.27 against 2.63); resolution=full gives 0.137.
+    {"light_visible", "toth", "nrmse", 0.268},
+    // Image means agree (0.04362 against 0.04373); the error sits at the
+    // edges of the lit floor patch under the opening (resolution=full:
+    // relMSE 0.0011, NRMSE 0.234; shadow_map.resolution=4096: NRMSE 0.229).
+    {"hidden_light", "toth", "relmse", 0.0083},
+    {"hidden_light", "toth", "nrmse", 0.325},
+    {NULL, NULL, NULL, 0},
+};
+
+static bool expected_failure(const char *name, const char *method, const char *measure) {
+    for (int i = 0; expected_failures[i].name; i++)
+        if (!strcmp(expected_failures[i].name, name) &&
+            !strcmp(expected_failures[i].method, method) &&
+            !strcmp(expected_failures[i].measure, measure))
+            return true;
+    return false;
+}
+
+// CHECK(value <= bound), unless listed above: then a report line only.
+static void check_le(const char *name, const char *method, const char *measure, double value,
+                     double bound) {
+    bool ok = value <= bound;
+    if (expected_failure(name, method, measure)) {
+        printf("crosscheck %s %s: %s = %.6g, bound %.6g: %s (listed as an expected failure)\n",
+               name, method, measure, value, bound,
+               ok ? "PASSES NOW, remove it from the list" : "still fails");
+        return;
+    }
+    CHECK(ok, "%s %s: %s = %.6g exceeds %.6g", name, method, measure, value, bound);
+}
+
+static bool read_rgb(const char *path, st_image *img) {
+    st_err err = {0};
+    if (st_image_read_exr(path, img, &err)) return true;
+    fprintf(stderr, "%s\n", err.msg);
+    return false;
+}
+
+// Half-float spacing at |c| (subnormals below 2^-14).
+static double half_ulp(double c) {
+    c = fabs(c);
+    if (c < 6.103515625e-05) return ldexp(1.0, -24);
+    int e;
+    frexp(c, &e); // c = m 2^e, m in [0.5, 1)
+    return ldexp(1.0, e - 11);
+}
+
+typedef struct stat_result {
+    double m, bound, relmse, nrmse;
+} stat_result;
+
+// Test 1: the clipped mean z^2 and its bound (see the top of the file).
+static stat_result noise_test(const st_image *ref, const st_image *cyc, const st_image *se) {
+    const int w = ref->width, h = ref->height;
+    double sum = 0, sum2 = 0;
+    long n = 0, pixels = 0;
+    for (int j = 0; j < h; j++) {
+        for (int i = 0; i < w; i++) {
+            const float *r = st_image_px(ref, i, j), *c = st_image_px(cyc, i, j);
+            bool counted = false;
+            for (int k = 0; k < 3; k++) {
+                if (r[k] == 0.0f && c[k] == 0.0f) continue; // black in both: no information
+                double pooled = 0;
+                int nu = 0;
+                for (int dj = -1; dj <= 1; dj++)
+                    for (int di = -1; di <= 1; di++) {
+                        int ii = i + di, jj = j + dj;
+                        if (ii < 0 || jj < 0 || ii >= w || jj >= h) continue;
+                        double e = st_image_px(se, ii, jj)[k];
+                        pooled += e * e, nu++;
+                    }
+                double q = half_ulp(c[k]), sr = r[3 + k];
+                double v = sr * sr + pooled / nu + q * q / 12.0;
+                double d = (double)r[k] - c[k];
+                double z2 = d * d / v;
+                if (!(z2 < CLIP)) z2 = CLIP; // also catches NaN
+                sum += z2, sum2 += z2 * z2, n++;
+                counted = true;
+            }
+            pixels += counted;
+        }
+    }
+    stat_result s = {0};
+    s.m = n ? sum / n : 0.0;
+    double var = n ? fmax(sum2 / n - s.m * s.m, 0.0) : 0.0;
+    s.bound = 9.0 / 7.0 + K_SIGMA * sqrt(var) / sqrt((double)(pixels ? pixels : 1));
+    return s;
+}
+
+static bool compare(const st_image *a, const st_image *b, double *relmse, double *nrmse) {
+    st_metrics m;
+    st_err err = {0};
+    if (!st_image_compare(a, b, &m, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        return false;
+    }
+    *relmse = m.relmse[3];
+    *nrmse = m.mean_b[3] > 0 ? m.rmse[3] / m.mean_b[3] : INFINITY;
+    return true;
+}
+
+int main(int argc, char **argv) {
+    if (argc != 3) {
+        fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium\n");
+        return 2;
+    }
+    const char *name = argv[1], *kind = argv[2];
+    const bool direct = !strcmp(kind, "direct"), bounce = !strcmp(kind, "bounce"),
+               medium = !strcmp(kind, "medium");
+    if (!direct && !bounce && !medium) {
+        fprintf(stderr, "test_crosscheck: kind '%s' is not direct, bounce or medium\n", kind);
+        return 2;
+    }
+    char scene[4096], cyc_path[4096], se_path[4096], ref_path[4096], gpu_path[4096];
+    snprintf(scene, sizeof scene, "%s/%s.json", data_dir, name);
+    snprintf(cyc_path, sizeof cyc_path, "%s/%s.cycles.exr", data_dir, name);
+    snprintf(se_path, sizeof se_path, "%s/%s.cycles_se.exr", data_dir, name);
+    snprintf(ref_path, sizeof ref_path, "%s/%s.ref.exr", ST_TEST_SCRATCH, name);
+    snprintf(gpu_path, sizeof gpu_path, "%s/%s.gpu.exr", ST_TEST_SCRATCH, name);
+
+    st_image cyc = {0}, se = {0}, ref = {0}, gpu = {0};
+    if (!read_rgb(cyc_path, &cyc) || !read_rgb(se_path, &se)) return 1;
+
+    // The reference: bounces as Cycles was rendered (atlas_gi's default 1);
+    // in-scattering with 16 equi-angular strata per sample and fresh jitter
+    // per sample (unbiased, and its stderr channels measure its noise).
+    const char *opts = direct   ? "--bounces 0 --spp 1"
+                       : bounce ? "--bounces 1 --spp 256"
+                                : "--bounces 0 --spp 64 --steps 16";
+    CHECK(st_test_sh("%s reference %s -o %s %s --seed 1", ST_TEST_STRAHL, scene, ref_path, opts) ==
+              0,
+          "strahl reference exits 0");
+    static const char *const ch[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
+    st_err err = {0};
+    if (!st_image_read_exr_channels(ref_path, ch, 6, &ref, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        return 1;
+    }
+    CHECK(ref.width == cyc.width && ref.height == cyc.height && se.width == cyc.width &&
+              se.height == cyc.height,
+          "sizes: reference %dx%d, Cycles %dx%d, noise %dx%d", ref.width, ref.height, cyc.width,
+          cyc.height, se.width, se.height);
+    if (st_t_fail) return st_test_summary(name);
+    CHECK(st_image_count_nonfinite(&cyc) == 0 && st_image_count_nonfinite(&se) == 0,
+          "NaN/Inf in the Cycles data");
+
+    stat_result s = noise_test(&ref, &cyc, &se);
+    st_image ref_rgb = {0};
+    if (!st_image_alloc(&ref_rgb, ref.width, ref.height, 3, &err)) return 1;
+    for (size_t p = 0; p < (size_t)ref.width * ref.height; p++)
+        for (int k = 0; k < 3; k++)
+            ref_rgb.data[3 * p + k] = ref.data[6 * p + k];
+    CHECK(compare(&ref_rgb, &cyc, &s.relmse, &s.nrmse), "compare reference");
+    printf("crosscheck %s reference: relmse %.6g nrmse %.6g noise-statistic %.4f bound %.4f\n",
+           name, s.relmse, s.nrmse, s.m, s.bound);
+    check_le(name, "reference", "noise-statistic", s.m, s.bound);
+
+    // The GPU plugins of the scene, every parameter at its default.
+    CHECK(st_test_sh("%s render %s -o %s", ST_TEST_STRAHL, scene, gpu_path) == 0,
+          "strahl render exits 0");
+    if (read_rgb(gpu_path, &gpu)) {
+        double relmse = INFINITY, nrmse = INFINITY;
+        CHECK(st_image_count_nonfinite(&gpu) == 0, "NaN/Inf in the GPU image");
+        CHECK(compare(&gpu, &cyc, &relmse, &nrmse), "compare GPU");
+        const char *method = direct ? "shadow_map" : bounce ? "atlas_gi" : "toth";
+        printf("crosscheck %s %s: relmse %.6g nrmse %.6g\n", name, method, relmse, nrmse);
+        if (direct) {
+            check_le(name, method, "relmse", relmse, 0.001);
+        } else if (medium) {
+            check_le(name, method, "relmse", relmse, 0.005);
+            check_le(name, method, "nrmse", nrmse, 0.05);
+        } else {
+            st_metrics m;
+            if (st_image_compare(&gpu, &cyc, &m, &err)) {
+                double ratio = m.mean_a[3] / m.mean_b[3];
+                CHECK(ratio > 0.5 && ratio < 2.0, "%s atlas_gi: image mean %.4g vs Cycles %.4g",
+                      name, m.mean_a[3], m.mean_b[3]);
+            }
+        }
+    } else {
+        CHECK(false, "no GPU image %s", gpu_path);
+    }
+    st_image_free(&cyc), st_image_free(&se), st_image_free(&ref), st_image_free(&ref_rgb),
+        st_image_free(&gpu);
+    return st_test_summary(name);
+}
