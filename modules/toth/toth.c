@@ -16,7 +16,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_SAMPLES, P_INTERLEAVE, P_JITTER, P_RESOLUTION, P_INTEGRATOR, P_TOLERANCE, P_COUNT };
+enum {
+    P_SAMPLES,
+    P_INTERLEAVE,
+    P_JITTER,
+    P_RESOLUTION,
+    P_INTEGRATOR,
+    P_TOLERANCE,
+    P_SAMPLING,
+    P_NODES,
+    P_COUNT
+};
+enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
 
 // Defaults: 256 steps split over 2x2 pixels at half resolution, jittered --
 // 64 steps for a quarter of the pixels. On the four god-ray scenes at 512x512
@@ -28,7 +39,8 @@ static const st_param_def params[P_COUNT] = {
     {"interleave", ST_PARAM_INT, 2, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
      "(1 = off; limited to sqrt(samples))"},
-    {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL, "per-pixel offset of the samples within their steps (banding -> noise)"},
+    {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "per-pixel offset of the samples within their steps (banding -> noise)"},
     {"resolution", ST_PARAM_ENUM, 1, 0, 0, "full|half|quarter",
      "march resolution; below full, the in-scattered light is upsampled depth-aware"},
     {"integrator", ST_PARAM_ENUM, 0, 0, 0, "energy|thesis|thesis_far",
@@ -36,6 +48,14 @@ static const st_param_def params[P_COUNT] = {
      "(source at the near end of each step); thesis_far: at the far end"},
     {"edge_tolerance", ST_PARAM_FLOAT, 0.1, 0.001, 10, NULL,
      "relative difference in surface distance up to which gather and upsampling mix two pixels"},
+    {"sampling", ST_PARAM_ENUM, SAMPLING_EQUIANGULAR, 0, 0, "uniform|equiangular",
+     "uniform: steps of equal length, the march sums the in-scattered light (integrator applies); "
+     "equiangular: steps equal in the angle seen from the light, the march finds each light's "
+     "visible "
+     "fraction and the unshadowed integral is evaluated per full-resolution pixel"},
+    {"nodes", ST_PARAM_INT, 16, 4, 64, NULL,
+     "equiangular: Gauss-Legendre nodes of the per-pixel unshadowed integral (rounded up to a "
+     "multiple of 4)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -189,9 +209,11 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
         st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
+        st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
         break;
     case PASS_GATHER:
         set_common(t, t->gather);
+        st_shader_set_int(t->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, t->march_rt.color[0]);
         break;
     default: {
@@ -199,6 +221,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         bool lit = f->scene->num_lights > 0 && t->march_rt.fbo;
         const st_target *src = interleave(t) > 1 ? &t->gather_rt : &t->march_rt;
         set_common(t, t->compose);
+        st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
         st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
         if (lit && src->fbo) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         break;

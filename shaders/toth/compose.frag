@@ -1,31 +1,38 @@
 // toth pass 3: L = L_surface e^(-sigma_t s) + in-scattered light, at full
 // resolution. A march at reduced resolution is upsampled depth-aware: the
 // bilinear taps that show the pixel's own surface, else the tap nearest in
-// distance, so shafts do not bleed across silhouettes.
+// distance, so shafts do not bleed across silhouettes. With
+// sampling=equiangular the march holds each light's visible fraction: the
+// smooth unshadowed integral is evaluated here for every full-resolution
+// pixel (no texture fetch), so upsampling and interleaving touch only the
+// visibility and never blur the glow of a light in view.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
+#include "toth/equiangular.glsl"
 uniform sampler2D st_hdr_in;
 uniform sampler2D st_gbuffer;
 uniform sampler2D toth_inscatter_tex;
 uniform int toth_has_inscatter;
+uniform int toth_sampling; // 0 uniform, 1 equiangular
+uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
 layout(location = 0) out vec4 o_radiance;
 
-vec3 toth_upsample(ivec2 p, vec4 g) {
+vec4 toth_upsample(ivec2 p, vec4 g) {
     ivec2 size = textureSize(toth_inscatter_tex, 0);
-    if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0).rgb;
+    if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0);
     // March pixel k traces full pixel k * scale + (scale - 1) / 2.
     vec2 f = (vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale);
     ivec2 b = ivec2(floor(f));
     vec2 fr = f - vec2(b);
-    vec3 sum = vec3(0.0);
+    vec4 sum = vec4(0.0);
     float wsum = 0.0, best = 1e30;
-    vec3 nearest = vec3(0.0);
+    vec4 nearest = vec4(0.0);
     float s = toth_ray_length(g);
     for (int k = 0; k < 4; k++) {
         ivec2 o = ivec2(k & 1, k >> 1);
         ivec2 q = clamp(b + o, ivec2(0), size - 1);
         vec4 gq = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
-        vec3 v = texelFetch(toth_inscatter_tex, q, 0).rgb;
+        vec4 v = texelFetch(toth_inscatter_tex, q, 0);
         float bil = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
         if (toth_similar(g, gq)) {
             sum += (bil + 1e-3) * v;
@@ -45,7 +52,15 @@ void main() {
     vec4 g = texelFetch(st_gbuffer, p, 0);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
     vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g));
-    if (toth_has_inscatter != 0) L += toth_upsample(p, g);
+    if (toth_has_inscatter != 0 && toth_sampling == 1) {
+        vec4 frac = toth_upsample(p, g);
+        vec3 dir = toth_view_dir(p);
+        float s = toth_ray_length(g);
+        for (int l = 0; l < st_num_lights; l++)
+            L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
+    } else if (toth_has_inscatter != 0) {
+        L += toth_upsample(p, g).rgb;
+    }
     // Never write NaN or Inf: absurd inputs (sigma near float max) saturate.
     for (int c = 0; c < 3; c++) {
         if (isnan(L[c])) L[c] = 0.0;
