@@ -25,6 +25,7 @@ enum {
     P_TOLERANCE,
     P_SAMPLING,
     P_NODES,
+    P_REFINE,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -56,6 +57,9 @@ static const st_param_def params[P_COUNT] = {
     {"nodes", ST_PARAM_INT, 16, 4, 64, NULL,
      "equiangular: Gauss-Legendre nodes of the per-pixel unshadowed integral (rounded up to a "
      "multiple of 4)"},
+    {"refine", ST_PARAM_FLOAT, 0.02, 0, 1, NULL,
+     "equiangular below full resolution: a pixel whose upsampling taps differ in visible fraction by "
+     "more than this (or show another surface) marches its own ray at full resolution (1 = never)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -144,7 +148,8 @@ static const st_pass_info *pass_info(void *self, int pass) {
         break;
     default:
         t->info = (st_pass_info){"compose", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "hdr,gbuffer,toth.gather" : "hdr,gbuffer,toth.march",
+                                 interleave(t) > 1 ? "hdr,gbuffer,shadow_map,toth.gather"
+                                                   : "hdr,gbuffer,shadow_map,toth.march",
                                  "hdr", ST_PASS_FULLSCREEN};
         break;
     }
@@ -223,6 +228,9 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         set_common(t, t->compose);
         st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
+        st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
+        st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
+        st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
         if (lit && src->fbo) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         break;

@@ -8,18 +8,25 @@
 // visibility and never blur the glow of a light in view.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
-#include "toth/equiangular.glsl"
+#include "toth/visibility.glsl"
 uniform sampler2D st_hdr_in;
 uniform sampler2D st_gbuffer;
 uniform sampler2D toth_inscatter_tex;
 uniform int toth_has_inscatter;
 uniform int toth_sampling; // 0 uniform, 1 equiangular
 uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
+uniform int toth_samples;  // equiangular: visibility steps of a refined pixel
+uniform int toth_jitter;
+uniform float toth_refine; // fraction spread over the taps above which a pixel is marched here
 layout(location = 0) out vec4 o_radiance;
 
-vec4 toth_upsample(ivec2 p, vec4 g) {
+// spread: how much the taps that were mixed differ (max - min over the
+// channels), 1 when none showed the pixel's surface.
+vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     ivec2 size = textureSize(toth_inscatter_tex, 0);
+    spread = 0.0;
     if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0);
+    vec4 lo = vec4(1e30), hi = vec4(-1e30);
     // March pixel k traces full pixel k * scale + (scale - 1) / 2.
     vec2 f = (vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale);
     ivec2 b = ivec2(floor(f));
@@ -37,6 +44,8 @@ vec4 toth_upsample(ivec2 p, vec4 g) {
         if (toth_similar(g, gq)) {
             sum += (bil + 1e-3) * v;
             wsum += bil + 1e-3;
+            lo = min(lo, v);
+            hi = max(hi, v);
         }
         float diff = abs(toth_ray_length(gq) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
         if (diff < best) {
@@ -44,6 +53,8 @@ vec4 toth_upsample(ivec2 p, vec4 g) {
             nearest = v;
         }
     }
+    vec4 d = hi - lo;
+    spread = wsum > 0.0 ? max(max(d.x, d.y), max(d.z, d.w)) : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
 }
 
@@ -53,13 +64,21 @@ void main() {
     vec3 sigma_t = st_sigma_s + st_sigma_a;
     vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g));
     if (toth_has_inscatter != 0 && toth_sampling == 1) {
-        vec4 frac = toth_upsample(p, g);
+        float spread;
+        vec4 frac = toth_upsample(p, g, spread);
         vec3 dir = toth_view_dir(p);
         float s = toth_ray_length(g);
+        // Where the taps disagree (a shaft's edge, a silhouette) the
+        // interpolated fraction is a guess: march this pixel's own ray.
+        if (spread > toth_refine) {
+            float u = toth_jitter != 0 ? toth_noise(p) : 0.5;
+            frac = toth_visible_fraction(st_cam_pos, dir, s, toth_samples, 0, 1, u, sigma_t);
+        }
         for (int l = 0; l < st_num_lights; l++)
             L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
     } else if (toth_has_inscatter != 0) {
-        L += toth_upsample(p, g).rgb;
+        float spread;
+        L += toth_upsample(p, g, spread).rgb;
     }
     // Never write NaN or Inf: absurd inputs (sigma near float max) saturate.
     for (int c = 0; c < 3; c++) {

@@ -15,12 +15,6 @@ uniform int toth_integrator;
 uniform int toth_sampling; // 0 uniform, 1 equiangular
 layout(location = 0) out vec4 o_march;
 
-// Interleaved gradient noise (Jimenez 2014): a fixed per-pixel offset in
-// [0, 1) that turns banding into fine noise.
-float toth_noise(ivec2 p) {
-    return fract(52.9829189 * fract(dot(vec2(p), vec2(0.06711056, 0.00583715))));
-}
-
 void main() {
     ivec2 lp = ivec2(gl_FragCoord.xy);
     ivec2 fp = toth_full_pixel(lp);
