@@ -26,23 +26,25 @@ enum {
     P_SAMPLING,
     P_NODES,
     P_REFINE,
+    P_BISECT,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
 
-// Defaults: 256 steps split over 2x2 pixels at half resolution, jittered --
-// 64 steps for a quarter of the pixels. On the four god-ray scenes at 512x512
-// this has 0.59-0.89x the error of a full-resolution 128-step march in
-// 0.13-0.21x its time (tests/toth/bench_toth.py; llvmpipe, CPU and wall).
+// Defaults (the Pareto front of docs/benchmarks.md, tools/bench_all.sh):
+// equi-angular sampling, the visible fraction marched at quarter resolution
+// in 32 steps with 4 halvings per shadow boundary, pixels whose upsampling
+// taps disagree by more than 0.2 marched at full resolution, the unshadowed
+// integral with 16 Gauss-Legendre nodes per full-resolution pixel.
 static const st_param_def params[P_COUNT] = {
-    {"samples", ST_PARAM_INT, 256, 1, 1024, NULL,
+    {"samples", ST_PARAM_INT, 32, 1, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved)"},
-    {"interleave", ST_PARAM_INT, 2, 1, 8, NULL,
+    {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
      "(1 = off; limited to sqrt(samples))"},
     {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "per-pixel offset of the samples within their steps (banding -> noise)"},
-    {"resolution", ST_PARAM_ENUM, 1, 0, 0, "full|half|quarter",
+    {"resolution", ST_PARAM_ENUM, 2, 0, 0, "full|half|quarter",
      "march resolution; below full, the in-scattered light is upsampled depth-aware"},
     {"integrator", ST_PARAM_ENUM, 0, 0, 0, "energy|thesis|thesis_far",
      "energy: Hillaire's step, exact for a constant source; thesis: the thesis' Riemann sum "
@@ -57,9 +59,14 @@ static const st_param_def params[P_COUNT] = {
     {"nodes", ST_PARAM_INT, 16, 4, 64, NULL,
      "equiangular: Gauss-Legendre nodes of the per-pixel unshadowed integral (rounded up to a "
      "multiple of 4)"},
-    {"refine", ST_PARAM_FLOAT, 0.02, 0, 1, NULL,
-     "equiangular below full resolution: a pixel whose upsampling taps differ in visible fraction by "
+    {"refine", ST_PARAM_FLOAT, 0.2, 0, 1, NULL,
+     "equiangular below full resolution: a pixel whose upsampling taps differ in visible fraction "
+     "by "
      "more than this (or show another surface) marches its own ray at full resolution (1 = never)"},
+    {"bisect", ST_PARAM_INT, 4, 0, 8, NULL,
+     "equiangular: halvings that locate a shadow boundary inside a step (0 = trapezoid of the "
+     "step's "
+     "two lookups)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -215,6 +222,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
         st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
         break;
     case PASS_GATHER:
         set_common(t, t->gather);
@@ -231,8 +239,12 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
         st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
+        st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
         if (lit && src->fbo) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        // Without lights shadow_map binds no cube array, and an unset sampler
+        // of another type on unit 0 makes the draw invalid: bind an empty one.
+        if (!lit) st_shader_texture(t->compose, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, 0);
         break;
     }
     }

@@ -17,6 +17,7 @@ uniform int toth_sampling; // 0 uniform, 1 equiangular
 uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
 uniform int toth_samples;  // equiangular: visibility steps of a refined pixel
 uniform int toth_jitter;
+uniform int toth_bisect;
 uniform float toth_refine; // fraction spread over the taps above which a pixel is marched here
 layout(location = 0) out vec4 o_radiance;
 
@@ -72,7 +73,7 @@ void main() {
         // interpolated fraction is a guess: march this pixel's own ray.
         if (spread > toth_refine) {
             float u = toth_jitter != 0 ? toth_noise(p) : 0.5;
-            frac = toth_visible_fraction(st_cam_pos, dir, s, toth_samples, 0, 1, u, sigma_t);
+            frac = toth_visible_fraction(st_cam_pos, dir, s, toth_samples, 0, 1, u, toth_bisect, sigma_t);
         }
         for (int l = 0; l < st_num_lights; l++)
             L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);

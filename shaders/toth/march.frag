@@ -13,6 +13,7 @@ uniform int toth_interleave; // M: steps split over M x M pixel blocks
 uniform int toth_jitter;
 uniform int toth_integrator;
 uniform int toth_sampling; // 0 uniform, 1 equiangular
+uniform int toth_bisect;   // equiangular: halvings per shadow boundary
 layout(location = 0) out vec4 o_march;
 
 void main() {
@@ -25,7 +26,7 @@ void main() {
     vec3 sigma_t = st_sigma_s + st_sigma_a;
     if (toth_sampling == 1) {
         float u = toth_jitter != 0 ? toth_noise(fp) : 0.5;
-        o_march = toth_visible_fraction(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, sigma_t) /
+        o_march = toth_visible_fraction(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_bisect, sigma_t) /
                   float(M * M);
         return;
     }
