@@ -434,3 +434,16 @@ double st_inscatter_equiangular(const st_inscatter_problem *p, int nodes, double
                         : eq_panels(p, &e, 0.0, e.length, panels);
     return sum * p->sigma_s * p->intensity / e.h;
 }
+
+void st_medium_sigma_t(const st_medium_desc *m, double out[3]) {
+    for (int c = 0; c < 3; c++) out[c] = m->present ? (double)m->sigma_s[c] + (double)m->sigma_a[c] : 0.0;
+}
+
+void st_transmittance(const double sigma_t[3], double d, double out[3]) {
+    for (int c = 0; c < 3; c++) out[c] = sigma_t[c] > 0.0 ? exp(-sigma_t[c] * d) : 1.0;
+}
+
+double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t) {
+    if (!(cos_theta > 0.0) || !(d > 0.0)) return 0.0;
+    return rho / ST_PI * intensity * cos_theta / (d * d) * exp(-sigma_t * d);
+}
