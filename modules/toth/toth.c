@@ -1,15 +1,21 @@
-// toth: ray-marched single scattering (Toth & Umenhoffer 2009) in the
-// scene's homogeneous medium, as post passes on the camera's gbuffer:
-//   march   (march resolution)  every view ray from the camera to its surface
-//           (or `far`), shadow_map visibility per step, all lights summed;
-//           with interleave M each pixel of an MxM block takes every M^2-th step
-//   gather  (march resolution, M > 1 only)  sums the M x M shares around a
-//           pixel, leaving out neighbours on another surface
-//   compose (full resolution)  depth-aware upsampling when the march ran at
-//           half or quarter resolution, and L = L_surface e^(-sigma_t s) + L_in
-// The integration follows DESIGN.md (Hillaire's energy-conserving step);
-// integrator=thesis/thesis_far reproduce the thesis' Riemann sums. Without a
-// medium, or with sigma_s = 0, no pass runs.
+// toth: single scattering (Toth & Umenhoffer 2009) in the scene's
+// homogeneous medium, as post passes on the camera's gbuffer.
+// sampling=equiangular (default): the in-scattered light is the unshadowed
+// integral times each light's visible fraction.
+//   march   (march resolution)  the visible fraction of every light along the
+//           view ray: steps equal in the angle seen from the light (Kulla &
+//           Fajardo 2012), shadow_map lookups at both ends of each step, a
+//           boundary inside a step located by bisection
+//   gather  (M > 1 only)  averages the fractions of the M x M block
+//   compose (full resolution)  the unshadowed integral per pixel by
+//           Gauss-Legendre in that angle (no texture fetch), times the
+//           fraction upsampled depth-aware (or marched here where the taps
+//           disagree), plus L_surface e^(-sigma_t s)
+// sampling=uniform: the march sums the in-scattered light of equal steps
+// (Hillaire's energy-conserving step, or the thesis' Riemann sums with
+// integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
+// upsampled; the brute-force baseline. Without a medium, or with sigma_s = 0,
+// no pass runs.
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -284,8 +290,9 @@ static const st_plugin plugin = {
     .abi_minor = ST_ABI_MINOR,
     .struct_size = sizeof(st_plugin),
     .name = "toth",
-    .description = "ray-marched single scattering in a homogeneous medium (Toth & Umenhoffer 2009): "
-                   "shadow-mapped view-ray march, interleaved sampling, reduced-resolution march",
+    .description = "single scattering in a homogeneous medium (Toth & Umenhoffer 2009): equi-angular "
+                   "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
+                   "interleaved sampling, reduced-resolution march",
     .params = params,
     .num_params = P_COUNT,
     .requires = "shadow_map",
