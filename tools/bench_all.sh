@@ -51,7 +51,7 @@ bench() { # scene size ref csv metric sweeps...
 TOTH_MODE=${TOTH_MODE:-steady}
 LIGHT_VIEW_SIZE=${LIGHT_VIEW_SIZE:-384x256}
 if [ "$ONLY" = all ] || [ "$ONLY" = godrays ] || [ "$ONLY" = toth ]; then
-rm -f "$OUT"/toth.csv "$OUT"/toth_passes.txt
+rm -f "$OUT"/toth.csv "$OUT"/toth_passes.txt "$OUT"/toth_recompute.csv
 BRUTE="--set toth.sampling=uniform --set toth.samples=128 --set toth.interleave=1 --set toth.resolution=full"
 for s in window colonnade hidden_hole light_front light_view; do
     scene=scenes/godrays_$s.json size=$GODRAY_SIZE
@@ -68,6 +68,11 @@ for s in window colonnade hidden_hole light_front light_view; do
             --warmup 1 --stats $([ $cfg = brute ] && echo "$BRUTE"); } >> "$OUT/toth_passes.txt"
     done
     rm -f "$OUT/toth_tmp.exr"
+    # The fixed cost beside toth's: the defaults with the shadow map redone
+    # every frame (--mode recompute), shadow_map's pass time in the CSV.
+    "$S" bench "$scene" --reference "$OUT/toth_ref_$s.exr" --size "$size" --frames "$FRAMES" --warmup 1 \
+        --mode recompute --csv "$OUT/toth_recompute.csv" --append --sweep shadow_map.resolution=1024 \
+        --sweep toth.sampling=equiangular > "$OUT/toth_recompute.log"
 done
 # Speed-up at equal error: the fastest equi-angular setting with no higher
 # rmse than the brute force, and the defaults (quarter resolution, 32 steps).
