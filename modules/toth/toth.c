@@ -290,9 +290,10 @@ static const st_plugin plugin = {
     .abi_minor = ST_ABI_MINOR,
     .struct_size = sizeof(st_plugin),
     .name = "toth",
-    .description = "single scattering in a homogeneous medium (Toth & Umenhoffer 2009): equi-angular "
-                   "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
-                   "interleaved sampling, reduced-resolution march",
+    .description =
+        "single scattering in a homogeneous medium (Toth & Umenhoffer 2009): equi-angular "
+        "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
+        "interleaved sampling, reduced-resolution march",
     .params = params,
     .num_params = P_COUNT,
     .requires = "shadow_map",
