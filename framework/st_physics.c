@@ -369,6 +369,72 @@ double st_ff_parallelograms(const double ca[3], const double ua[3], const double
 
 double st_area_kernel(double a, double d2) { return ST_PI * a / (ST_PI * d2 + a); }
 
+// ---- Equi-angular quadrature ------------------------------------------------
+
+st_equiangular st_equiangular_frame(const st_inscatter_problem *p, double h_min) {
+    double dl = len3(p->dir), rel[3], cr[3];
+    sub3(rel, p->light, p->origin);
+    cross3(cr, rel, p->dir);
+    double t_foot = dot3(rel, p->dir) / dl;
+    st_equiangular e;
+    e.h = fmax(len3(cr) / dl, h_min);
+    e.a = -t_foot;
+    e.D = sqrt(e.h * e.h + e.a * e.a);
+    double b = p->length - t_foot;
+    // atan(b/h) - atan(a/h) as one atan2: exact for short segments far away.
+    e.length = p->length > 0.0 ? atan2(e.h * (b - e.a), e.h * e.h + e.a * b) : 0.0;
+    return e;
+}
+
+void st_equiangular_point(const st_equiangular *e, double delta, double *t, double *d) {
+    double s = sin(delta), c = cos(delta);
+    double dcos = e->h * c - e->a * s; // D cos(theta) > 0
+    *t = e->D * e->D * s / dcos;
+    *d = e->h * e->D / dcos;
+}
+
+static const double gl4_x[2] = {0.339981043584856264802665759103, 0.861136311594052575223946488893};
+static const double gl4_w[2] = {0.652145154862546142626936050778, 0.347854845137453857373063949222};
+
+// Gauss-Legendre with 4 nodes on each of `panels` equal panels of [lo, hi].
+static double eq_panels(const st_inscatter_problem *p, const st_equiangular *e, double lo,
+                        double hi, int panels) {
+    double w = (hi - lo) / panels, sum = 0.0;
+    for (int k = 0; k < panels; k++) {
+        double mid = lo + (k + 0.5) * w;
+        for (int n = 0; n < 4; n++) {
+            double delta = mid + (n & 1 ? -1 : 1) * 0.5 * w * gl4_x[n >> 1], t, d;
+            st_equiangular_point(e, delta, &t, &d);
+            double cos_theta = -(t + e->a) / d; // toward the light, against the view ray
+            sum += 0.5 * w * gl4_w[n >> 1] * st_phase_eval(p->phase, cos_theta, p->g) *
+                   exp(-p->sigma_t * (t + d));
+        }
+    }
+    return sum;
+}
+
+int st_equiangular_split(const st_equiangular *e, int panels, double *foot) {
+    // The foot point (theta = 0) separates the side toward the light, where
+    // the phase function peaks for g > 0, from the side away from it, where
+    // the path length t + d grows fastest: each gets its own panels.
+    *foot = atan2(-e->a, e->h);
+    if (panels < 2 || *foot <= 0.0 || *foot >= e->length) return 0;
+    int before = (int)floor(panels * *foot / e->length + 0.5);
+    return before < 1 ? 1 : before > panels - 1 ? panels - 1 : before;
+}
+
+double st_inscatter_equiangular(const st_inscatter_problem *p, int nodes, double h_min) {
+    st_equiangular e = st_equiangular_frame(p, h_min);
+    if (e.length <= 0.0 || e.h <= 0.0) return 0.0;
+    int panels = nodes < 4 ? 1 : (nodes + 3) / 4;
+    double foot;
+    int before = st_equiangular_split(&e, panels, &foot);
+    double sum = before ? eq_panels(p, &e, 0.0, foot, before) +
+                              eq_panels(p, &e, foot, e.length, panels - before)
+                        : eq_panels(p, &e, 0.0, e.length, panels);
+    return sum * p->sigma_s * p->intensity / e.h;
+}
+
 void st_medium_sigma_t(const st_medium_desc *m, double out[3]) {
     for (int c = 0; c < 3; c++) out[c] = m->present ? (double)m->sigma_s[c] + (double)m->sigma_a[c] : 0.0;
 }

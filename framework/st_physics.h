@@ -95,6 +95,34 @@ double st_inscatter_sun(double sigma_s, double sigma_t, double intensity, double
 // The same for a problem struct (phase must be isotropic).
 double st_inscatter_sun_problem(const st_inscatter_problem *p);
 
+// ---- Equi-angular quadrature of the unshadowed integral --------------------
+// Kulla & Fajardo 2012: the ray point is parametrized by the angle theta it
+// makes, seen from the light, with the ray's foot point (t = t_foot + h tan
+// theta). dt / d^2 = dtheta / h, so the integrand becomes
+// sigma_s phase I / h e^(-sigma_t (t + d)) dtheta: bounded and smooth, and a
+// few Gauss-Legendre nodes integrate the 1/d^2 peak of a visible light.
+// shaders/toth/equiangular.glsl mirrors this.
+typedef struct st_equiangular {
+    double h;      // light-ray distance (clamped to h_min)
+    double a;      // ray start relative to the foot point (= -t_foot)
+    double D;      // light distance from the ray start, sqrt(h^2 + a^2)
+    double length; // Delta: the angle the segment [0, s] subtends at the light
+} st_equiangular;
+
+// The frame of ray p seen from its light; h below h_min is raised to h_min
+// (the light then sits h_min off the ray: a ray through the light stays finite).
+st_equiangular st_equiangular_frame(const st_inscatter_problem *p, double h_min);
+// Ray distance t and light distance d of the point at angle delta in [0, Delta]
+// from the ray start; the denominator D cos(theta) never vanishes.
+void st_equiangular_point(const st_equiangular *e, double delta, double *t, double *d);
+// How many of `panels` panels go before the foot point (at angle *foot from
+// the ray start), in proportion to the angles; 0 when the segment does not
+// pass the foot point or there is a single panel.
+int st_equiangular_split(const st_equiangular *e, int panels, double *foot);
+// The unshadowed single-scattering integral of p by Gauss-Legendre in theta:
+// ceil(nodes / 4) panels of 4 nodes, split at the foot point.
+double st_inscatter_equiangular(const st_inscatter_problem *p, int nodes, double h_min);
+
 // ---- Adaptive quadrature ---------------------------------------------------
 typedef double (*st_integrand)(double x, void *ctx);
 // Adaptive Gauss-Kronrod 7/15 on [a, b] to max(abs_tol, rel_tol |I|).

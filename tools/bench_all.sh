@@ -4,7 +4,8 @@
 # `strahl bench` (CSV + log-log plot per technique), tables from the CSVs.
 # Takes about half an hour on 2 cores with llvmpipe. Not part of CI.
 #   GODRAY_SIZE (512x512), GI_SIZE (128x128), FRAMES (5), REF_SPP (16),
-#   GI_REF_SPP (1024), ONLY (godrays, gi, or plots: run one part),
+#   GI_REF_SPP (1024), ONLY (godrays, toth, gi, or plots: run one part;
+#   godrays is toth, mitchell and sousa), TOTH_MODE (steady), LIGHT_VIEW_SIZE (384x256),
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below.
 # References are converged enough for the tables they serve: a first run with
 # REF_SPP (GI_REF_SPP) samples measures the reference's own noise (rms of its
@@ -96,23 +97,74 @@ bench() { # scene size ref csv metric sweeps...
         --metric "$metric" --csv "$csv" --append "$@" > "${csv%.csv}.log"
 }
 
-# ---- god rays ---------------------------------------------------------------
+# ---- toth: equi-angular against the brute-force march ------------------------
+# Reference: a 1024-step full-resolution uniform march of the same model,
+# rendered by strahl itself (noise-free). One bench run per scene holds the
+# brute force (uniform, full resolution, 128 steps, no interleave) and the
+# equi-angular method side by side. --mode steady (TOTH_MODE): the scene is
+# static, the shadow map is cached, the per-frame cost is the regular pass plus
+# toth's passes. toth_passes.txt has every pass's GPU time (shadow map and
+# regular pass included) for the defaults and the brute force.
+TOTH_MODE=${TOTH_MODE:-steady}
+LIGHT_VIEW_SIZE=${LIGHT_VIEW_SIZE:-384x256}
+if [ "$ONLY" = all ] || [ "$ONLY" = godrays ] || [ "$ONLY" = toth ]; then
+rm -f "$OUT"/toth.csv "$OUT"/toth_passes.txt "$OUT"/toth_recompute.csv
+BRUTE="--set toth.sampling=uniform --set toth.samples=128 --set toth.interleave=1 --set toth.resolution=full"
+for s in window colonnade hidden_hole light_front light_view; do
+    scene=scenes/godrays_$s.json size=$GODRAY_SIZE
+    [ "$s" = light_view ] && size=$LIGHT_VIEW_SIZE
+    log "toth reference $scene (1024 uniform steps)"
+    "$S" render "$scene" -o "$OUT/toth_ref_$s.exr" --size "$size" --set toth.sampling=uniform \
+        --set toth.samples=1024 --set toth.interleave=1 --set toth.resolution=full
+    bench "$scene" "$size" "$OUT/toth_ref_$s.exr" "$OUT/toth.csv" rmse --mode "$TOTH_MODE" \
+        --set toth.interleave=1 --sweep toth.samples=8,16,32,64,128 \
+        --sweep toth.sampling=uniform,equiangular --sweep toth.resolution=full,quarter
+    for cfg in defaults brute; do
+        # shellcheck disable=SC2086
+        { echo "== $s $cfg"; "$S" render "$scene" -o "$OUT/toth_tmp.exr" --size "$size" --frames "$FRAMES" \
+            --warmup 1 --stats $([ $cfg = brute ] && echo "$BRUTE"); } >> "$OUT/toth_passes.txt"
+    done
+    rm -f "$OUT/toth_tmp.exr"
+    # The fixed cost beside toth's: the defaults with the shadow map redone
+    # every frame (--mode recompute), shadow_map's pass time in the CSV.
+    "$S" bench "$scene" --reference "$OUT/toth_ref_$s.exr" --size "$size" --frames "$FRAMES" --warmup 1 \
+        --mode recompute --csv "$OUT/toth_recompute.csv" --append --sweep shadow_map.resolution=1024 \
+        --sweep toth.sampling=equiangular > "$OUT/toth_recompute.log"
+done
+# Speed-up at equal error: the fastest equi-angular setting with no higher
+# rmse than the brute force, and the defaults (quarter resolution, 32 steps).
+awk -F, 'NR > 1 { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
+        u = $2 ~ /sampling=uniform/; full = $2 ~ /resolution=full/
+        if (u && full && $2 ~ /samples=128 /) { bt[sc] = $6; bg[sc] = $7; be[sc] = $9 }
+        if (!u) { t[sc, ++k[sc]] = $6; g[sc, k[sc]] = $7; e[sc, k[sc]] = $9; st[sc, k[sc]] = $2 }
+        if (!u && !full && $2 ~ /samples=32 /) { dt[sc] = $6; dg[sc] = $7; de[sc] = $9 } }
+    END {
+        print "| scene | brute force: frame ms (toth GPU ms), rmse | fastest equi-angular at no higher rmse | frame ms (toth GPU ms), rmse | speed-up frame (toth) | defaults: frame ms, rmse | defaults speed-up frame (toth) |"
+        print "|---|---|---|---|---:|---|---:|"
+        for (sc in bt) {
+            best = 0
+            for (i = 1; i <= k[sc]; i++) if (e[sc, i] <= be[sc] && (!best || t[sc, i] < t[sc, best])) best = i
+            printf "| %s | %.0f (%.0f), %.3g | %s | ", sc, bt[sc], bg[sc], be[sc], best ? st[sc, best] : "none"
+            if (best) printf "%.0f (%.0f), %.3g | %.1fx (%.1fx) | ", t[sc, best], g[sc, best], e[sc, best], bt[sc] / t[sc, best], bg[sc] / g[sc, best]
+            else printf "- | - | "
+            printf "%.0f, %.3g | %.1fx (%.1fx) |\n", dt[sc], de[sc], bt[sc] / dt[sc], bg[sc] / dg[sc]
+        } }' "$OUT/toth.csv" > "$OUT/toth_summary.md"
+log "toth: $OUT/toth_summary.md, $OUT/toth_passes.txt"
+fi
+
+# ---- screen-space god rays (mitchell, sousa) against the CPU reference --------
 if [ "$ONLY" = all ] || [ "$ONLY" = godrays ]; then
-rm -f "$OUT"/toth.csv "$OUT"/mitchell.csv "$OUT"/sousa.csv
+rm -f "$OUT"/mitchell.csv "$OUT"/sousa.csv
 for s in window colonnade hidden_hole light_front; do
     ref scenes/godrays_$s.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" --spp "$REF_SPP" --bounces 0
 done
 for s in window colonnade; do
-    bench scenes/godrays_$s.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/toth.csv" rmse \
-        --sweep toth.samples=8,16,32,64,128,256 --sweep toth.interleave=1,2 --sweep toth.resolution=full,half
     bench scenes/godrays_${s}_mitchell.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/mitchell.csv" scaled_rmse \
         --sweep mitchell.n=16,32,64,128
     bench scenes/godrays_${s}_sousa.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/sousa.csv" scaled_rmse \
         --sweep sousa.taps=4,6,8,10,12
 done
 for s in hidden_hole light_front; do
-    bench scenes/godrays_$s.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/toth.csv" rmse \
-        --sweep toth.samples=16,64,128
     bench scenes/godrays_${s}_mitchell.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/mitchell.csv" scaled_rmse \
         --sweep mitchell.n=64
     bench scenes/godrays_${s}_sousa.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/sousa.csv" scaled_rmse \

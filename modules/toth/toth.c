@@ -1,41 +1,78 @@
-// toth: ray-marched single scattering (Toth & Umenhoffer 2009) in the
-// scene's homogeneous medium, as post passes on the camera's gbuffer:
-//   march   (march resolution)  every view ray from the camera to its surface
-//           (or `far`), shadow_map visibility per step, all lights summed;
-//           with interleave M each pixel of an MxM block takes every M^2-th step
-//   gather  (march resolution, M > 1 only)  sums the M x M shares around a
-//           pixel, leaving out neighbours on another surface
-//   compose (full resolution)  depth-aware upsampling when the march ran at
-//           half or quarter resolution, and L = L_surface e^(-sigma_t s) + L_in
-// The integration follows docs/physics.md (Hillaire's energy-conserving step);
-// integrator=thesis/thesis_far reproduce the thesis' Riemann sums. Without a
-// medium, or with sigma_s = 0, no pass runs.
+// toth: single scattering (Toth & Umenhoffer 2009) in the scene's
+// homogeneous medium, as post passes on the camera's gbuffer.
+// sampling=equiangular (default): the in-scattered light is the unshadowed
+// integral times each light's visible fraction.
+//   march   (march resolution)  the visible fraction of every light along the
+//           view ray: steps equal in the angle seen from the light (Kulla &
+//           Fajardo 2012), shadow_map lookups at both ends of each step, a
+//           boundary inside a step located by bisection
+//   gather  (M > 1 only)  averages the fractions of the M x M block
+//   compose (full resolution)  the unshadowed integral per pixel by
+//           Gauss-Legendre in that angle (no texture fetch), times the
+//           fraction upsampled depth-aware (or marched here where the taps
+//           disagree), plus L_surface e^(-sigma_t s)
+// sampling=uniform: the march sums the in-scattered light of equal steps
+// (Hillaire's energy-conserving step, or the thesis' Riemann sums with
+// integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
+// upsampled; the brute-force baseline. Without a medium, or with sigma_s = 0,
+// no pass runs.
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_SAMPLES, P_INTERLEAVE, P_JITTER, P_RESOLUTION, P_INTEGRATOR, P_TOLERANCE, P_COUNT };
+enum {
+    P_SAMPLES,
+    P_INTERLEAVE,
+    P_JITTER,
+    P_RESOLUTION,
+    P_INTEGRATOR,
+    P_TOLERANCE,
+    P_SAMPLING,
+    P_NODES,
+    P_REFINE,
+    P_BISECT,
+    P_COUNT
+};
+enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
 
-// Defaults: 256 steps split over 2x2 pixels at half resolution, jittered --
-// 64 steps for a quarter of the pixels. On the four god-ray scenes at 512x512
-// this has 0.59-0.89x the error of a full-resolution 128-step march in
-// 0.13-0.21x its time (tests/toth/bench_toth.py; llvmpipe, CPU and wall).
+// Defaults (the Pareto front of docs/benchmarks.md, tools/bench_all.sh):
+// equi-angular sampling, the visible fraction marched at quarter resolution
+// in 32 steps with 4 halvings per shadow boundary, pixels whose upsampling
+// taps disagree by more than 0.2 marched at full resolution, the unshadowed
+// integral with 16 Gauss-Legendre nodes per full-resolution pixel.
 static const st_param_def params[P_COUNT] = {
-    {"samples", ST_PARAM_INT, 256, 1, 1024, NULL,
+    {"samples", ST_PARAM_INT, 32, 1, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved)"},
-    {"interleave", ST_PARAM_INT, 2, 1, 8, NULL,
+    {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
      "(1 = off; limited to sqrt(samples))"},
-    {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL, "per-pixel offset of the samples within their steps (banding -> noise)"},
-    {"resolution", ST_PARAM_ENUM, 1, 0, 0, "full|half|quarter",
+    {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "per-pixel offset of the samples within their steps (banding -> noise)"},
+    {"resolution", ST_PARAM_ENUM, 2, 0, 0, "full|half|quarter",
      "march resolution; below full, the in-scattered light is upsampled depth-aware"},
     {"integrator", ST_PARAM_ENUM, 0, 0, 0, "energy|thesis|thesis_far",
      "energy: Hillaire's step, exact for a constant source; thesis: the thesis' Riemann sum "
      "(source at the near end of each step); thesis_far: at the far end"},
     {"edge_tolerance", ST_PARAM_FLOAT, 0.1, 0.001, 10, NULL,
      "relative difference in surface distance up to which gather and upsampling mix two pixels"},
+    {"sampling", ST_PARAM_ENUM, SAMPLING_EQUIANGULAR, 0, 0, "uniform|equiangular",
+     "uniform: steps of equal length, the march sums the in-scattered light (integrator applies); "
+     "equiangular: steps equal in the angle seen from the light, the march finds each light's "
+     "visible "
+     "fraction and the unshadowed integral is evaluated per full-resolution pixel"},
+    {"nodes", ST_PARAM_INT, 16, 4, 64, NULL,
+     "equiangular: Gauss-Legendre nodes of the per-pixel unshadowed integral (rounded up to a "
+     "multiple of 4)"},
+    {"refine", ST_PARAM_FLOAT, 0.2, 0, 1, NULL,
+     "equiangular below full resolution: a pixel whose upsampling taps differ in visible fraction "
+     "by "
+     "more than this (or show another surface) marches its own ray at full resolution (1 = never)"},
+    {"bisect", ST_PARAM_INT, 4, 0, 8, NULL,
+     "equiangular: halvings that locate a shadow boundary inside a step (0 = trapezoid of the "
+     "step's "
+     "two lookups)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -124,7 +161,8 @@ static const st_pass_info *pass_info(void *self, int pass) {
         break;
     default:
         t->info = (st_pass_info){"compose", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "hdr,gbuffer,toth.gather" : "hdr,gbuffer,toth.march",
+                                 interleave(t) > 1 ? "hdr,gbuffer,shadow_map,toth.gather"
+                                                   : "hdr,gbuffer,shadow_map,toth.march",
                                  "hdr", ST_PASS_FULLSCREEN};
         break;
     }
@@ -189,9 +227,12 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
         st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
+        st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
         break;
     case PASS_GATHER:
         set_common(t, t->gather);
+        st_shader_set_int(t->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, t->march_rt.color[0]);
         break;
     default: {
@@ -199,8 +240,17 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         bool lit = f->scene->num_lights > 0 && t->march_rt.fbo;
         const st_target *src = interleave(t) > 1 ? &t->gather_rt : &t->march_rt;
         set_common(t, t->compose);
+        st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
+        st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
+        st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
+        st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
+        st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
         if (lit && src->fbo) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        // Without lights shadow_map binds no cube array, and an unset sampler
+        // of another type on unit 0 makes the draw invalid: bind an empty one.
+        if (!lit) st_shader_texture(t->compose, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, 0);
         break;
     }
     }
@@ -237,8 +287,9 @@ static bool reload(void *self, st_err *err) {
 
 ST_PLUGIN(.name = "toth",
           .description =
-              "ray-marched single scattering in a homogeneous medium (Toth & Umenhoffer 2009): "
-              "shadow-mapped view-ray march, interleaved sampling, reduced-resolution march",
+              "single scattering in a homogeneous medium (Toth & Umenhoffer 2009): equi-angular "
+              "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
+              "interleaved sampling, reduced-resolution march",
           ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .rendertarget = rendertarget,
           .needed = needed, .on_pass = on_pass, .shader = shader, .param_changed = param_changed,

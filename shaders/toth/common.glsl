@@ -6,6 +6,12 @@
 uniform int toth_scale;        // march resolution divisor: 1, 2 or 4
 uniform float toth_tolerance;  // relative distance difference still "the same surface"
 
+// Interleaved gradient noise (Jimenez 2014): a fixed per-pixel offset in
+// [0, 1) that turns banding into fine noise.
+float toth_noise(ivec2 p) {
+    return fract(52.9829189 * fract(dot(vec2(p), vec2(0.06711056, 0.00583715))));
+}
+
 // The full-resolution pixel whose ray a march-resolution pixel traces: the
 // one nearest the centre of its scale x scale block.
 ivec2 toth_full_pixel(ivec2 lp) {

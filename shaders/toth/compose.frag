@@ -1,35 +1,52 @@
 // toth pass 3: L = L_surface e^(-sigma_t s) + in-scattered light, at full
 // resolution. A march at reduced resolution is upsampled depth-aware: the
 // bilinear taps that show the pixel's own surface, else the tap nearest in
-// distance, so shafts do not bleed across silhouettes.
+// distance, so shafts do not bleed across silhouettes. With
+// sampling=equiangular the march holds each light's visible fraction: the
+// smooth unshadowed integral is evaluated here for every full-resolution
+// pixel (no texture fetch), so upsampling and interleaving touch only the
+// visibility and never blur the glow of a light in view.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
+#include "toth/visibility.glsl"
 uniform sampler2D st_hdr_in;
 uniform sampler2D st_gbuffer;
 uniform sampler2D toth_inscatter_tex;
 uniform int toth_has_inscatter;
+uniform int toth_sampling; // 0 uniform, 1 equiangular
+uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
+uniform int toth_samples;  // equiangular: visibility steps of a refined pixel
+uniform int toth_jitter;
+uniform int toth_bisect;
+uniform float toth_refine; // fraction spread over the taps above which a pixel is marched here
 layout(location = 0) out vec4 o_radiance;
 
-vec3 toth_upsample(ivec2 p, vec4 g) {
+// spread: how much the taps that were mixed differ (max - min over the
+// channels), 1 when none showed the pixel's surface.
+vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     ivec2 size = textureSize(toth_inscatter_tex, 0);
-    if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0).rgb;
+    spread = 0.0;
+    if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0);
+    vec4 lo = vec4(1e30), hi = vec4(-1e30);
     // March pixel k traces full pixel k * scale + (scale - 1) / 2.
     vec2 f = (vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale);
     ivec2 b = ivec2(floor(f));
     vec2 fr = f - vec2(b);
-    vec3 sum = vec3(0.0);
+    vec4 sum = vec4(0.0);
     float wsum = 0.0, best = 1e30;
-    vec3 nearest = vec3(0.0);
+    vec4 nearest = vec4(0.0);
     float s = toth_ray_length(g);
     for (int k = 0; k < 4; k++) {
         ivec2 o = ivec2(k & 1, k >> 1);
         ivec2 q = clamp(b + o, ivec2(0), size - 1);
         vec4 gq = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
-        vec3 v = texelFetch(toth_inscatter_tex, q, 0).rgb;
+        vec4 v = texelFetch(toth_inscatter_tex, q, 0);
         float bil = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
         if (toth_similar(g, gq)) {
             sum += (bil + 1e-3) * v;
             wsum += bil + 1e-3;
+            lo = min(lo, v);
+            hi = max(hi, v);
         }
         float diff = abs(toth_ray_length(gq) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
         if (diff < best) {
@@ -37,6 +54,8 @@ vec3 toth_upsample(ivec2 p, vec4 g) {
             nearest = v;
         }
     }
+    vec4 d = hi - lo;
+    spread = wsum > 0.0 ? max(max(d.x, d.y), max(d.z, d.w)) : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
 }
 
@@ -45,7 +64,23 @@ void main() {
     vec4 g = texelFetch(st_gbuffer, p, 0);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
     vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g));
-    if (toth_has_inscatter != 0) L += toth_upsample(p, g);
+    if (toth_has_inscatter != 0 && toth_sampling == 1) {
+        float spread;
+        vec4 frac = toth_upsample(p, g, spread);
+        vec3 dir = toth_view_dir(p);
+        float s = toth_ray_length(g);
+        // Where the taps disagree (a shaft's edge, a silhouette) the
+        // interpolated fraction is a guess: march this pixel's own ray.
+        if (spread > toth_refine) {
+            float u = toth_jitter != 0 ? toth_noise(p) : 0.5;
+            frac = toth_visible_fraction(st_cam_pos, dir, s, toth_samples, 0, 1, u, toth_bisect, sigma_t);
+        }
+        for (int l = 0; l < st_num_lights; l++)
+            L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
+    } else if (toth_has_inscatter != 0) {
+        float spread;
+        L += toth_upsample(p, g, spread).rgb;
+    }
     // Never write NaN or Inf: absurd inputs (sigma near float max) saturate.
     for (int c = 0; c < 3; c++) {
         if (isnan(L[c])) L[c] = 0.0;

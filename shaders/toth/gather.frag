@@ -10,6 +10,7 @@
 uniform sampler2D st_gbuffer;
 uniform sampler2D toth_march_tex;
 uniform int toth_interleave;
+uniform int toth_sampling; // 1: four visible fractions, all summed
 layout(location = 0) out vec4 o_gather;
 
 void main() {
@@ -23,7 +24,7 @@ void main() {
     int span = even ? 2 * half_w : M - 1;
     ivec2 start = clamp(lp - half_w, ivec2(0), max(size - 1 - span, ivec2(0)));
     vec4 gc = texelFetch(st_gbuffer, toth_full_pixel(lp), 0);
-    vec3 sum = vec3(0.0);
+    vec4 sum = vec4(0.0);
     float kept = 0.0;
     for (int dy = 0; dy <= span; dy++) {
         float wy = even && (dy == 0 || dy == span) ? 0.5 : 1.0;
@@ -32,9 +33,10 @@ void main() {
             if (q.x >= size.x || q.y >= size.y) continue;
             if (q != lp && !toth_similar(gc, texelFetch(st_gbuffer, toth_full_pixel(q), 0))) continue;
             float w = wy * (even && (dx == 0 || dx == span) ? 0.5 : 1.0);
-            sum += w * texelFetch(toth_march_tex, q, 0).rgb;
+            sum += w * texelFetch(toth_march_tex, q, 0);
             kept += w;
         }
     }
-    o_gather = vec4(sum * (float(M * M) / max(kept, 1e-6)), texelFetch(toth_march_tex, lp, 0).a);
+    sum *= float(M * M) / max(kept, 1e-6);
+    o_gather = toth_sampling == 1 ? sum : vec4(sum.rgb, texelFetch(toth_march_tex, lp, 0).a);
 }

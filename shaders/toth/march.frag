@@ -1,21 +1,20 @@
-// toth pass 1: march each view ray (at march resolution) and write the
-// in-scattered radiance of its share of the steps, and the marched length.
+// toth pass 1: march each view ray (at march resolution). sampling=uniform
+// writes the in-scattered radiance of the pixel's share of the steps and the
+// marched length; sampling=equiangular writes each light's visible fraction
+// (divided by M^2 when interleaved, so the gather's sum is their mean).
 #include "common/uniforms.glsl"
 #include "toth/source.glsl"
 #include "toth/march.glsl"
+#include "toth/visibility.glsl"
 #include "toth/common.glsl"
 uniform sampler2D st_gbuffer;
 uniform int toth_samples;    // steps per ray
 uniform int toth_interleave; // M: steps split over M x M pixel blocks
 uniform int toth_jitter;
 uniform int toth_integrator;
+uniform int toth_sampling; // 0 uniform, 1 equiangular
+uniform int toth_bisect;   // equiangular: halvings per shadow boundary
 layout(location = 0) out vec4 o_march;
-
-// Interleaved gradient noise (Jimenez 2014): a fixed per-pixel offset in
-// [0, 1) that turns banding into fine noise.
-float toth_noise(ivec2 p) {
-    return fract(52.9829189 * fract(dot(vec2(p), vec2(0.06711056, 0.00583715))));
-}
 
 void main() {
     ivec2 lp = ivec2(gl_FragCoord.xy);
@@ -24,8 +23,14 @@ void main() {
     float s = toth_ray_length(gb);
     int M = max(toth_interleave, 1);
     int first = (lp.x % M) + M * (lp.y % M);
+    vec3 sigma_t = st_sigma_s + st_sigma_a;
+    if (toth_sampling == 1) {
+        float u = toth_jitter != 0 ? toth_noise(fp) : 0.5;
+        o_march = toth_visible_fraction(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_bisect, sigma_t) /
+                  float(M * M);
+        return;
+    }
     float u = toth_jitter != 0 ? toth_noise(fp) : st_step_sample_offset(toth_integrator);
-    vec3 L = toth_march(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_integrator,
-                        st_sigma_s + st_sigma_a);
+    vec3 L = toth_march(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_integrator, sigma_t);
     o_march = vec4(L, s);
 }

@@ -49,14 +49,18 @@ int main(void) {
     snprintf(out, sizeof out, "%s/passes.exr", ST_TEST_SCRATCH);
     const char *med = "\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 0.01, 0.01]";
 
-    // With a medium: march, gather (interleave 2 by default) and compose every frame.
-    write_room(2, med, "");
+    // With a medium, interleaved: march, gather and compose every frame.
+    write_room(2, med, "\"interleave\": 2");
     toth_stats t = stats("--frames 3");
     CHECK(t.passes == 3 && t.march == 3 && t.gather == 3 && t.compose == 3,
           "medium: passes %d, march %d gather %d compose %d runs", t.passes, t.march, t.gather, t.compose);
     // Not interleaved: no gather pass at all.
     t = stats("--frames 2 --set toth.interleave=1");
     CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0, "interleave 1: %d passes", t.passes);
+    write_room(2, med, "");
+    t = stats("--frames 2");
+    CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0,
+          "interleave 1: %d passes", t.passes);
     // Fewer samples than M^2 pixels to share them: interleaving is limited.
     t = stats("--set toth.samples=3 --set toth.interleave=4");
     CHECK(t.passes == 2, "3 samples cannot be split over 2x2 pixels: %d passes", t.passes);

@@ -2,8 +2,9 @@
 // pixel finite and non-negative (strahl render refuses to write an image with
 // NaN/Inf, so a clean exit and a finite EXR are both checked): the light on a
 // pixel's centre ray, at the camera, behind it, on a surface (d -> 0); sigma
-// 0 and 1e3; g = +-0.999; 1 and 1024 samples; each integrator, interleaving
-// and reduced resolution.
+// 0 and 1e3; g = +-0.999; 1 and 1024 samples; both samplings, each
+// integrator, interleaving and reduced resolution, bisection and node counts
+// at their limits.
 #include "toth_test.h"
 
 enum { N = 32 };
@@ -57,6 +58,12 @@ int main(void) {
         "\"samples\": 1, \"integrator\": \"thesis\", \"jitter\": false",
         "\"samples\": 7, \"integrator\": \"thesis_far\", \"resolution\": \"half\"",
         "\"samples\": 1024, \"interleave\": 3, \"jitter\": false",
+        "\"sampling\": \"uniform\", \"samples\": 1",
+        "\"sampling\": \"uniform\", \"samples\": 64, \"interleave\": 8, \"resolution\": "
+        "\"quarter\"",
+        "\"samples\": 1, \"bisect\": 8, \"nodes\": 4, \"refine\": 0",
+        "\"samples\": 1024, \"bisect\": 0, \"nodes\": 64, \"resolution\": \"half\", "
+        "\"interleave\": 2",
     };
     // Every light with every medium at default settings, then every setting
     // with every light in the first two media.

@@ -1,0 +1,80 @@
+// toth: the visible fraction of each light's in-scattering along a view ray,
+// with the march samples placed equi-angularly (see equiangular.glsl). Light
+// l's share of the unshadowed integral is weighted by the smooth angular
+// integrand, so the fraction sum(w V) / sum(w) is exact for a fully lit or
+// fully shadowed ray at any sample count and the samples crowd where the
+// light contributes most. Lights 0..2 get a channel each; lights 3.. share
+// the fourth (exact when they see the same occluders).
+//
+// Each step looks up the shadow map at both ends. Where the two disagree
+// (a shadow boundary inside the step) `bisect` halvings locate the boundary,
+// so the lit part of the step is known to step / 2^(bisect + 1) instead of
+// step / 2: K + 1 + bisect x (boundaries) lookups resolve what K x 2^bisect
+// uniform steps would. Where they agree the step counts as wholly lit or
+// shadowed (an occluder thinner than a step between two lookups is missed,
+// as it is by a march of the same step).
+#ifndef TOTH_VISIBILITY_GLSL
+#define TOTH_VISIBILITY_GLSL
+#include "toth/equiangular.glsl"
+#include "shadow_map/visibility.glsl"
+
+float toth_vis_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
+    float t, d;
+    toth_eq_point(e, delta, t, d);
+    return st_visibility_point(l, o + t * dir);
+}
+
+// The lit fraction of the step [a, b] whose ends see va and vb.
+float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, int bisect) {
+    if (va == vb) return va;
+    // Not a clean on/off boundary (PCF): the trapezoid.
+    if (abs(va - vb) < 0.5 || bisect <= 0) return 0.5 * (va + vb);
+    float lo = a, hi = b;
+    for (int k = 0; k < bisect; k++) {
+        float m = 0.5 * (lo + hi);
+        float vm = toth_vis_at(l, e, o, dir, m);
+        if (abs(vm - va) < abs(vm - vb)) lo = m;
+        else hi = m;
+    }
+    float x = (0.5 * (lo + hi) - a) / (b - a); // the boundary, as a fraction of the step
+    return va > vb ? x : 1.0 - x;
+}
+
+// Steps first, first + stride, ... < n of n equal steps in theta; the
+// grid is shifted by u in [0, 1) of a step (the first and last steps are
+// shortened to stay in [0, len]). Returns the fraction per channel (1 where a
+// light adds nothing, so the full-resolution product stays exact).
+vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stride, float u, int bisect,
+                           vec3 sigma_t) {
+    n = max(n, 1);
+    stride = max(stride, 1);
+    // One weight for all channels: visibility is grey, and the channels'
+    // extinctions differ little.
+    vec3 grey = vec3((sigma_t.x + sigma_t.y + sigma_t.z) / 3.0);
+    vec4 num = vec4(0.0), den = vec4(0.0);
+    for (int l = 0; l < st_num_lights; l++) {
+        toth_eq e = toth_eq_frame(o, dir, s, st_light_pos[l]);
+        if (!(e.len > 0.0)) continue;
+        float step = e.len / float(n);
+        int c = min(l, 3);
+        // Steps i = 0..n: [(i - 1 + u) step, (i + u) step] clipped to [0, len].
+        float prev_b = -1.0, vprev = 0.0;
+        for (int i = first; i <= n; i += stride) {
+            float a = max((float(i) - 1.0 + u) * step, 0.0);
+            float b = min((float(i) + u) * step, e.len);
+            if (!(b > a)) continue;
+            float w = toth_eq_integrand(e, 0.5 * (a + b), grey).x * (b - a);
+            if (!(w > 0.0)) continue;
+            float va = a == prev_b ? vprev : toth_vis_at(l, e, o, dir, a);
+            float vb = toth_vis_at(l, e, o, dir, b);
+            num[c] += w * toth_vis_step(l, e, o, dir, a, b, va, vb, bisect);
+            den[c] += w;
+            prev_b = b;
+            vprev = vb;
+        }
+    }
+    vec4 f;
+    for (int c = 0; c < 4; c++) f[c] = den[c] > 0.0 ? clamp(num[c] / den[c], 0.0, 1.0) : 1.0;
+    return f;
+}
+#endif
