@@ -25,6 +25,9 @@ static const char *type_name(st_param_type t) {
     return "?";
 }
 
+// The light types a plugin handles (0 in the descriptor: point lights only).
+static unsigned light_types(const st_plugin *p) { return p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT); }
+
 int st_cmd_modules(int argc, char **argv) {
     bool json = false;
     for (int i = 1; i < argc; i++) {
@@ -56,6 +59,10 @@ int st_cmd_modules(int argc, char **argv) {
             json_str(p->requires);
             printf(", \"provides\": ");
             json_str(p->provides);
+            printf(", \"lights\": [");
+            for (int t = 0, n = 0; t < ST_LIGHT_TYPE_COUNT; t++)
+                if (light_types(p) & ST_LIGHT_BIT(t)) printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
+            printf("]");
             printf(", \"params\": [");
             for (int k = 0; k < p->num_params; k++) {
                 const st_param_def *d = &p->params[k];
@@ -82,6 +89,10 @@ int st_cmd_modules(int argc, char **argv) {
             printf("%s - %s\n", p->name, p->description ? p->description : "");
             if (p->requires && p->requires[0]) printf("  requires: %s\n", p->requires);
             if (p->provides && p->provides[0]) printf("  provides: %s\n", p->provides);
+            printf("  lights:");
+            for (int t = 0; t < ST_LIGHT_TYPE_COUNT; t++)
+                if (light_types(p) & ST_LIGHT_BIT(t)) printf(" %s", st_light_type_name(t));
+            printf("\n");
             for (int k = 0; k < p->num_params; k++) {
                 const st_param_def *d = &p->params[k];
                 char def[64];

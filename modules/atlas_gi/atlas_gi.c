@@ -686,6 +686,7 @@ static const st_plugin plugin = {
     .on_pass = on_pass,
     .param_changed = param_changed,
     .reload = reload,
+    .light_types = ST_LIGHT_BITS_ALL, // direct light through common/lighting.glsl
 };
 
 ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }

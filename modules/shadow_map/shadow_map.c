@@ -192,7 +192,7 @@ static const st_plugin plugin = {
     .abi_minor = ST_ABI_MINOR,
     .struct_size = sizeof(st_plugin),
     .name = "shadow_map",
-    .description = "omnidirectional shadow maps for point lights (distance cube maps, slope-scaled bias, optional PCF)",
+    .description = "omnidirectional shadow maps for point and spot lights (distance cube maps, slope-scaled bias, optional PCF)",
     .params = params,
     .num_params = P_COUNT,
     .requires = "",
@@ -206,6 +206,8 @@ static const st_plugin plugin = {
     .needed = needed,
     .on_pass = on_pass,
     .reload = reload,
+    // A spot light's cone lies inside its distance cube: same map, same bias.
+    .light_types = ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_SPOT),
 };
 
 ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }

@@ -113,6 +113,7 @@ static const st_plugin plugin = {
     .shader = shader,
     .on_pass = on_pass,
     .reload = reload,
+    .light_types = ST_LIGHT_BITS_ALL, // direct light through common/lighting.glsl
 };
 
 ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
