@@ -38,6 +38,11 @@ void st_path_dir(char *out, size_t n, const char *path);
 
 double st_now_ms(void); // monotonic clock in milliseconds
 
+// The prefix libstrahl was installed to, found from the library's own file
+// (<prefix>/lib/libstrahl.so), so an installed tree works wherever it was
+// copied; "" when that cannot be determined.
+const char *st_install_prefix(void);
+
 #ifdef __cplusplus
 }
 #endif

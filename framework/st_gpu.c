@@ -33,14 +33,6 @@ bool st_buffer_create(st_buffer *b, GLenum target, size_t size, const void *data
     return st_gl_check("buffer storage", err);
 }
 
-bool st_buffer_update(st_buffer *b, size_t offset, size_t size, const void *data, st_err *err) {
-    if (offset + size > b->size)
-        return st_fail(err, ST_ERR_RUNTIME, "buffer update out of range (%zu+%zu > %zu)", offset,
-                       size, b->size);
-    glNamedBufferSubData(b->id, (GLintptr)offset, (GLsizeiptr)size, data);
-    return st_gl_check("buffer update", err);
-}
-
 void st_buffer_destroy(st_buffer *b) {
     if (!b->id) return;
     glDeleteBuffers(1, &b->id);
@@ -105,39 +97,6 @@ void st_target_destroy(st_target *t) {
 void st_target_bind(const st_target *t) {
     glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
     glViewport(0, 0, t->width, t->height);
-}
-
-bool st_cube_target_create(st_cube_target *t, int size, st_err *err) {
-    memset(t, 0, sizeof *t);
-    t->size = size;
-    glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &t->cube);
-    glTextureStorage2D(t->cube, 1, GL_R32F, size, size);
-    glTextureParameteri(t->cube, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t->cube, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t->cube, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t->cube, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t->cube, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glCreateRenderbuffers(1, &t->depth_rb);
-    glNamedRenderbufferStorage(t->depth_rb, GL_DEPTH_COMPONENT32F, size, size);
-    glCreateFramebuffers(1, &t->fbo);
-    glNamedFramebufferRenderbuffer(t->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth_rb);
-    g_bytes += (size_t)size * size * 4 * 7;
-    return st_gl_check("cube shadow target", err);
-}
-
-void st_cube_target_bind_face(const st_cube_target *t, int face) {
-    glNamedFramebufferTextureLayer(t->fbo, GL_COLOR_ATTACHMENT0, t->cube, 0, face);
-    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
-    glViewport(0, 0, t->size, t->size);
-}
-
-void st_cube_target_destroy(st_cube_target *t) {
-    if (!t->fbo) return;
-    glDeleteFramebuffers(1, &t->fbo);
-    glDeleteTextures(1, &t->cube);
-    glDeleteRenderbuffers(1, &t->depth_rb);
-    g_bytes -= (size_t)t->size * t->size * 4 * 7;
-    memset(t, 0, sizeof *t);
 }
 
 bool st_target_read(const st_target *t, int index, float *rgba, st_err *err) {

@@ -15,8 +15,8 @@ typedef struct st_buffer {
 } st_buffer;
 
 // Immutable storage when `dynamic` is false (static data is uploaded once).
-bool st_buffer_create(st_buffer *b, GLenum target, size_t size, const void *data, bool dynamic, st_err *err);
-bool st_buffer_update(st_buffer *b, size_t offset, size_t size, const void *data, st_err *err);
+bool st_buffer_create(st_buffer *b, GLenum target, size_t size, const void *data, bool dynamic,
+                      st_err *err);
 void st_buffer_destroy(st_buffer *b);
 
 #define ST_TARGET_MAX_COLOR 4
@@ -37,16 +37,6 @@ bool st_target_create(st_target *t, int width, int height, int num_color, GLenum
 void st_target_destroy(st_target *t);
 // Binds for drawing and sets the viewport.
 void st_target_bind(const st_target *t);
-
-// Cube map depth target for point-light shadows: colour = R32F distance,
-// depth renderbuffer; one framebuffer, faces attached per draw.
-typedef struct st_cube_target {
-    GLuint fbo, cube, depth_rb;
-    int size;
-} st_cube_target;
-bool st_cube_target_create(st_cube_target *t, int size, st_err *err);
-void st_cube_target_bind_face(const st_cube_target *t, int face);
-void st_cube_target_destroy(st_cube_target *t);
 
 // Reads colour attachment `index` (RGBA float) into rgba (w*h*4), top row first.
 bool st_target_read(const st_target *t, int index, float *rgba, st_err *err);

@@ -17,8 +17,58 @@ struct st_plugin_lib {
 
 void st_plugin_dirs(char *out, size_t n) {
     const char *env = getenv("STRAHL_MODULE_PATH");
-    snprintf(out, n, "%s%s%s:%s", env ? env : "", env && env[0] ? ":" : "", ST_MODULE_BUILD_DIR,
-             ST_MODULE_INSTALL_DIR);
+    const char *pre = st_install_prefix();
+    snprintf(out, n, "%s%s%s%s%s:%s", env ? env : "", env && env[0] ? ":" : "", pre,
+             pre[0] ? "/lib/strahl/modules:" : "", ST_MODULE_BUILD_DIR, ST_MODULE_INSTALL_DIR);
+}
+
+// The plugin's own shader folder, <dir of the .so>/shaders/<name>/ (the
+// layout of the source tree's shaders/), when it has one.
+static void register_shaders(const char *path, const char *name) {
+    char dir[1024], sh[1300];
+    struct stat st;
+    st_path_dir(dir, sizeof dir, path);
+    snprintf(sh, sizeof sh, "%s/shaders/%s", dir, name);
+    if (stat(sh, &st) == 0 && S_ISDIR(st.st_mode)) st_shader_add_dir(name, sh);
+}
+
+// The sizes the plugin was built with (ST_PLUGIN exports them) against ours.
+// Structs the plugin embeds, fills or indexes as arrays must match exactly;
+// those the world allocates and the plugin only reads through a pointer may
+// have grown at the end since.
+static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) {
+    st_abi_sizes_fn fn;
+    *(void **)&fn = dlsym(h, ST_PLUGIN_SIZES_SYMBOL);
+    if (!fn) return true; // a hand-written descriptor: abi_major/minor only
+    const st_abi_sizes *theirs = fn();
+    static const st_abi_sizes ours = ST_ABI_SIZES;
+    if (!theirs || theirs->struct_size < sizeof(uint32_t) * 2)
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad '%s' table", nm, path,
+                       ST_PLUGIN_SIZES_SYMBOL);
+    static const struct {
+        const char *name;
+        size_t offset;
+        bool grows; // may be smaller in the plugin
+    } fields[] = {
+#define F(f, g) {"st_" #f, offsetof(st_abi_sizes, f), g}
+        F(plugin, false), F(param_def, false), F(pass_info, false),  F(uniform, false),
+        F(frame, true),   F(scene, true),      F(light_desc, false), F(mesh, false),
+        F(shader, true),  F(target, false),    F(buffer, false),     F(err, false),
+#undef F
+    };
+    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
+        if (fields[i].offset + sizeof(uint32_t) > theirs->struct_size) continue; // not known then
+        uint32_t a, b;
+        memcpy(&a, (const char *)theirs + fields[i].offset, sizeof a);
+        memcpy(&b, (const char *)&ours + fields[i].offset, sizeof b);
+        if (a == b || (fields[i].grows && a < b)) continue;
+        return st_fail(
+            err, ST_ERR_INPUT,
+            "module '%s' (%s): built with a different %s (%u bytes, this strahl has %u): "
+            "rebuild it against this strahl's headers",
+            nm, path, fields[i].name, a, b);
+    }
+    return true;
 }
 
 static bool valid_name(const char *name) {
@@ -85,6 +135,10 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
         dlclose(h);
         return NULL;
     }
+    if (!check_sizes(h, nm, path, err)) {
+        dlclose(h);
+        return NULL;
+    }
     st_plugin_lib *lib = calloc(1, sizeof *lib);
     if (!lib) {
         dlclose(h);
@@ -121,6 +175,7 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
         free(lib);
         return NULL;
     }
+    register_shaders(path, lib->desc.name);
     return lib;
 }
 
@@ -164,16 +219,41 @@ int st_param_index(const st_plugin *p, const char *name) {
     return -1;
 }
 
-static int choice_index(const char *choices, const char *s) {
-    int i = 0;
-    size_t l = strlen(s);
-    for (const char *c = choices; c && *c; i++) {
+// The k-th name of "a|b|c" and its length; NULL past the end. The one place
+// that reads the choice syntax.
+static const char *choice_at(const char *choices, int k, size_t *len) {
+    const char *c = choices;
+    for (int i = 0; c && *c; i++) {
         const char *bar = strchr(c, '|');
-        size_t n = bar ? (size_t)(bar - c) : strlen(c);
-        if (n == l && !strncmp(c, s, n)) return i;
-        if (!bar) break;
-        c = bar + 1;
+        if (i == k) {
+            *len = bar ? (size_t)(bar - c) : strlen(c);
+            return c;
+        }
+        c = bar ? bar + 1 : NULL;
     }
+    return NULL;
+}
+
+int st_param_num_choices(const st_param_def *d) {
+    size_t l;
+    int n = 0;
+    while (choice_at(d->choices, n, &l))
+        n++;
+    return n;
+}
+
+bool st_param_choice(const st_param_def *d, int k, char *out, size_t n) {
+    size_t l = 0;
+    const char *c = choice_at(d->choices, k, &l);
+    snprintf(out, n, "%.*s", (int)l, c ? c : "");
+    return c != NULL;
+}
+
+static int choice_index(const char *choices, const char *s) {
+    size_t l, sl = strlen(s);
+    const char *c;
+    for (int i = 0; (c = choice_at(choices, i, &l)); i++)
+        if (l == sl && !strncmp(c, s, l)) return i;
     return -1;
 }
 
@@ -215,18 +295,7 @@ void st_param_format(const st_param_def *d, double v, char *out, size_t n) {
     if (d->type == ST_PARAM_BOOL) {
         snprintf(out, n, "%s", v != 0 ? "true" : "false");
     } else if (d->type == ST_PARAM_ENUM) {
-        int k = (int)v, i = 0;
-        for (const char *c = d->choices; c && *c; i++) {
-            const char *bar = strchr(c, '|');
-            size_t l = bar ? (size_t)(bar - c) : strlen(c);
-            if (i == k) {
-                snprintf(out, n, "%.*s", (int)l, c);
-                return;
-            }
-            if (!bar) break;
-            c = bar + 1;
-        }
-        snprintf(out, n, "%d", k);
+        if (!st_param_choice(d, (int)v, out, n)) snprintf(out, n, "%d", (int)v);
     } else {
         snprintf(out, n, "%g", v);
     }

@@ -3,6 +3,53 @@
 // The loader checks abi_major (equal) and abi_minor (not newer), copies
 // min(struct_size, sizeof(st_plugin)) into a zeroed descriptor so fields a
 // plugin does not know about stay NULL, and names every missing required hook.
+// docs/architecture.md explains the frame graph around it.
+//
+// A minimal plugin (one post pass that scales the image; its shader
+// "dim/dim.frag" lives in shaders/dim/ in the tree, or in
+// <module dir>/shaders/dim/ beside dim.so out of it; examples/plugin builds
+// one against an installed strahl with find_package(strahl)):
+//
+//   #include <st_module.h>
+//   #include <stdlib.h>
+//   static const st_param_def params[] = {{"gain", ST_PARAM_FLOAT, 0.5, 0, 1, NULL, "scale"}};
+//   typedef struct dim { const double *p; st_shader *sh; } dim;
+//   static const st_pass_info pass = {"dim", ST_STAGE_POST, "hdr", "hdr", ST_PASS_FULLSCREEN};
+//   static void *create(st_world *w, const double *p, st_err *err) {
+//       dim *d = calloc(1, sizeof *d);
+//       if (!d) return st_fail(err, ST_ERR_RUNTIME, "out of memory"), NULL;
+//       d->p = p; // this instance's parameters, current until destroy
+//       d->sh = st_shader_load("common/fullscreen.vert", "dim/dim.frag", NULL, err);
+//       if (!d->sh) free(d), d = NULL;
+//       return d;
+//   }
+//   static void destroy(void *s) { st_shader_destroy(((dim *)s)->sh); free(s); }
+//   static int num_passes(void *s) { return 1; }
+//   static const st_pass_info *pass_info(void *s, int i) { return &pass; }
+//   static st_shader *shader(void *s, int i) { return ((dim *)s)->sh; }
+//   static bool on_pass(void *s, int i, const st_frame *f, st_err *err) {
+//       st_shader_set_float(((dim *)s)->sh, "u_gain", (float)((dim *)s)->p[0]);
+//       return true; // the world then draws the full-screen triangle
+//   }
+//   ST_PLUGIN(.name = "dim", .description = "scales the image", ST_PARAMS(params),
+//             .create = create, .destroy = destroy, .num_passes = num_passes,
+//             .pass_info = pass_info, .shader = shader, .on_pass = on_pass)
+//
+// with dim.frag reading `uniform sampler2D st_hdr_in;` (bound by the world).
+//
+// Order of the hooks:
+//   load:     parameters = defaults, then the scene's values
+//   create(w, params), then uniforms() once              (in dependency order)
+//   num_passes(), pass_info(k) for every k               (again after every switch
+//                                                         and every parameter change)
+//   per frame, per pass in frame order: needed(k, f)     (all passes first)
+//   per live, needed pass: the world binds rendertarget(k) (or the next post
+//     target for a post pass writing "hdr"); shader(k) is bound with every
+//     uniform set; on_pass(k, f); the world draws (ST_PASS_SCENE: every model,
+//     ST_PASS_FULLSCREEN: one triangle); after_pass(k, f)
+//   st_world_set_param: the value lands in params[], then param_changed(i)
+//   st_world_reload_shaders: reload()
+//   destroy(self); after the last instance of the .so: cleanup(), dlclose
 #ifndef ST_MODULE_H
 #define ST_MODULE_H
 #include "st_gpu.h"
@@ -135,6 +182,68 @@ typedef struct st_plugin {
 
 typedef const st_plugin *(*st_plugin_fn)(void);
 
+// Pointer lifetimes (what a plugin may keep, and for how long):
+// - `params` given to create: this instance's own array of num_params values,
+//   at one address from create until destroy returns, whatever modules are
+//   loaded, unloaded or re-ordered meanwhile. The world writes it (scene
+//   values before create, st_world_set_param later, then param_changed); the
+//   plugin only reads it. Keep the pointer, do not copy the values.
+// - `w` given to create: valid until destroy returns.
+// - st_frame and everything it points to (matrices, cam_pos, scene): valid
+//   during the hook call only; textures in it may be re-created on resize.
+// - What the plugin returns (st_pass_info and its strings, st_uniform tables,
+//   st_shader*) must stay valid until the next call of the same hook or until
+//   destroy; the world copies st_pass_info when it rebuilds the pass list
+//   (after create, after a switch, after every set_param) and keeps the
+//   strings it points to until the next rebuild.
+// - The st_plugin descriptor and the parameter table: static in the plugin;
+//   the loader copies the descriptor, not the tables, so they live as long as
+//   the .so (until after cleanup).
+
+// ---- struct sizes ---------------------------------------------------------
+// Besides st_plugin (abi_major/minor, struct_size), these structs cross the
+// plugin boundary. ST_PLUGIN exports the sizes the plugin was compiled with
+// as a second symbol; the loader refuses a plugin whose st_param_def,
+// st_pass_info, st_uniform, st_light_desc, st_mesh, st_target, st_buffer or
+// st_err (embedded, filled or indexed as arrays) differ from its own, or
+// whose st_frame, st_scene or st_shader (allocated by strahl, read through a
+// pointer) are larger than its own, naming the struct. A plugin without the
+// symbol is checked by abi_major/abi_minor alone. Fields are only appended.
+#define ST_PLUGIN_SIZES_SYMBOL "strahl_plugin_sizes"
+
+typedef struct st_abi_sizes {
+    uint32_t struct_size; // sizeof(st_abi_sizes): fields past it are unknown to the plugin
+    uint32_t plugin, param_def, pass_info, uniform, frame, scene, light_desc, mesh, shader, target,
+        buffer, err;
+} st_abi_sizes;
+
+#define ST_ABI_SIZES                                                                               \
+    {                                                                                              \
+        sizeof(st_abi_sizes), sizeof(st_plugin), sizeof(st_param_def), sizeof(st_pass_info),       \
+            sizeof(st_uniform), sizeof(st_frame), sizeof(st_scene), sizeof(st_light_desc),         \
+            sizeof(st_mesh), sizeof(st_shader), sizeof(st_target), sizeof(st_buffer),              \
+            sizeof(st_err)                                                                         \
+    }
+typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
+
+// ---- declaring a plugin -----------------------------------------------------
+// ST_PLUGIN(designated initializers of st_plugin) defines the descriptor with
+// the ABI version and size filled in, and exports both symbols the loader
+// looks for. ST_PARAMS(table) sets .params and .num_params from a static array.
+#define ST_PARAMS(table) .params = (table), .num_params = (int)(sizeof(table) / sizeof((table)[0]))
+#define ST_PLUGIN(...)                                                                             \
+    static const st_plugin st_plugin_descriptor_ = {.abi_major = ST_ABI_MAJOR,                     \
+                                                    .abi_minor = ST_ABI_MINOR,                     \
+                                                    .struct_size = sizeof(st_plugin),              \
+                                                    __VA_ARGS__};                                  \
+    ST_EXPORT const st_plugin *strahl_plugin(void) {                                               \
+        return &st_plugin_descriptor_;                                                             \
+    }                                                                                              \
+    ST_EXPORT const st_abi_sizes *strahl_plugin_sizes(void) {                                      \
+        static const st_abi_sizes sizes = ST_ABI_SIZES;                                            \
+        return &sizes;                                                                             \
+    }
+
 // ---- loader -------------------------------------------------------------
 
 typedef struct st_plugin_lib st_plugin_lib;
@@ -158,6 +267,10 @@ int st_param_index(const st_plugin *p, const char *name);
 bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out, st_err *err);
 // Formats a value for display ("0.5", "true", "area").
 void st_param_format(const st_param_def *d, double v, char *out, size_t n);
+// An enum's choices ("area|thesis"): how many, and the k-th name (false and
+// "" past the end).
+int st_param_num_choices(const st_param_def *d);
+bool st_param_choice(const st_param_def *d, int k, char *out, size_t n);
 
 #ifdef __cplusplus
 }

@@ -1,4 +1,4 @@
-// strahl: the shared radiometric model (DESIGN.md, "Units and physics") as
+// strahl: the shared radiometric model (docs/physics.md) as
 // plain C in double precision. The CPU reference renders with it, the GLSL in
 // shaders/common mirrors it, and the tests compare both against the closed
 // forms below.

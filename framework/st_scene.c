@@ -1,4 +1,4 @@
-// Scene description v1 (DESIGN.md "Scene description"): strict JSON parsing
+// Scene description v1 (README.md "Scene description"): strict JSON parsing
 // into st_scene. Sections are read in an order that lets the JSON override
 // what glTF files bring: geometry (may supply camera and lights) before camera
 // and the final choice of lights.
@@ -106,7 +106,7 @@ static bool parse_phase(st_jctx *c, const cJSON *v, st_medium_desc *m) {
     if (!st_j_object(c, v, keys) || !st_j_number(c, v, "hg", &g, NULL)) return false;
     if (g < -1 || g > 1) return st_j_fail(c, "hg", "%g is out of range [-1, 1]", g);
     // |g| = 1 is a delta distribution; the phase function's normalisation
-    // needs |g| < 1 (DESIGN.md: clamp to 0.999).
+    // needs |g| < 1 (docs/physics.md: clamp to 0.999).
     m->phase = ST_PHASE_HG;
     m->g = (float)fmax(-0.999, fmin(0.999, g));
     return true;

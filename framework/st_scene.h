@@ -1,4 +1,4 @@
-// strahl: the scene description (JSON v1, see DESIGN.md) parsed into plain
+// strahl: the scene description (JSON v1, see README.md) parsed into plain
 // structs. Geometry is resolved (procedural shapes tessellated, glTF loaded)
 // so the GPU world and the CPU reference read the same data.
 #ifndef ST_SCENE_H

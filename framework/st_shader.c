@@ -19,8 +19,11 @@ const char *st_shader_root(void) {
     static char root[1024];
     if (root[0]) return root;
     const char *env = getenv("STRAHL_SHADER_PATH");
-    const char *cands[] = {env, ST_SHADER_SOURCE_DIR, ST_SHADER_INSTALL_DIR};
-    for (int i = 0; i < 3; i++) {
+    char installed[1100] = "";
+    if (st_install_prefix()[0])
+        snprintf(installed, sizeof installed, "%s/share/strahl/shaders", st_install_prefix());
+    const char *cands[] = {env, installed, ST_SHADER_SOURCE_DIR, ST_SHADER_INSTALL_DIR};
+    for (int i = 0; i < 4; i++) {
         if (cands[i] && cands[i][0] && has_common(cands[i])) {
             snprintf(root, sizeof root, "%s", cands[i]);
             return root;
@@ -28,6 +31,37 @@ const char *st_shader_root(void) {
     }
     snprintf(root, sizeof root, "%s", ST_SHADER_SOURCE_DIR);
     return root;
+}
+
+// Plugin shader folders (st_shader_add_dir): prefix -> directory.
+#define MAX_DIRS 32
+static struct { char prefix[64], dir[1024]; } g_dirs[MAX_DIRS];
+static int g_num_dirs;
+
+bool st_shader_add_dir(const char *prefix, const char *dir) {
+    if (strlen(prefix) >= sizeof g_dirs[0].prefix || strlen(dir) >= sizeof g_dirs[0].dir)
+        return false;
+    int i = 0;
+    while (i < g_num_dirs && strcmp(g_dirs[i].prefix, prefix))
+        i++;
+    if (i == MAX_DIRS) return false;
+    if (i == g_num_dirs) g_num_dirs++;
+    snprintf(g_dirs[i].prefix, sizeof g_dirs[i].prefix, "%s", prefix);
+    snprintf(g_dirs[i].dir, sizeof g_dirs[i].dir, "%s", dir);
+    return true;
+}
+
+// The file for a shader path "dir/file": a plugin's own folder, else the root.
+static void shader_file(char *out, size_t n, const char *path) {
+    const char *slash = strchr(path, '/');
+    for (int i = 0; slash && i < g_num_dirs; i++) {
+        size_t l = strlen(g_dirs[i].prefix);
+        if ((size_t)(slash - path) == l && !strncmp(path, g_dirs[i].prefix, l)) {
+            snprintf(out, n, "%s/%s", g_dirs[i].dir, slash + 1);
+            return;
+        }
+    }
+    snprintf(out, n, "%s/%s", st_shader_root(), path);
 }
 
 typedef struct {
@@ -76,7 +110,7 @@ static bool include_file(sbuf *out, const char *path, char names[][128], int *nu
     int id = file_id(path, names, num);
     if (id < 0) return st_fail(err, ST_ERR_INPUT, "shaders/%s: too many included files", path);
     char full[1200];
-    snprintf(full, sizeof full, "%s/%s", st_shader_root(), path);
+    shader_file(full, sizeof full, path);
     char *src = st_read_file(full, NULL, err);
     if (!src) return false;
     if (!sb_printf(out, "#line 1 %d\n", id)) goto oom;
@@ -363,10 +397,6 @@ void st_shader_set_vec2(st_shader *sh, const char *n, float x, float y) {
 void st_shader_set_vec3(st_shader *sh, const char *n, const float *v) {
     GLint l = st_shader_loc(sh, n);
     if (l >= 0) glUniform3fv(l, 1, v);
-}
-void st_shader_set_vec4(st_shader *sh, const char *n, const float *v) {
-    GLint l = st_shader_loc(sh, n);
-    if (l >= 0) glUniform4fv(l, 1, v);
 }
 void st_shader_set_mat4(st_shader *sh, const char *n, const float *m) {
     GLint l = st_shader_loc(sh, n);

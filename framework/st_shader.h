@@ -24,9 +24,16 @@ typedef struct st_shader {
     } cache[ST_SHADER_CACHE];
 } st_shader;
 
-// The shader root: $STRAHL_SHADER_PATH, else the source tree, else the
-// install dir (the first that has common/).
+// The shader root: $STRAHL_SHADER_PATH, else the installed tree this
+// libstrahl belongs to, else the source tree, else the configured install dir
+// (the first that has common/).
 const char *st_shader_root(void);
+// Files below `prefix`/ ("height_fog/fog.frag" for prefix "height_fog") are
+// read from `dir` instead of the root: how a plugin outside the tree ships
+// its own GLSL (the loader registers <module dir>/shaders/<name>/ when it
+// exists).
+// Returns false if the table is full or the arguments are too long.
+bool st_shader_add_dir(const char *prefix, const char *dir);
 
 // Vertex + fragment program. `defines` may be NULL.
 st_shader *st_shader_load(const char *vs, const char *fs, const char *defines, st_err *err);
@@ -47,7 +54,6 @@ void st_shader_set_int(st_shader *sh, const char *name, int v);
 void st_shader_set_float(st_shader *sh, const char *name, float v);
 void st_shader_set_vec2(st_shader *sh, const char *name, float x, float y);
 void st_shader_set_vec3(st_shader *sh, const char *name, const float *v);
-void st_shader_set_vec4(st_shader *sh, const char *name, const float *v);
 void st_shader_set_mat4(st_shader *sh, const char *name, const float *m);
 
 // Preprocesses one file (exposed for tests): resolves includes, inserts

@@ -14,6 +14,10 @@
 #define MAX_MODULES 16
 #define MAX_SLOTS 128
 
+// A loaded module. Each instance is its own heap block, created by load() and
+// freed by unload(), so `params` (handed to the plugin's create) and `self`
+// stay at one address for the instance's whole life, whatever the module
+// list does around it.
 typedef struct st_module_inst {
     st_plugin_lib *lib;
     const st_plugin *p;
@@ -22,11 +26,13 @@ typedef struct st_module_inst {
     const st_uniform *uniforms;
     int num_uniforms;
     bool params_dirty;
+    unsigned serial; // unique per world: identifies the instance across pass-list rebuilds
 } st_module_inst;
 
-// One pass in frame order. module < 0 is the world's regular pass.
+// One pass in frame order. mod == NULL is the world's regular pass.
 typedef struct st_slot {
-    int module, pass;
+    st_module_inst *mod;
+    int pass;
     st_pass_info info;
     unsigned pending; // changes since the pass last ran
     bool needed, live;
@@ -42,7 +48,8 @@ struct st_world {
     st_model *models;
     int num_models;
     st_shader *regular;
-    st_module_inst mods[MAX_MODULES];
+    st_module_inst *mods[MAX_MODULES]; // one heap block per instance: never moves
+    unsigned next_serial;
     int num_mods;
     st_slot slots[MAX_SLOTS];
     int num_slots;
@@ -108,10 +115,10 @@ void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
         if (l >= 0) builtin_uniforms[i].set(w, sh, l, f);
     }
     for (int m = 0; m < w->num_mods; m++) {
-        for (int i = 0; i < w->mods[m].num_uniforms; i++) {
-            const st_uniform *u = &w->mods[m].uniforms[i];
+        for (int i = 0; i < w->mods[m]->num_uniforms; i++) {
+            const st_uniform *u = &w->mods[m]->uniforms[i];
             GLint l = st_shader_loc(sh, u->name);
-            if (l >= 0) u->set(w->mods[m].self, sh, l, f);
+            if (l >= 0) u->set(w->mods[m]->self, sh, l, f);
         }
     }
 }
@@ -170,23 +177,23 @@ static st_pass_stats *stats_for(st_world *w, const char *module, const char *pas
 
 // ---- frame graph --------------------------------------------------------
 
-static bool add_slot(st_world *w, int module, int pass, const st_pass_info *info, st_err *err) {
+static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_info *info,
+                     st_err *err) {
     if (w->num_slots >= MAX_SLOTS) return st_fail(err, ST_ERR_RUNTIME, "too many passes (max %d)", MAX_SLOTS);
     st_slot *s = &w->slots[w->num_slots];
     memset(s, 0, sizeof *s);
-    s->module = module;
+    s->mod = mi;
     s->pass = pass;
     s->info = *info;
     if (!s->info.name) s->info.name = "pass";
     if (!s->info.reads) s->info.reads = "";
     if (!s->info.writes) s->info.writes = "";
     s->pending = ST_CHANGE_ALL;
-    const char *mname = module < 0 ? "world" : w->mods[module].p->name;
+    const char *mname = mi ? mi->p->name : "world";
     char pname[ST_NAME_MAX];
     snprintf(pname, sizeof pname, "%s", s->info.name);
     // Passes of one module sharing a name (one per light) are numbered.
-    if (module >= 0) {
-        const st_module_inst *mi = &w->mods[module];
+    if (mi) {
         int total = 0, ordinal = 0, n = mi->p->num_passes(mi->self);
         for (int k = 0; k < n; k++) {
             const st_pass_info *o = mi->p->pass_info(mi->self, k);
@@ -215,19 +222,19 @@ static void free_slots(st_world *w) {
 // Rebuilds the pass list: pre-passes in module order, the regular pass,
 // post passes in module order. Pending changes of surviving passes carry over.
 static bool build_slots(st_world *w, st_err *err) {
-    unsigned keep[MAX_SLOTS];
-    int keep_mod[MAX_SLOTS], keep_pass[MAX_SLOTS], nkeep = w->num_slots;
+    // Slots are matched by instance serial (0: the regular pass), never by
+    // pointer: an unloaded instance's address may be reused by a new one.
+    unsigned keep[MAX_SLOTS], keep_serial[MAX_SLOTS];
+    int keep_pass[MAX_SLOTS], nkeep = w->num_slots;
     for (int i = 0; i < nkeep; i++) {
         keep[i] = w->slots[i].pending;
-        keep_mod[i] = w->slots[i].module;
+        keep_serial[i] = w->slots[i].mod ? w->slots[i].mod->serial : 0;
         keep_pass[i] = w->slots[i].pass;
     }
-    const st_plugin *keep_p[MAX_SLOTS];
-    for (int i = 0; i < nkeep; i++) keep_p[i] = keep_mod[i] >= 0 ? w->mods[keep_mod[i]].p : NULL;
     free_slots(w);
     w->regular_reads[0] = 0;
     for (int m = 0; m < w->num_mods; m++) {
-        const st_plugin *p = w->mods[m].p;
+        const st_plugin *p = w->mods[m]->p;
         if (p->regular_include && p->provides) {
             size_t l = strlen(w->regular_reads);
             snprintf(w->regular_reads + l, sizeof w->regular_reads - l, "%s%s", l ? "," : "", p->provides);
@@ -236,26 +243,26 @@ static bool build_slots(st_world *w, st_err *err) {
     for (int stage = 0; stage < 3; stage++) {
         if (stage == 1) {
             st_pass_info reg = {"regular", ST_STAGE_PRE, w->regular_reads, "hdr,gbuffer,albedo,depth", 0};
-            if (!add_slot(w, -1, 0, &reg, err)) return false;
+            if (!add_slot(w, NULL, 0, &reg, err)) return false;
             continue;
         }
         for (int m = 0; m < w->num_mods; m++) {
-            st_module_inst *mi = &w->mods[m];
+            st_module_inst *mi = w->mods[m];
             int n = mi->p->num_passes(mi->self);
             for (int k = 0; k < n; k++) {
                 const st_pass_info *info = mi->p->pass_info(mi->self, k);
                 if (!info) return st_fail(err, ST_ERR_RUNTIME, "module '%s': no info for pass %d", mi->p->name, k);
                 if ((stage == 0) != (info->stage == ST_STAGE_PRE)) continue;
-                if (!add_slot(w, m, k, info, err)) return false;
+                if (!add_slot(w, mi, k, info, err)) return false;
             }
         }
     }
     // A pass that existed before keeps what it had pending.
     for (int i = 0; i < w->num_slots; i++) {
         st_slot *s = &w->slots[i];
-        const st_plugin *p = s->module >= 0 ? w->mods[s->module].p : NULL;
+        unsigned serial = s->mod ? s->mod->serial : 0;
         for (int k = 0; k < nkeep; k++)
-            if (keep_p[k] == p && keep_pass[k] == s->pass) s->pending = keep[k];
+            if (keep_serial[k] == serial && keep_pass[k] == s->pass) s->pending = keep[k];
     }
     return true;
 }
@@ -302,8 +309,8 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
 }
 
 static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
-    if (s->module < 0) return regular_pass(w, f, err);
-    st_module_inst *mi = &w->mods[s->module];
+    if (!s->mod) return regular_pass(w, f, err);
+    st_module_inst *mi = s->mod;
     const st_plugin *p = mi->p;
     bool to_hdr = s->info.stage == ST_STAGE_POST && list_has(s->info.writes, "hdr");
     GLuint fbo = p->rendertarget ? p->rendertarget(mi->self, s->pass) : 0;
@@ -352,9 +359,10 @@ bool st_world_frame(st_world *w, st_err *err) {
     for (int i = 0; i < w->num_slots; i++) {
         st_slot *s = &w->slots[i];
         s->pending |= w->changes;
-        if (s->module >= 0 && w->mods[s->module].params_dirty) s->pending |= ST_CHANGE_PARAMS;
+        if (s->mod && s->mod->params_dirty) s->pending |= ST_CHANGE_PARAMS;
     }
-    for (int m = 0; m < w->num_mods; m++) w->mods[m].params_dirty = false;
+    for (int m = 0; m < w->num_mods; m++)
+        w->mods[m]->params_dirty = false;
     w->changes = 0;
 
     st_frame f;
@@ -363,9 +371,9 @@ bool st_world_frame(st_world *w, st_err *err) {
     // marks its readers' inputs as changed.
     for (int i = 0; i < w->num_slots; i++) {
         st_slot *s = &w->slots[i];
-        const st_plugin *p = s->module >= 0 ? w->mods[s->module].p : NULL;
+        const st_plugin *p = s->mod ? s->mod->p : NULL;
         f.changes = s->pending;
-        s->needed = !p || !p->needed || p->needed(w->mods[s->module].self, s->pass, &f);
+        s->needed = !p || !p->needed || p->needed(s->mod->self, s->pass, &f);
         if (!s->needed) continue;
         for (int j = i + 1; j < w->num_slots; j++)
             if (lists_meet(s->info.writes, w->slots[j].info.reads)) w->slots[j].pending |= ST_CHANGE_INPUTS;
@@ -453,7 +461,7 @@ void st_world_draw(st_world *w, st_shader *sh) {
 
 static int find_module(const st_world *w, const char *name) {
     for (int i = 0; i < w->num_mods; i++)
-        if (!strcmp(w->mods[i].p->name, name)) return i;
+        if (!strcmp(w->mods[i]->p->name, name)) return i;
     return -1;
 }
 
@@ -487,10 +495,12 @@ static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
 }
 
 static void unload(st_world *w, int m) {
-    st_module_inst *mi = &w->mods[m];
+    st_module_inst *mi = w->mods[m];
     if (mi->self) mi->p->destroy(mi->self);
     st_plugin_close(mi->lib);
-    memmove(&w->mods[m], &w->mods[m + 1], (size_t)(w->num_mods - m - 1) * sizeof *mi);
+    free(mi);
+    // Only the pointers move; the other instances stay where they are.
+    memmove(&w->mods[m], &w->mods[m + 1], (size_t)(w->num_mods - m - 1) * sizeof w->mods[0]);
     w->num_mods--;
 }
 
@@ -516,30 +526,35 @@ static bool check_lights(const st_world *w, const st_plugin *p, st_err *err) {
 // Loads module `name` with its parameters; `order` check happens in resolve.
 static bool load(st_world *w, const char *name, st_err *err) {
     if (w->num_mods >= MAX_MODULES) return st_fail(err, ST_ERR_INPUT, "too many modules (max %d)", MAX_MODULES);
-    st_module_inst *mi = &w->mods[w->num_mods];
-    memset(mi, 0, sizeof *mi);
+    st_module_inst *mi = calloc(1, sizeof *mi);
+    if (!mi) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     mi->lib = st_plugin_open(name, err);
-    if (!mi->lib) return false;
+    if (!mi->lib) {
+        free(mi);
+        return false;
+    }
     mi->p = st_plugin_desc(mi->lib);
     if (!check_lights(w, mi->p, err) || !init_params(w, mi, err)) {
         st_plugin_close(mi->lib);
+        free(mi);
         return false;
     }
-    w->num_mods++;
+    mi->serial = ++w->next_serial;
+    w->mods[w->num_mods++] = mi;
     return true;
 }
 
 // Orders modules so each comes after the providers of what it requires
 // (a requirement "name?" is optional: it only orders).
 static bool resolve(st_world *w, st_err *err) {
-    st_module_inst sorted[MAX_MODULES];
+    st_module_inst *sorted[MAX_MODULES];
     bool placed[MAX_MODULES] = {0};
     int n = 0;
     while (n < w->num_mods) {
         bool progress = false;
         for (int i = 0; i < w->num_mods; i++) {
             if (placed[i]) continue;
-            const char *req = w->mods[i].p->requires;
+            const char *req = w->mods[i]->p->requires;
             bool ok = true;
             char tmp[ST_NAME_MAX];
             for (const char *r = req; r && *r && ok;) {
@@ -554,16 +569,17 @@ static bool resolve(st_world *w, st_err *err) {
                     if (optional) tmp[tl - 1] = 0;
                     bool found = false, any = false;
                     for (int j = 0; j < w->num_mods; j++) {
-                        if (j == i || !list_has(w->mods[j].p->provides, tmp)) continue;
+                        if (j == i || !list_has(w->mods[j]->p->provides, tmp)) continue;
                         any = true;
                         found |= placed[j];
                     }
                     if (!any && optional) found = true;
                     if (!any && !optional)
-                        return st_fail(err, ST_ERR_INPUT,
-                                       "%s: module '%s' requires '%s', which no module in the scene provides "
-                                       "(add {\"name\": \"%s\"} to modules)",
-                                       w->scene->path, w->mods[i].p->name, tmp, tmp);
+                        return st_fail(
+                            err, ST_ERR_INPUT,
+                            "%s: module '%s' requires '%s', which no module in the scene provides "
+                            "(add {\"name\": \"%s\"} to modules)",
+                            w->scene->path, w->mods[i]->p->name, tmp, tmp);
                     ok = found;
                 }
                 r = e;
@@ -580,7 +596,7 @@ static bool resolve(st_world *w, st_err *err) {
 }
 
 static bool instantiate(st_world *w, int m, st_err *err) {
-    st_module_inst *mi = &w->mods[m];
+    st_module_inst *mi = w->mods[m];
     if (mi->self) return true;
     mi->self = mi->p->create(w, mi->params, err);
     if (!mi->self) {
@@ -598,9 +614,9 @@ static bool build_regular(st_world *w, st_err *err) {
     char defines[1024];
     int n = snprintf(defines, sizeof defines, "ST_MAX_LIGHTS %d\n", ST_MAX_LIGHTS);
     for (int m = 0; m < w->num_mods; m++)
-        if (w->mods[m].p->regular_include)
+        if (w->mods[m]->p->regular_include)
             n += snprintf(defines + n, sizeof defines - (size_t)n, "#include \"%s\"\n",
-                          w->mods[m].p->regular_include);
+                          w->mods[m]->p->regular_include);
     st_shader *sh = st_shader_load("common/regular.vert", "common/regular.frag", defines, err);
     if (!sh) return false;
     st_shader_destroy(w->regular);
@@ -680,7 +696,7 @@ void st_world_destroy(st_world *w) {
     if (!w) return;
     // Teardown order: instances, then each plugin's cleanup, then dlclose.
     for (int m = 0; m < w->num_mods; m++)
-        if (w->mods[m].self) w->mods[m].p->destroy(w->mods[m].self), w->mods[m].self = NULL;
+        if (w->mods[m]->self) w->mods[m]->p->destroy(w->mods[m]->self), w->mods[m]->self = NULL;
     while (w->num_mods) unload(w, w->num_mods - 1);
     free_slots(w);
     st_shader_destroy(w->regular);
@@ -696,10 +712,8 @@ void st_world_destroy(st_world *w) {
 // ---- accessors and interactive changes ----------------------------------
 
 const st_scene *st_world_scene(const st_world *w) { return w->scene; }
-st_camera *st_world_camera(st_world *w) { return &w->cam; }
-const st_model *st_world_models(const st_world *w, int *n) {
-    if (n) *n = w->num_models;
-    return w->models;
+st_camera *st_world_camera(st_world *w) {
+    return &w->cam;
 }
 
 void st_world_invalidate(st_world *w, unsigned changes) { w->changes |= changes; }
@@ -729,13 +743,11 @@ bool st_world_has_module(const st_world *w, const char *module) { return find_mo
 bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
     int m = find_module(w, module);
     if (on == (m >= 0)) return true;
-    st_plugin_lib *before[MAX_MODULES]; // to roll back a failed switch-on
-    int nbefore = w->num_mods;
-    for (int i = 0; i < nbefore; i++) before[i] = w->mods[i].lib;
+    unsigned before = w->next_serial; // instances with a larger serial are this call's
     if (on) {
         if (!load(w, module, err)) return false;
         // Load what it requires first (turning on toth turns on shadow_map).
-        const char *req = w->mods[w->num_mods - 1].p->requires;
+        const char *req = w->mods[w->num_mods - 1]->p->requires;
         char tmp[ST_NAME_MAX];
         for (const char *r = req; r && *r;) {
             while (*r == ' ' || *r == ',') r++;
@@ -744,7 +756,8 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
             if (e > r && e[-1] != '?') { // optional requirements are not loaded
                 snprintf(tmp, sizeof tmp, "%.*s", (int)(e - r), r);
                 bool have = false;
-                for (int j = 0; j < w->num_mods; j++) have |= list_has(w->mods[j].p->provides, tmp);
+                for (int j = 0; j < w->num_mods; j++)
+                    have |= list_has(w->mods[j]->p->provides, tmp);
                 if (!have && !load(w, tmp, err)) {
                     unload(w, w->num_mods - 1);
                     return false;
@@ -754,12 +767,13 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
         }
     } else {
         // Refuse to remove a provider others still need.
-        const char *prov = w->mods[m].p->provides;
+        const char *prov = w->mods[m]->p->provides;
         for (int j = 0; j < w->num_mods; j++)
-            if (j != m && lists_meet(prov, w->mods[j].p->requires))
-                return st_fail(err, ST_ERR_INPUT, "module '%s' is required by '%s'", module, w->mods[j].p->name);
-        w->mods[m].p->destroy(w->mods[m].self);
-        w->mods[m].self = NULL;
+            if (j != m && lists_meet(prov, w->mods[j]->p->requires))
+                return st_fail(err, ST_ERR_INPUT, "module '%s' is required by '%s'", module,
+                               w->mods[j]->p->name);
+        w->mods[m]->p->destroy(w->mods[m]->self);
+        w->mods[m]->self = NULL;
         unload(w, m);
     }
     bool ok = resolve(w, err);
@@ -769,9 +783,7 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
         // A module (or its regular include) failed: unload what this call
         // loaded; the regular shader is only replaced on success.
         for (int i = w->num_mods - 1; i >= 0; i--) {
-            bool old = false;
-            for (int k = 0; k < nbefore; k++) old |= w->mods[i].lib == before[k];
-            if (!old) unload(w, i);
+            if (w->mods[i]->serial > before) unload(w, i);
         }
     }
     // The pass list always follows the module list, also after a failure.
@@ -784,7 +796,7 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
 bool st_world_set_param(st_world *w, const char *module, const char *param, double value, st_err *err) {
     int m = find_module(w, module);
     if (m < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' is not loaded", module);
-    st_module_inst *mi = &w->mods[m];
+    st_module_inst *mi = w->mods[m];
     int k = st_param_index(mi->p, param);
     if (k < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s'", module, param);
     const st_param_def *d = &mi->p->params[k];
@@ -796,8 +808,7 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
     } else if (d->type == ST_PARAM_BOOL) {
         value = value != 0;
     } else {
-        int nchoices = 1;
-        for (const char *c = d->choices; c && *c; c++) nchoices += *c == '|';
+        int nchoices = st_param_num_choices(d);
         if (value < 0 || value >= nchoices || value != floor(value))
             return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %g out of range", module, param, value);
     }
@@ -812,9 +823,9 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
 bool st_world_get_param(const st_world *w, const char *module, const char *param, double *value) {
     int m = find_module(w, module);
     if (m < 0) return false;
-    int k = st_param_index(w->mods[m].p, param);
+    int k = st_param_index(w->mods[m]->p, param);
     if (k < 0) return false;
-    *value = w->mods[m].params[k];
+    *value = w->mods[m]->params[k];
     return true;
 }
 
@@ -823,7 +834,7 @@ bool st_world_reload_shaders(st_world *w, st_err *err) {
     // broken left the old program); the old one stays on failure.
     if (!build_regular(w, err)) return false;
     for (int m = 0; m < w->num_mods; m++) {
-        st_module_inst *mi = &w->mods[m];
+        st_module_inst *mi = w->mods[m];
         if (mi->p->reload && !mi->p->reload(mi->self, err)) {
             st_err_prefix(err, "module '%s': ", mi->p->name);
             return false;
@@ -835,7 +846,7 @@ bool st_world_reload_shaders(st_world *w, st_err *err) {
 
 int st_world_num_modules(const st_world *w) { return w->num_mods; }
 st_module_info st_world_module(const st_world *w, int i) {
-    st_module_info mi = {w->mods[i].p, (double *)w->mods[i].params};
+    st_module_info mi = {w->mods[i]->p, (double *)w->mods[i]->params};
     return mi;
 }
 

@@ -107,7 +107,6 @@ void st_world_draw(st_world *w, st_shader *sh);
 void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f);
 const st_scene *st_world_scene(const st_world *w);
 st_camera *st_world_camera(st_world *w);
-const st_model *st_world_models(const st_world *w, int *n);
 
 // Interactive changes; each marks what the next frame must redo.
 // Marks ST_CHANGE_* as changed for the next frame (e.g. benchmarks that
@@ -127,6 +126,9 @@ bool st_world_reload_shaders(st_world *w, st_err *err);
 
 // ---- Modules and stats ---------------------------------------------------
 
+// Module i in frame order. `params` is the instance's own array (the one its
+// plugin reads): valid until that module is switched off or the world is
+// destroyed; write it only through st_world_set_param.
 typedef struct st_module_info {
     const st_plugin *plugin;
     double *params; // plugin->num_params values

@@ -1,6 +1,6 @@
 // Helpers for headless render tests: write a scene, run `strahl render`,
 // read the EXR back, and reproduce the camera's pixel rays on the CPU (the
-// pinhole convention of DESIGN.md) for analytic expectations.
+// pinhole convention of docs/physics.md) for analytic expectations.
 #ifndef ST_TEST_RENDER_H
 #define ST_TEST_RENDER_H
 #ifndef _GNU_SOURCE

@@ -1,4 +1,4 @@
-// atlas_gi: texture-atlas global illumination (Merz 2010, DESIGN.md).
+// atlas_gi: texture-atlas global illumination (Merz 2010, docs/physics.md).
 // The whole scene lives in one atlas (TEXCOORD_1, or generated: atlas.c).
 // Pass "gbuffer" rasterizes every triangle at its atlas position (plus one
 // point per texel the rasterizer would miss) into a G-buffer atlas: world
@@ -665,28 +665,13 @@ static int uniforms(void *self, const st_uniform **out) {
     return (int)(sizeof uniforms_table / sizeof uniforms_table[0]);
 }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = "atlas_gi",
-    .description = "texture-atlas global illumination (Merz 2010): G-buffer atlas, Hammersley gather over the whole "
-                   "scene, optional BVH visibility and more bounces, textured back onto the scene",
-    .params = params,
-    .num_params = P_COUNT,
-    .requires = "shadow_map?",
-    .provides = "atlas_gi",
-    .regular_include = "atlas_gi/regular.glsl",
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .uniforms = uniforms,
-    .needed = needed,
-    .on_pass = on_pass,
-    .param_changed = param_changed,
-    .reload = reload,
-    .light_types = ST_LIGHT_BITS_ALL, // direct light through common/lighting.glsl
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_PLUGIN(.name = "atlas_gi",
+          .description =
+              "texture-atlas global illumination (Merz 2010): G-buffer atlas, Hammersley gather "
+              "over the whole "
+              "scene, optional BVH visibility and more bounces, textured back onto the scene",
+          ST_PARAMS(params), .requires = "shadow_map?", .provides = "atlas_gi",
+          .regular_include = "atlas_gi/regular.glsl", .create = create, .destroy = destroy,
+          .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
+          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
+          .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

@@ -2,7 +2,7 @@
 // (mitchell, sousa) and their tests: where a point light lands on the screen,
 // how strongly its shafts are faded, and the light's tint.
 //
-// Fade rules (DESIGN.md: nothing runs that the scene does not need):
+// Fade rules (docs/architecture.md: nothing runs that the scene does not need):
 // - behind the camera or at its position (view depth w <= near): 0, and the
 //   projected position is never computed, so no mirrored rays;
 // - between near and 2 near of view depth: smoothstep up to 1 (the disc and

@@ -245,25 +245,10 @@ static bool reload(void *self, st_err *err) {
     return st_shader_reload(m->occ_sh, err) && st_shader_reload(m->disc_sh, err) && st_shader_reload(m->blur_sh, err);
 }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = "mitchell",
-    .description = "volumetric light scattering as a post-process (Mitchell, GPU Gems 3): radial blur of an "
-                   "occlusion image toward each light",
-    .params = params,
-    .num_params = P_COUNT,
-    .requires = "",
-    .provides = "",
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .needed = needed,
-    .on_pass = on_pass,
-    .shader = shader,
-    .reload = reload,
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_PLUGIN(.name = "mitchell",
+          .description = "volumetric light scattering as a post-process (Mitchell, GPU Gems 3): "
+                         "radial blur of an "
+                         "occlusion image toward each light",
+          ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
+          .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
+          .reload = reload)

@@ -187,27 +187,11 @@ static int uniforms(void *self, const st_uniform **out) {
 
 static bool reload(void *self, st_err *err) { return st_shader_reload(((shadow_map *)self)->depth, err); }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = "shadow_map",
-    .description = "omnidirectional shadow maps for point and spot lights (distance cube maps, slope-scaled bias, optional PCF)",
-    .params = params,
-    .num_params = P_COUNT,
-    .requires = "",
-    .provides = "shadow_map",
-    .regular_include = "shadow_map/visibility.glsl",
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .uniforms = uniforms,
-    .needed = needed,
-    .on_pass = on_pass,
-    .reload = reload,
-    // A spot light's cone lies inside its distance cube: same map, same bias.
-    .light_types = ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_SPOT),
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_PLUGIN(.name = "shadow_map",
+          .description = "omnidirectional shadow maps for point and spot lights (distance cube maps, "
+                         "slope-scaled bias, optional PCF)",
+          ST_PARAMS(params), .provides = "shadow_map",
+          .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,
+          .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
+          .on_pass = on_pass, .reload = reload,
+          /* a spot's cone lies inside its distance cube */ .light_types = ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_SPOT))

@@ -179,25 +179,10 @@ static bool reload(void *self, st_err *err) {
            st_shader_reload(s->compose_sh, err);
 }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = "sousa",
-    .description = "sun shafts (Sousa, CryEngine 2): linear depth mask blurred toward each light in 3 passes "
-                   "with steps TAPS^-1, TAPS^-2, TAPS^-3",
-    .params = params,
-    .num_params = P_COUNT,
-    .requires = "",
-    .provides = "",
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .needed = needed,
-    .on_pass = on_pass,
-    .shader = shader,
-    .reload = reload,
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_PLUGIN(.name = "sousa",
+          .description = "sun shafts (Sousa, CryEngine 2): linear depth mask blurred toward each "
+                         "light in 3 passes "
+                         "with steps TAPS^-1, TAPS^-2, TAPS^-3",
+          ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
+          .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
+          .reload = reload)

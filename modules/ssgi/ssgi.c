@@ -96,24 +96,9 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 
 static bool reload(void *self, st_err *err) { return st_shader_reload(((ssgi *)self)->sh, err); }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = "ssgi",
-    .description = "screen-space one-bounce gather from the camera's G-buffer (baseline for atlas_gi)",
-    .params = params,
-    .num_params = P_COUNT,
-    .requires = "",
-    .provides = "",
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .shader = shader,
-    .on_pass = on_pass,
-    .reload = reload,
-    .light_types = ST_LIGHT_BITS_ALL, // direct light through common/lighting.glsl
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_PLUGIN(.name = "ssgi",
+          .description =
+              "screen-space one-bounce gather from the camera's G-buffer (baseline for atlas_gi)",
+          ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
+          .pass_info = pass_info, .shader = shader, .on_pass = on_pass, .reload = reload,
+          .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

@@ -7,7 +7,7 @@
 //           pixel, leaving out neighbours on another surface
 //   compose (full resolution)  depth-aware upsampling when the march ran at
 //           half or quarter resolution, and L = L_surface e^(-sigma_t s) + L_in
-// The integration follows DESIGN.md (Hillaire's energy-conserving step);
+// The integration follows docs/physics.md (Hillaire's energy-conserving step);
 // integrator=thesis/thesis_far reproduce the thesis' Riemann sums. Without a
 // medium, or with sigma_s = 0, no pass runs.
 #include "st_world.h"
@@ -235,27 +235,11 @@ static bool reload(void *self, st_err *err) {
     return true;
 }
 
-static const st_plugin plugin = {
-    .abi_major = ST_ABI_MAJOR,
-    .abi_minor = ST_ABI_MINOR,
-    .struct_size = sizeof(st_plugin),
-    .name = "toth",
-    .description = "ray-marched single scattering in a homogeneous medium (Toth & Umenhoffer 2009): "
-                   "shadow-mapped view-ray march, interleaved sampling, reduced-resolution march",
-    .params = params,
-    .num_params = P_COUNT,
-    .requires = "shadow_map",
-    .provides = "",
-    .create = create,
-    .destroy = destroy,
-    .num_passes = num_passes,
-    .pass_info = pass_info,
-    .rendertarget = rendertarget,
-    .needed = needed,
-    .on_pass = on_pass,
-    .shader = shader,
-    .param_changed = param_changed,
-    .reload = reload,
-};
-
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_PLUGIN(.name = "toth",
+          .description =
+              "ray-marched single scattering in a homogeneous medium (Toth & Umenhoffer 2009): "
+              "shadow-mapped view-ray march, interleaved sampling, reduced-resolution march",
+          ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
+          .num_passes = num_passes, .pass_info = pass_info, .rendertarget = rendertarget,
+          .needed = needed, .on_pass = on_pass, .shader = shader, .param_changed = param_changed,
+          .reload = reload)

@@ -1,4 +1,4 @@
-// The one-bounce gather estimators of DESIGN.md, shared by atlas_gi (senders
+// The one-bounce gather estimators of docs/physics.md, shared by atlas_gi (senders
 // drawn over the atlas) and ssgi (senders drawn over the camera image).
 //   area:   L1 = rho/pi (cells/N) sum a_j L0_j V cos+x cos+j pi/(pi d^2 + a_j)
 //           (a texel as a disk: a/d^2 bounded at concave edges)

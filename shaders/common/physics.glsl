@@ -1,4 +1,4 @@
-// The radiometric model shared with framework/st_physics.c (DESIGN.md):
+// The radiometric model shared with framework/st_physics.c (docs/physics.md):
 // normalized phase functions and the integration of one march step. Keep the
 // two in step: tests/toth evaluates these functions on the GPU against the C.
 #ifndef ST_PHYSICS_GLSL

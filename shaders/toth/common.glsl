@@ -13,7 +13,7 @@ ivec2 toth_full_pixel(ivec2 lp) {
 }
 
 // Unit direction of the view ray through the centre of full-resolution pixel
-// px (GL window coordinates, origin bottom left), as the pinhole of DESIGN.md.
+// px (GL window coordinates, origin bottom left), as the pinhole of docs/physics.md.
 vec3 toth_view_dir(ivec2 px) {
     vec2 ndc = (vec2(px) + 0.5) / st_resolution * 2.0 - 1.0;
     vec4 a = st_inv_view_proj * vec4(ndc, -1.0, 1.0);

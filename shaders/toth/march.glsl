@@ -1,5 +1,5 @@
 // toth: the march of one view ray (Toth & Umenhoffer 2009, with the step
-// integration of DESIGN.md). The includer defines the source first:
+// integration of docs/physics.md). The includer defines the source first:
 //   vec3 toth_source(vec3 x, vec3 dir, float min_d2)
 // the in-scattered radiance per metre at x toward the camera (before the
 // camera-side transmittance), with light distances below sqrt(min_d2)

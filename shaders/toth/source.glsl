@@ -1,4 +1,4 @@
-// toth: the single-scattering source of DESIGN.md at a point x of a view ray
+// toth: the single-scattering source of docs/physics.md at a point x of a view ray
 // with direction dir (camera -> scene): the sum over point lights of
 // sigma_s phase(theta) I V / d^2 e^(-sigma_t d), V from shadow_map.
 #ifndef TOTH_SOURCE_GLSL

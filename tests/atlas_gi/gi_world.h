@@ -71,7 +71,7 @@ static inline void gi_set_pose(gi_world *g, const gi_pose *p) {
 }
 
 // Bilinear lookup of channel c of the image at the projection of world
-// point x under pose p (the pinhole convention of DESIGN.md). Returns -1 if
+// point x under pose p (the pinhole convention of docs/physics.md). Returns -1 if
 // the point is not at least 3 pixels inside the image.
 static inline double gi_sample_point(const st_image *img, const gi_pose *p, const double x[3], int c) {
     const double up[3] = {0, 1, 0};

@@ -1,4 +1,4 @@
-// Form-factor oracles (DESIGN.md): a Lambertian emitter quad of constant
+// Form-factor oracles (docs/physics.md): a Lambertian emitter quad of constant
 // radiance L0 = 1 and a receiver unit square of albedo rho. The area-averaged
 // one-bounce indirect radiance on the receiver is rho F with
 //   perpendicular unit squares sharing an edge: F = 0.200044

@@ -56,7 +56,7 @@ static inline void set_medium(st_scene *s, double sigma_s, double sigma_a, st_ph
     s->medium.g = (float)g;
 }
 
-// DESIGN.md's pinhole, written out again here so the renderer's camera is
+// docs/physics.md's pinhole, written out again here so the renderer's camera is
 // checked against the contract rather than against itself.
 static inline void contract_ray(const st_scene *s, int i, int j, double dir[3]) {
     const st_camera_desc *c = &s->camera;

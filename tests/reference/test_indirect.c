@@ -119,7 +119,7 @@ static void shared_edge(void) {
         means[k] = r.mean;
         st_image_free(&img);
     }
-    // DESIGN.md: the thesis estimator is 2.8x too bright here.
+    // docs/physics.md: the thesis estimator is 2.8x too bright here.
     fprintf(stderr, "  thesis / true: %.3f\n", means[2] / means[0]);
     CHECK(fabs(means[2] / means[0] - 2.82) < 0.03, "thesis estimator ratio %.3f, expected 2.82", means[2] / means[0]);
     free(ff);

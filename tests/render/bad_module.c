@@ -31,3 +31,19 @@ static const st_plugin plugin = {
 };
 
 ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+
+#if BAD_FRAME_SIZE
+// Built as if st_frame had grown by a field this strahl does not know.
+ST_EXPORT const st_abi_sizes *strahl_plugin_sizes(void) {
+    static st_abi_sizes s = ST_ABI_SIZES;
+    s.frame += 8;
+    return &s;
+}
+#elif BAD_PASS_INFO_SIZE
+// Built with a smaller st_pass_info: the world would read past its end.
+ST_EXPORT const st_abi_sizes *strahl_plugin_sizes(void) {
+    static st_abi_sizes s = ST_ABI_SIZES;
+    s.pass_info -= 8;
+    return &s;
+}
+#endif

@@ -108,5 +108,10 @@ int main(void) {
     expect_refused("newer ABI minor", json, env, NULL, "module 'bad_abi_newer_minor'", 2);
     snprintf(json, sizeof json, "%s, \"modules\": [{\"name\": \"bad_missing_hooks\"}]}", GOOD_HEAD);
     expect_refused("missing hooks", json, env, NULL, "missing required hook(s): create, destroy, num_passes", 2);
+    snprintf(json, sizeof json, "%s, \"modules\": [{\"name\": \"bad_frame_size\"}]}", GOOD_HEAD);
+    expect_refused("larger st_frame", json, env, NULL, "built with a different st_frame", 2);
+    snprintf(json, sizeof json, "%s, \"modules\": [{\"name\": \"bad_pass_info_size\"}]}",
+             GOOD_HEAD);
+    expect_refused("other st_pass_info", json, env, NULL, "built with a different st_pass_info", 2);
     return st_test_summary("test_bad_input");
 }

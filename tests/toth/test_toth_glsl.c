@@ -2,7 +2,7 @@
 // shader files (shaders/common/physics.glsl, shaders/toth/march.glsl):
 // every phase function integrates to 1 over the sphere, the GLSL mirrors
 // framework/st_physics.c, and the march loop integrates a constant source as
-// DESIGN.md documents (energy exact at 4 steps, the thesis' Riemann sums
+// docs/physics.md documents (energy exact at 4 steps, the thesis' Riemann sums
 // 3.480 and 0.997), also when its steps are split over interleaved pixels.
 #include "st_test.h" // first: it defines _GNU_SOURCE
 #include "st_gl.h"

@@ -86,7 +86,7 @@ static inline st_inscatter_problem toth_room_problem(const st_test_cam *cam, int
     return p;
 }
 
-// Zero extinction, isotropic: the atan closed form of DESIGN.md.
+// Zero extinction, isotropic: the atan closed form of docs/physics.md.
 static inline double toth_atan_oracle(const st_inscatter_problem *p) {
     double dl = sqrt(p->dir[0] * p->dir[0] + p->dir[1] * p->dir[1] + p->dir[2] * p->dir[2]);
     double rel[3] = {p->light[0] - p->origin[0], p->light[1] - p->origin[1], p->light[2] - p->origin[2]};

@@ -1,4 +1,4 @@
-// strahl reference: the CPU renderer (Embree 3) that computes DESIGN.md's
+// strahl reference: the CPU renderer (Embree 3) that computes docs/physics.md's
 // model with exact visibility and many samples. Internal to the tools.
 //
 // Model, per pixel (one view ray through the pixel centre, no antialiasing,

@@ -197,8 +197,6 @@ void view_overlay(view *v);
 // Parameter slider mapping (log scale for wide positive ranges).
 double view_param_to_t(const st_param_def *d, double value);
 double view_param_from_t(const st_param_def *d, double t);
-int view_param_choices(const st_param_def *d);
-void view_param_choice(const st_param_def *d, int k, char *out, size_t n);
 
 // ---- script (view_script.c) ---------------------------------------------
 // Runs a script file; returns an exit code (0 ok, 1 failed expectation or

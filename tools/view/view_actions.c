@@ -60,7 +60,7 @@ void view_refresh_modules(view *v) {
         v->gi = 3; // without a display switch the module shows its combined result
         if (pi >= 0) {
             char c[ST_NAME_MAX];
-            view_param_choice(&mi.plugin->params[pi], (int)mi.params[pi], c, sizeof c);
+            st_param_choice(&mi.plugin->params[pi], (int)mi.params[pi], c, sizeof c);
             for (int k = 1; k < 5; k++)
                 if (!strncmp(c, view_gi_modes[k], strlen(view_gi_modes[k]))) v->gi = k;
         }
@@ -164,9 +164,9 @@ static int gi_display_param(const st_plugin *p) {
     for (int i = 0; i < p->num_params; i++) {
         const st_param_def *d = &p->params[i];
         if (d->type != ST_PARAM_ENUM) continue;
-        for (int k = 0; k < view_param_choices(d); k++) {
+        for (int k = 0; k < st_param_num_choices(d); k++) {
             char c[ST_NAME_MAX];
-            view_param_choice(d, k, c, sizeof c);
+            st_param_choice(d, k, c, sizeof c);
             if (!strcmp(c, "indirect")) return i;
         }
     }
@@ -177,9 +177,9 @@ static int gi_display_param(const st_plugin *p) {
 // ("atlas" matches "atlas_view"); -1 if the module has none.
 static int gi_choice(const st_param_def *d, const char *mode) {
     int prefix = -1;
-    for (int k = 0; k < view_param_choices(d); k++) {
+    for (int k = 0; k < st_param_num_choices(d); k++) {
         char c[ST_NAME_MAX];
-        view_param_choice(d, k, c, sizeof c);
+        st_param_choice(d, k, c, sizeof c);
         if (!strcmp(c, mode)) return k;
         if (prefix < 0 && !strncmp(c, mode, strlen(mode))) prefix = k;
     }
@@ -236,7 +236,7 @@ bool view_set_param(view *v, const char *module, const char *param, double value
     // The GI cycle follows a display switch set by hand.
     if (!strcmp(module, GI_MODULE) && d->type == ST_PARAM_ENUM && gi_display_param(p) == st_param_index(p, param)) {
         char c[ST_NAME_MAX];
-        view_param_choice(d, (int)value, c, sizeof c);
+        st_param_choice(d, (int)value, c, sizeof c);
         for (int k = 1; k < 5; k++)
             if (!strncmp(c, view_gi_modes[k], strlen(view_gi_modes[k]))) v->gi = k;
     }
@@ -259,9 +259,9 @@ bool view_set_param_text(view *v, const char *module, const char *param, const c
     } else {
         value = -1;
         if (d->type == ST_PARAM_ENUM)
-            for (int c = 0; c < view_param_choices(d) && value < 0; c++) {
+            for (int c = 0; c < st_param_num_choices(d) && value < 0; c++) {
                 char name[ST_NAME_MAX];
-                view_param_choice(d, c, name, sizeof name);
+                st_param_choice(d, c, name, sizeof name);
                 if (!strcmp(name, text)) value = c;
             }
         if (value < 0) {
@@ -418,7 +418,7 @@ static bool nudge(view *v, int dir, bool coarse, st_err *err) {
     if (d->type == ST_PARAM_BOOL) {
         nv = val != 0 ? 0 : 1;
     } else if (d->type == ST_PARAM_ENUM) {
-        int n = view_param_choices(d);
+        int n = st_param_num_choices(d);
         nv = fmod(val + dir + n, n);
     } else {
         double t = view_param_to_t(d, val) + dir * (coarse ? 0.1 : 0.01);

@@ -21,23 +21,6 @@
 #define C_ERR_BG VIEW_RGBA(110, 20, 20, 220)
 #define C_KEY VIEW_RGBA(255, 200, 120, 255)
 
-int view_param_choices(const st_param_def *d) {
-    int n = 1;
-    for (const char *c = d->choices; c && *c; c++) n += *c == '|';
-    return n;
-}
-
-void view_param_choice(const st_param_def *d, int k, char *out, size_t n) {
-    const char *c = d->choices ? d->choices : "";
-    for (int i = 0; i < k && c; i++) {
-        c = strchr(c, '|');
-        if (c) c++;
-    }
-    if (!c) c = "";
-    size_t l = strcspn(c, "|");
-    snprintf(out, n, "%.*s", (int)l, c);
-}
-
 // Wide positive ranges (resolution 16..8192, sigma 1e-4..10) get a log
 // slider so every decade is reachable.
 static bool log_scale(const st_param_def *d) { return d->min > 0 && d->max / d->min >= 100; }
@@ -45,7 +28,7 @@ static bool log_scale(const st_param_def *d) { return d->min > 0 && d->max / d->
 double view_param_to_t(const st_param_def *d, double x) {
     if (d->type == ST_PARAM_BOOL) return x != 0;
     if (d->type == ST_PARAM_ENUM) {
-        int n = view_param_choices(d);
+        int n = st_param_num_choices(d);
         return n > 1 ? x / (n - 1) : 0;
     }
     if (!(d->max > d->min) || !isfinite(d->max - d->min)) return 0;
@@ -56,7 +39,7 @@ double view_param_to_t(const st_param_def *d, double x) {
 double view_param_from_t(const st_param_def *d, double t) {
     t = t < 0 ? 0 : t > 1 ? 1 : t;
     if (d->type == ST_PARAM_BOOL) return t >= 0.5;
-    if (d->type == ST_PARAM_ENUM) return floor(t * (view_param_choices(d) - 1) + 0.5);
+    if (d->type == ST_PARAM_ENUM) return floor(t * (st_param_num_choices(d) - 1) + 0.5);
     double x = log_scale(d) ? d->min * pow(d->max / d->min, t) : d->min + t * (d->max - d->min);
     if (d->type == ST_PARAM_INT) x = floor(x + 0.5);
     return x < d->min ? d->min : x > d->max ? d->max : x;
