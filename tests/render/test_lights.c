@@ -8,18 +8,21 @@ static const double RHO = 0.6;
 static const double CAM[3] = {0, 2.5, 3}, TGT[3] = {0, 0, 0}, UP[3] = {0, 1, 0};
 enum { W = 96, H = 64 };
 
-static void write_scene(const char *path, const char *light, const char *medium, const char *modules) {
+static void write_scene(const char *path, const char *light, const char *medium,
+                        const char *modules) {
     char json[4096];
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": %d, \"height\": %d},\n"
-             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [%g, %g, %g],"
-             " \"fov_y\": 50, \"near\": 0.05, \"far\": 100},\n"
-             " \"lights\": [%s],\n"
-             " \"geometry\": [{\"quad\": {\"corner\": [-5, 0, -5], \"u\": [0, 0, 10], \"v\": [10, 0, 0]},"
-             " \"albedo\": [%g, %g, %g]}],\n%s%s%s"
-             " \"modules\": [%s]}\n",
-             W, H, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], UP[0], UP[1], UP[2], light, RHO, RHO, RHO,
-             medium ? " \"medium\": " : "", medium ? medium : "", medium ? ",\n" : "", modules);
+    snprintf(
+        json, sizeof json,
+        "{\"image\": {\"width\": %d, \"height\": %d},\n"
+        " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [%g, %g, %g],"
+        " \"fov_y\": 50, \"near\": 0.05, \"far\": 100},\n"
+        " \"lights\": [%s],\n"
+        " \"geometry\": [{\"quad\": {\"corner\": [-5, 0, -5], \"u\": [0, 0, 10], \"v\": [10, 0, "
+        "0]},"
+        " \"albedo\": [%g, %g, %g]}],\n%s%s%s"
+        " \"modules\": [%s]}\n",
+        W, H, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], UP[0], UP[1], UP[2], light, RHO, RHO,
+        RHO, medium ? " \"medium\": " : "", medium ? medium : "", medium ? ",\n" : "", modules);
     st_test_write(path, json);
 }
 
@@ -37,7 +40,8 @@ static double check(const st_image *img, expect_fn f, int *lit, int *dark, int *
             st_test_ray(&c, i, j, d);
             if (d[1] >= -1e-3) continue;
             double t = -CAM[1] / d[1], p[3];
-            for (int k = 0; k < 3; k++) p[k] = CAM[k] + t * d[k];
+            for (int k = 0; k < 3; k++)
+                p[k] = CAM[k] + t * d[k];
             if (fabs(p[0]) > 4.9 || fabs(p[2]) > 4.9) continue;
             const float *px = st_image_px(img, i, j);
             double e0 = f(p, 0);
@@ -48,7 +52,8 @@ static double check(const st_image *img, expect_fn f, int *lit, int *dark, int *
             }
             if (e0 < 1e-3 * f((double[]){0.3, 0, -0.2}, 0)) continue; // the cone's rim, where f ~ 0
             (*lit)++;
-            for (int ch = 0; ch < 3; ch++) worst = fmax(worst, fabs(px[ch] - f(p, ch)) / f(p, ch));
+            for (int ch = 0; ch < 3; ch++)
+                worst = fmax(worst, fabs(px[ch] - f(p, ch)) / f(p, ch));
         }
     return worst;
 }
@@ -86,11 +91,12 @@ static void run(const char *what, const char *scene, const char *out, expect_fn 
     if (!st_test_read(out, &img)) return;
     int lit, dark, dark_bad;
     double worst = check(&img, f, &lit, &dark, &dark_bad);
-    printf("  %-28s worst relative error %.2e over %d lit pixels, %d dark (%d not 0)\n", what, worst, lit, dark,
-           dark_bad);
+    printf("  %-28s worst relative error %.2e over %d lit pixels, %d dark (%d not 0)\n", what,
+           worst, lit, dark, dark_bad);
     CHECK(lit > 500, "%s: %d lit pixels", what, lit);
     CHECK(worst < 0.01, "%s: worst relative error %.4f", what, worst);
-    CHECK(!want_dark || (dark > 200 && dark_bad == 0), "%s: %d dark pixels, %d of them not 0", what, dark, dark_bad);
+    CHECK(!want_dark || (dark > 200 && dark_bad == 0), "%s: %d dark pixels, %d of them not 0", what,
+          dark, dark_bad);
     CHECK(st_test_all_finite(&img), "%s: finite", what);
     st_image_free(&img);
 }
@@ -102,9 +108,12 @@ int main(void) {
 
     const double sd[3] = {0.3, -1.0, 0.2};
     double sl = sqrt(sd[0] * sd[0] + sd[1] * sd[1] + sd[2] * sd[2]);
-    for (int k = 0; k < 3; k++) sun_dir[k] = sd[k] / sl;
-    snprintf(light, sizeof light, "{\"type\": \"directional\", \"direction\": [%g, %g, %g], \"irradiance\": [%g, %g, %g]}",
-             sd[0], sd[1], sd[2], E[0], E[1], E[2]);
+    for (int k = 0; k < 3; k++)
+        sun_dir[k] = sd[k] / sl;
+    snprintf(
+        light, sizeof light,
+        "{\"type\": \"directional\", \"direction\": [%g, %g, %g], \"irradiance\": [%g, %g, %g]}",
+        sd[0], sd[1], sd[2], E[0], E[1], E[2]);
     write_scene(scene, light, NULL, "");
     run("directional", scene, out, expect_sun, 0);
 
@@ -116,20 +125,24 @@ int main(void) {
         entry = fmax(entry, -(c[0] * sun_dir[0] + c[1] * sun_dir[1] + c[2] * sun_dir[2]));
     }
     sigma_t[0] = 0.05, sigma_t[1] = 0.1, sigma_t[2] = 0.2;
-    write_scene(scene, light, "{\"sigma_s\": [0.01, 0.02, 0.05], \"sigma_a\": [0.04, 0.08, 0.15]}", "");
+    write_scene(scene, light, "{\"sigma_s\": [0.01, 0.02, 0.05], \"sigma_a\": [0.04, 0.08, 0.15]}",
+                "");
     run("directional in a medium", scene, out, expect_sun, 0);
 
     const double ad[3] = {0.2, -1.0, -0.1};
     double al = sqrt(ad[0] * ad[0] + ad[1] * ad[1] + ad[2] * ad[2]);
-    for (int k = 0; k < 3; k++) spot_dir[k] = ad[k] / al;
+    for (int k = 0; k < 3; k++)
+        spot_dir[k] = ad[k] / al;
     snprintf(light, sizeof light,
-             "{\"type\": \"spot\", \"position\": [%g, %g, %g], \"direction\": [%g, %g, %g], \"intensity\": [%g, %g, %g],"
+             "{\"type\": \"spot\", \"position\": [%g, %g, %g], \"direction\": [%g, %g, %g], "
+             "\"intensity\": [%g, %g, %g],"
              " \"inner_angle\": %g, \"outer_angle\": %g}",
              SP[0], SP[1], SP[2], ad[0], ad[1], ad[2], SI[0], SI[1], SI[2], INNER, OUTER);
     write_scene(scene, light, NULL, "");
     run("spot", scene, out, expect_spot, 1);
     // shadow_map handles spots in its cube: no acne, the cone's outside stays 0.
-    write_scene(scene, light, NULL, "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}");
+    write_scene(scene, light, NULL,
+                "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}");
     run("spot with shadow_map", scene, out, expect_spot, 1);
     return st_test_summary("test_lights");
 }
