@@ -49,7 +49,7 @@ static void release(shadow_map *s) {
     if (s->size) st_gpu_track(-(long long)s->size * s->size * 4 * (6 * (s->layers > 0 ? s->layers : 1) + 1));
     if (s->sun_array) {
         glDeleteTextures(1, &s->sun_array);
-        st_gpu_track(-(long long)s->size * s->size * 4 * s->sun_layers);
+        st_gpu_track(s->sun_layers > 0 ? -(long long)s->size * s->size * 4 * s->sun_layers : -4);
     }
     s->fbo = s->cube_array = s->depth_rb = s->sun_array = 0;
     s->sun_layers = 0;
@@ -78,15 +78,19 @@ static bool allocate(shadow_map *s, st_err *err) {
     glCreateFramebuffers(1, &s->fbo);
     glNamedFramebufferRenderbuffer(s->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->depth_rb);
     st_gpu_track((long long)size * size * 4 * (6 * n + 1)); // R32F faces + depth
-    if (sun_layers > 0) { // the light's path per texel, one layer per (light, cascade)
+    // The light's path per texel, one layer per (light, cascade). Without a
+    // directional light a 1x1 layer: every sampler the shaders declare must
+    // see a texture of its own type, or the draw fails.
+    {
+        int n_sun = sun_layers > 0 ? size : 1;
         s->sun_layers = sun_layers;
         glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &s->sun_array);
-        glTextureStorage3D(s->sun_array, 1, GL_R32F, size, size, sun_layers);
+        glTextureStorage3D(s->sun_array, 1, GL_R32F, n_sun, n_sun, sun_layers > 0 ? sun_layers : 1);
         glTextureParameteri(s->sun_array, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(s->sun_array, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        st_gpu_track((long long)size * size * 4 * sun_layers);
+        st_gpu_track(sun_layers > 0 ? (long long)size * size * 4 * sun_layers : 4);
         for (int i = 0; i < ST_MAX_LIGHTS; i++) s->sun_dirty[i] = true;
     }
     return st_gl_check("shadow map arrays", err);
@@ -256,8 +260,7 @@ static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f
 }
 
 static void u_suns(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    shadow_map *s = self;
-    if (s->sun_array) st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, s->sun_array);
+    st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, ((shadow_map *)self)->sun_array);
 }
 static void u_sun_slot(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1iv(loc, ST_MAX_LIGHTS, ((shadow_map *)self)->sun_slot);
