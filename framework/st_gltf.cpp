@@ -561,9 +561,32 @@ bool node_light(const Model &m, const tinygltf::Node &n, int ni, const Mat &w,
     if (!(li >= 0 && li < (double)m.lights.size()) || li != std::floor(li))
         return fail(e, "nodes[%d].extensions.KHR_lights_punctual.light: %g does not exist", ni, li);
     const tinygltf::Light &l = m.lights[(size_t)li];
-    if (l.type != "point")
-        return fail(e, "KHR_lights_punctual.lights[%d]: type '%s' is not supported, only point lights",
-                    (int)li, l.type.c_str());
+    st_light_desc d = {};
+    if (l.type == "directional")
+        d.type = ST_LIGHT_DIRECTIONAL;
+    else if (l.type == "spot")
+        d.type = ST_LIGHT_SPOT;
+    else if (l.type != "point")
+        return fail(e, "KHR_lights_punctual.lights[%d]: type '%s' is not point, directional or spot", (int)li,
+                    l.type.c_str());
+    if (d.type != ST_LIGHT_POINT) {
+        // Lights shine along the node's local -z.
+        double dir[3] = {-w[8], -w[9], -w[10]};
+        double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        if (!(len > 1e-12) || !std::isfinite(len))
+            return fail(e, "nodes[%d]: the light's direction is degenerate (scaled to zero?)", ni);
+        for (int k = 0; k < 3; k++) d.direction[k] = (float)(dir[k] / len);
+    }
+    if (d.type == ST_LIGHT_SPOT) {
+        const double pi = 3.14159265358979323846;
+        double inner = l.spot.innerConeAngle, outer = l.spot.outerConeAngle;
+        if (!(outer > 0 && outer <= pi / 2 + 1e-9) || !(inner >= 0 && inner < outer))
+            return fail(e, "KHR_lights_punctual.lights[%d].spot: expected 0 <= innerConeAngle < outerConeAngle "
+                           "<= pi/2, got %g and %g",
+                        (int)li, inner, outer);
+        d.inner_angle = (float)inner;
+        d.outer_angle = (float)std::min(outer, pi / 2);
+    }
     double color[3] = {1, 1, 1};
     if (!l.color.empty()) {
         if (l.color.size() != 3 || !all_finite(l.color))
@@ -572,10 +595,10 @@ bool node_light(const Model &m, const tinygltf::Node &n, int ni, const Mat &w,
     }
     if (!std::isfinite(l.intensity) || l.intensity < 0)
         return fail(e, "KHR_lights_punctual.lights[%d].intensity: expected >= 0", (int)li);
-    st_light_desc d = {};
     for (int k = 0; k < 3; k++) {
         if (color[k] < 0) return fail(e, "KHR_lights_punctual.lights[%d].color: negative", (int)li);
-        // candela -> W/sr at 683 lm/W (Blender's exporter multiplies by it).
+        // candela -> W/sr (point, spot) and lux -> W/m^2 (directional) at
+        // 683 lm/W (Blender's exporter multiplies by it).
         double I = l.intensity / 683.0 * color[k];
         if (!(I <= std::numeric_limits<float>::max()) || !(std::fabs(w[12 + k]) < 1e30))
             return fail(e, "nodes[%d]: light overflows a float", ni);

@@ -61,7 +61,7 @@ extern "C" {
 #endif
 
 #define ST_ABI_MAJOR 1
-#define ST_ABI_MINOR 0
+#define ST_ABI_MINOR 1
 #define ST_PLUGIN_SYMBOL "strahl_plugin"
 #define ST_MAX_PARAMS 32
 #define ST_MAX_LIGHTS 8
@@ -182,6 +182,10 @@ typedef struct st_plugin {
     // Recompile shaders from their files; keep the old ones on failure.
     bool (*reload)(void *self, st_err *err);
     void (*cleanup)(void); // once, after the last instance, before dlclose
+
+    // ABI 1.1: the light types the technique handles (ST_LIGHT_BIT mask);
+    // 0 = point lights only. The world refuses a scene with any other type.
+    unsigned light_types;
 } st_plugin;
 
 typedef const st_plugin *(*st_plugin_fn)(void);

@@ -444,6 +444,48 @@ void st_transmittance(const double sigma_t[3], double d, double out[3]) {
 }
 
 double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t) {
-    if (!(cos_theta > 0.0) || !(d > 0.0)) return 0.0;
-    return rho / ST_PI * intensity * cos_theta / (d * d) * exp(-sigma_t * d);
+    if (!(d > 0.0)) return 0.0;
+    return st_direct_lambert(rho, intensity / (d * d), cos_theta, d, sigma_t);
+}
+
+double st_spot_falloff(double cos_axis, double inner, double outer) {
+    double co = cos(outer), scale = 1.0 / fmax(0.001, cos(inner) - co);
+    double a = fmin(fmax((cos_axis - co) * scale, 0.0), 1.0);
+    return a * a;
+}
+
+double st_directional_entry(const st_scene *scene, const float direction[3]) {
+    double lo[3], hi[3];
+    if (!st_scene_bounds(scene, lo, hi)) return -INFINITY;
+    double e = -INFINITY;
+    for (int k = 0; k < 8; k++) {
+        double c[3] = {k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]};
+        e = fmax(e, -(c[0] * direction[0] + c[1] * direction[1] + c[2] * direction[2]));
+    }
+    return e;
+}
+
+bool st_light_incident(const st_light_desc *l, double entry, const double x[3], st_incident *out) {
+    memset(out, 0, sizeof *out);
+    if (l->type == ST_LIGHT_DIRECTIONAL) {
+        for (int k = 0; k < 3; k++) out->to_light[k] = -l->direction[k], out->E[k] = l->intensity[k];
+        out->dist = INFINITY;
+        double along = x[0] * out->to_light[0] + x[1] * out->to_light[1] + x[2] * out->to_light[2];
+        out->path = fmax(0.0, entry - along);
+        return true;
+    }
+    double v[3] = {l->position[0] - x[0], l->position[1] - x[1], l->position[2] - x[2]};
+    double d2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    if (!(d2 > 0.0)) return false;
+    double d = sqrt(d2), f = 1.0;
+    for (int k = 0; k < 3; k++) out->to_light[k] = v[k] / d;
+    if (l->type == ST_LIGHT_SPOT) {
+        double c = -(out->to_light[0] * l->direction[0] + out->to_light[1] * l->direction[1] +
+                     out->to_light[2] * l->direction[2]);
+        f = st_spot_falloff(c, l->inner_angle, l->outer_angle);
+        if (!(f > 0.0)) return false;
+    }
+    out->dist = out->path = d;
+    for (int k = 0; k < 3; k++) out->E[k] = l->intensity[k] * f / d2;
+    return true;
 }

@@ -9,6 +9,7 @@
 #ifndef ST_PHYSICS_H
 #define ST_PHYSICS_H
 #include "st_scene.h"
+#include <math.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -27,6 +28,36 @@ void st_transmittance(const double sigma_t[3], double d, double out[3]);
 // Direct light on a Lambertian surface of albedo rho from a point light of
 // intensity I at distance d: rho/pi I max(cos, 0) / d^2 e^(-sigma_t d).
 double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t);
+
+// ---- Light arriving at a point ----------------------------------------------
+// glTF's spot falloff (KHR_lights_punctual): with c = cos of the angle between
+// the spot's axis and the direction from the light to the point,
+// s = 1 / max(0.001, cos(inner) - cos(outer)), the factor is
+// clamp((c - cos(outer)) s, 0, 1)^2: 1 inside the inner cone, 0 outside the outer.
+double st_spot_falloff(double cos_axis, double inner, double outer);
+
+// A directional light enters the medium at the plane, normal to its
+// direction, that touches the scene's bounds on the light's side; `entry` =
+// max over the bounds' corners c of dot(c, -direction). Its path to x through
+// the medium is then max(0, entry - dot(x, -direction)) (0 for an empty scene).
+double st_directional_entry(const st_scene *scene, const float direction[3]);
+
+typedef struct st_incident {
+    double to_light[3]; // unit direction from the point toward the light
+    double dist;        // distance to the light (INFINITY: directional)
+    double path;        // length of the light's path through the medium
+    double E[3];        // irradiance on a surface facing the light, before the medium
+} st_incident;
+
+// What one light delivers at x: point I/d^2, spot I falloff/d^2, directional
+// E. False (and *out zeroed) when nothing arrives (x at the light, outside the
+// spot's cone). `entry` is st_directional_entry for directional lights.
+bool st_light_incident(const st_light_desc *l, double entry, const double x[3], st_incident *out);
+
+// Direct light on a Lambertian surface: rho/pi E max(cos, 0) e^(-sigma_t path).
+static inline double st_direct_lambert(double rho, double E, double cos_theta, double path, double sigma_t) {
+    return cos_theta > 0.0 ? rho / ST_PI * E * cos_theta * (sigma_t > 0.0 ? exp(-sigma_t * path) : 1.0) : 0.0;
+}
 
 // ---- Phase functions (normalized: integral over the sphere = 1) ----------
 double st_phase_isotropic(void);                        // 1/(4 pi)

@@ -16,19 +16,66 @@ static bool parse_image(st_jctx *c, const cJSON *v, st_scene *s) {
            st_j_int(c, v, "height", 1, 16384, &s->height, &has);
 }
 
+// A unit direction from "direction" (must not be zero).
+static bool parse_direction(st_jctx *c, const cJSON *v, float out[3]) {
+    if (!st_j_vec3(c, v, "direction", out, NULL)) return false;
+    double l = sqrt((double)out[0] * out[0] + (double)out[1] * out[1] + (double)out[2] * out[2]);
+    if (!(l > 1e-12) || !isfinite(l)) return st_j_fail(c, "direction", "must be a non-zero vector");
+    for (int k = 0; k < 3; k++) out[k] = (float)(out[k] / l);
+    return true;
+}
+
+// Spot cone half-angles in degrees (glTF's innerConeAngle/outerConeAngle,
+// defaults 0 and 45): 0 <= inner < outer <= 90.
+static bool parse_cone(st_jctx *c, const cJSON *v, st_light_desc *l) {
+    double inner = 0, outer = 45;
+    bool has;
+    if (!st_j_number(c, v, "inner_angle", &inner, &has) || !st_j_number(c, v, "outer_angle", &outer, &has))
+        return false;
+    if (!(outer > 0 && outer <= 90)) return st_j_fail(c, "outer_angle", "%g is out of range (0, 90] degrees", outer);
+    if (!(inner >= 0 && inner < outer))
+        return st_j_fail(c, "inner_angle", "%g must be in [0, outer_angle = %g) degrees", inner, outer);
+    l->inner_angle = (float)(inner * 3.14159265358979323846 / 180.0);
+    l->outer_angle = (float)(outer * 3.14159265358979323846 / 180.0);
+    return true;
+}
+
 static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
-    static const char *const keys[] = {"type", "position", "intensity", NULL};
+    static const char *const point_keys[] = {"type", "position", "intensity", NULL};
+    static const char *const dir_keys[] = {"type", "direction", "irradiance", NULL};
+    static const char *const spot_keys[] = {"type",      "position",    "direction", "intensity",
+                                            "inner_angle", "outer_angle", NULL};
     char type[16];
     st_light_desc l = {0};
-    if (!st_j_object(c, v, keys) || !st_j_string(c, v, "type", type, sizeof type, NULL))
-        return false;
-    if (strcmp(type, "point") != 0) return st_j_fail(c, "type", "expected \"point\"");
-    if (!st_j_vec3(c, v, "position", l.position, NULL) ||
-        !st_j_vec3(c, v, "intensity", l.intensity, NULL) ||
-        !st_j_range3(c, "intensity", l.intensity, 0, INFINITY))
-        return false;
-    if (!st_scene_add_light(s, &l, c->err)) return false;
-    return true;
+    if (!cJSON_IsObject(v)) return st_j_fail(c, NULL, "expected an object");
+    if (!st_j_string(c, v, "type", type, sizeof type, NULL)) return false;
+    bool ok;
+    if (!strcmp(type, "point")) {
+        ok = st_j_object(c, v, point_keys) && st_j_vec3(c, v, "position", l.position, NULL) &&
+             st_j_vec3(c, v, "intensity", l.intensity, NULL) && st_j_range3(c, "intensity", l.intensity, 0, INFINITY);
+    } else if (!strcmp(type, "directional")) {
+        l.type = ST_LIGHT_DIRECTIONAL;
+        ok = st_j_object(c, v, dir_keys) && parse_direction(c, v, l.direction) &&
+             st_j_vec3(c, v, "irradiance", l.intensity, NULL) &&
+             st_j_range3(c, "irradiance", l.intensity, 0, INFINITY);
+    } else if (!strcmp(type, "spot")) {
+        l.type = ST_LIGHT_SPOT;
+        ok = st_j_object(c, v, spot_keys) && st_j_vec3(c, v, "position", l.position, NULL) &&
+             parse_direction(c, v, l.direction) && st_j_vec3(c, v, "intensity", l.intensity, NULL) &&
+             st_j_range3(c, "intensity", l.intensity, 0, INFINITY) && parse_cone(c, v, &l);
+    } else {
+        return st_j_fail(c, "type", "'%s': expected \"point\", \"directional\" or \"spot\"", type);
+    }
+    return ok && st_scene_add_light(s, &l, c->err);
+}
+
+const char *st_light_type_name(st_light_type type) {
+    switch (type) {
+    case ST_LIGHT_POINT: return "point";
+    case ST_LIGHT_DIRECTIONAL: return "directional";
+    case ST_LIGHT_SPOT: return "spot";
+    default: return "unknown";
+    }
 }
 
 static bool parse_lights(st_jctx *c, const cJSON *v, st_scene *s) {

@@ -24,10 +24,23 @@ typedef struct st_camera_desc {
     float near_z, far_z;
 } st_camera_desc;
 
+// Light types. Zero-initialised descriptors are point lights.
+typedef enum { ST_LIGHT_POINT = 0, ST_LIGHT_DIRECTIONAL, ST_LIGHT_SPOT, ST_LIGHT_TYPE_COUNT } st_light_type;
+// Bit (1u << type) per type, for what a technique supports.
+#define ST_LIGHT_BIT(type) (1u << (unsigned)(type))
+#define ST_LIGHT_BITS_ALL (ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_DIRECTIONAL) | ST_LIGHT_BIT(ST_LIGHT_SPOT))
+
 typedef struct st_light_desc {
-    float position[3];
-    float intensity[3]; // radiant intensity, W/sr per channel
+    float position[3];  // point, spot
+    // Point: radiant intensity, W/sr per channel. Spot: the same on its axis.
+    // Directional: irradiance on a surface facing the light, W/m^2.
+    float intensity[3];
+    st_light_type type;
+    float direction[3];             // directional, spot: unit direction the light travels
+    float inner_angle, outer_angle; // spot: half-angles from the axis, radians (glTF's falloff)
 } st_light_desc;
+
+const char *st_light_type_name(st_light_type type); // "point", "directional", "spot"
 
 typedef enum { ST_PHASE_ISOTROPIC = 0, ST_PHASE_RAYLEIGH, ST_PHASE_HG } st_phase_kind;
 
@@ -121,6 +134,8 @@ void st_mesh_sphere(st_mesh *m, const float center[3], float radius, int rings, 
 // The shape constructors leave positions == NULL when out of memory.
 void st_mesh_free(st_mesh *m);
 uint64_t st_scene_triangle_count(const st_scene *scene);
+// World-space bounds of every mesh's vertices; false for a scene without any.
+bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]);
 
 // glTF 2.0 (.gltf or .glb, told apart by the magic; tinygltf behind a C API,
 // st_gltf.cpp): appends one mesh per primitive and node instance, and the

@@ -134,6 +134,24 @@ uint64_t st_scene_triangle_count(const st_scene *scene) {
     return n;
 }
 
+bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]) {
+    bool any = false;
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int i = 0; scene && i < scene->num_meshes; i++) {
+        const st_mesh *m = &scene->meshes[i];
+        const float *M = m->model; // column major
+        for (uint32_t v = 0; v < m->num_vertices; v++) {
+            const float *p = m->positions + 3 * (size_t)v;
+            for (int k = 0; k < 3; k++) {
+                double w = (double)M[k] * p[0] + (double)M[4 + k] * p[1] + (double)M[8 + k] * p[2] + M[12 + k];
+                lo[k] = fmin(lo[k], w), hi[k] = fmax(hi[k], w);
+            }
+            any = true;
+        }
+    }
+    return any;
+}
+
 void st_scene_free(st_scene *scene) {
     if (!scene) return;
     for (int i = 0; i < scene->num_meshes; i++) st_mesh_free(&scene->meshes[i]);

@@ -4,6 +4,7 @@
 // inputs did not change are skipped (their cached output stays valid).
 #define _POSIX_C_SOURCE 200809L
 #include "st_world.h"
+#include "st_physics.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdio.h>
@@ -66,6 +67,8 @@ struct st_world {
     uint64_t frame;
     unsigned changes; // accumulated since the last frame
     float light_pos[ST_MAX_LIGHTS][3], light_int[ST_MAX_LIGHTS][3];
+    float light_dir[ST_MAX_LIGHTS][3], light_shape[ST_MAX_LIGHTS][3]; // see common/uniforms.glsl
+    int light_type[ST_MAX_LIGHTS];
     int num_lights;
     char regular_reads[512]; // what the regular pass consumes
     char res[MAX_RESOURCES][ST_NAME_MAX]; // resource names, interned per pass list; 0 is "hdr"
@@ -98,6 +101,15 @@ static void u_lp(void *s, st_shader *sh, GLint l, const st_frame *f) {
 static void u_li(void *s, st_shader *sh, GLint l, const st_frame *f) {
     if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_int[0][0]);
 }
+static void u_lt(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform1iv(l, W(s)->num_lights, W(s)->light_type);
+}
+static void u_ld(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_dir[0][0]);
+}
+static void u_lshape(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_shape[0][0]);
+}
 static void u_hasmed(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, f->scene->medium.present); }
 static void u_ss(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->scene->medium.sigma_s); }
 static void u_sa(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->scene->medium.sigma_a); }
@@ -111,6 +123,7 @@ static const st_uniform builtin_uniforms[] = {
     {"st_frame_index", u_frame},   {"st_num_lights", u_nl},     {"st_light_pos", u_lp},
     {"st_light_intensity", u_li},  {"st_has_medium", u_hasmed}, {"st_sigma_s", u_ss},
     {"st_sigma_a", u_sa},          {"st_phase_kind", u_pk},     {"st_phase_g", u_pg},
+    {"st_light_type", u_lt},       {"st_light_dir", u_ld},      {"st_light_shape", u_lshape},
 };
 
 void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
@@ -625,6 +638,23 @@ static void unload(st_world *w, int m) {
 
 static bool build_regular(st_world *w, st_err *err);
 
+// A technique refuses a scene with a light type it cannot handle.
+static bool check_lights(const st_world *w, const st_plugin *p, st_err *err) {
+    unsigned ok = p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT);
+    for (int i = 0; i < w->scene->num_lights; i++) {
+        st_light_type t = w->scene->lights[i].type;
+        if (ok & ST_LIGHT_BIT(t)) continue;
+        char list[64] = "";
+        for (int k = 0; k < ST_LIGHT_TYPE_COUNT; k++)
+            if (ok & ST_LIGHT_BIT(k))
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", list[0] ? ", " : "",
+                         st_light_type_name((st_light_type)k));
+        return st_fail(err, ST_ERR_INPUT, "%s: lights[%d]: module '%s' does not support %s lights (it supports: %s)",
+                       w->scene->path, i, p->name, st_light_type_name(t), list);
+    }
+    return true;
+}
+
 // Loads module `name` with its parameters; `order` check happens in resolve.
 static bool load(st_world *w, const char *name, st_err *err) {
     if (w->num_mods >= MAX_MODULES) return st_fail(err, ST_ERR_INPUT, "too many modules (max %d)", MAX_MODULES);
@@ -636,7 +666,7 @@ static bool load(st_world *w, const char *name, st_err *err) {
         return false;
     }
     mi->p = st_plugin_desc(mi->lib);
-    if (!init_params(w, mi, err)) {
+    if (!check_lights(w, mi->p, err) || !init_params(w, mi, err)) {
         st_plugin_close(mi->lib);
         free(mi);
         return false;
@@ -750,7 +780,7 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
     w->scene = scene;
     if (opts) w->opts = *opts;
     if (scene->num_lights > ST_MAX_LIGHTS) {
-        st_fail(err, ST_ERR_INPUT, "%s: lights: %d point lights, at most %d are supported", scene->path,
+        st_fail(err, ST_ERR_INPUT, "%s: lights: %d lights, at most %d are supported", scene->path,
                 scene->num_lights, ST_MAX_LIGHTS);
         free(w);
         return NULL;
@@ -759,6 +789,15 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
     for (int i = 0; i < scene->num_lights; i++) {
         memcpy(w->light_pos[i], scene->lights[i].position, sizeof w->light_pos[i]);
         memcpy(w->light_int[i], scene->lights[i].intensity, sizeof w->light_int[i]);
+        const st_light_desc *l = &scene->lights[i];
+        w->light_type[i] = (int)l->type;
+        memcpy(w->light_dir[i], l->direction, sizeof w->light_dir[i]);
+        if (l->type == ST_LIGHT_SPOT) { // st_spot_falloff as scale and offset in cos
+            double co = cos(l->outer_angle), scale = 1.0 / fmax(0.001, cos(l->inner_angle) - co);
+            w->light_shape[i][0] = (float)scale, w->light_shape[i][1] = (float)(-co * scale);
+        }
+        if (l->type == ST_LIGHT_DIRECTIONAL) // no geometry: -inf, kept finite for GL
+            w->light_shape[i][2] = (float)fmax(st_directional_entry(scene, l->direction), -1e30);
     }
     st_camera *c = &w->cam;
     memcpy(c->position, scene->camera.position, sizeof c->position);

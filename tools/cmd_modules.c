@@ -28,12 +28,15 @@ static const char *type_name(st_param_type t) {
 static const char help_text[] =
     "usage: strahl modules [--json]\n"
     "Lists every installed plugin (found in $STRAHL_MODULE_PATH, the build and the\n"
-    "install folder) with its requirements and parameters: type, default, range or\n"
+    "install folder) with its requirements, light types and parameters: type, default, range or\n"
     "choices, help.\n"
     "  --json      machine-readable list (default: text)\n"
     "  -h, --help  this text\n"
     "example:\n"
     "  strahl modules --json\n";
+
+// The light types a plugin handles (0 in the descriptor: point lights only).
+static unsigned light_types(const st_plugin *p) { return p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT); }
 
 int st_cmd_modules(int argc, char **argv) {
     bool json = false;
@@ -70,6 +73,10 @@ int st_cmd_modules(int argc, char **argv) {
             json_str(p->requires);
             printf(", \"provides\": ");
             json_str(p->provides);
+            printf(", \"lights\": [");
+            for (int t = 0, n = 0; t < ST_LIGHT_TYPE_COUNT; t++)
+                if (light_types(p) & ST_LIGHT_BIT(t)) printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
+            printf("]");
             printf(", \"params\": [");
             for (int k = 0; k < p->num_params; k++) {
                 const st_param_def *d = &p->params[k];
@@ -96,6 +103,10 @@ int st_cmd_modules(int argc, char **argv) {
             printf("%s - %s\n", p->name, p->description ? p->description : "");
             if (p->requires && p->requires[0]) printf("  requires: %s\n", p->requires);
             if (p->provides && p->provides[0]) printf("  provides: %s\n", p->provides);
+            printf("  lights:");
+            for (int t = 0; t < ST_LIGHT_TYPE_COUNT; t++)
+                if (light_types(p) & ST_LIGHT_BIT(t)) printf(" %s", st_light_type_name(t));
+            printf("\n");
             for (int k = 0; k < p->num_params; k++) {
                 const st_param_def *d = &p->params[k];
                 char def[64];

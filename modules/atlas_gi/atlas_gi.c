@@ -659,4 +659,5 @@ ST_PLUGIN(.name = "atlas_gi",
           ST_PARAMS(params), .requires = "shadow_map?", .provides = "atlas_gi",
           .regular_include = "atlas_gi/regular.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .param_changed = param_changed, .reload = reload)
+          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
+          .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

@@ -1,15 +1,19 @@
-// shadow_map: omnidirectional shadows for point lights. One cube map per
-// light (layers of one cube-map array) storing the distance to the light;
-// the regular pass and volumetric modules test visibility against it with a
-// slope-scaled bias and optional PCF. View-independent: a camera-only frame
-// re-renders nothing.
+// shadow_map: shadows for point, spot and directional lights. Point and spot
+// lights: one cube map per light (layers of one cube-map array) storing the
+// distance to the light, view-independent (a camera-only frame re-renders
+// nothing). Directional lights: cascaded orthographic maps storing the
+// light's path from where it enters the scene (cascades.h), re-fitted only
+// when the camera's slices leave their fitted region. The regular pass and
+// volumetric modules test visibility against them with a slope-scaled bias
+// and optional PCF.
+#include "cascades.h"
 #include "st_world.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_RESOLUTION, P_BIAS, P_SLOPE_BIAS, P_PCF, P_PCF_RADIUS, P_COUNT };
+enum { P_RESOLUTION, P_BIAS, P_SLOPE_BIAS, P_PCF, P_PCF_RADIUS, P_CASCADES, P_SPLIT, P_COUNT };
 
 static const st_param_def params[P_COUNT] = {
     {"resolution", ST_PARAM_INT, 1024, 16, 8192, NULL, "cube face size in texels"},
@@ -17,6 +21,9 @@ static const st_param_def params[P_COUNT] = {
     {"slope_bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL, "bias per unit tan(angle of incidence), in texels (clamped at tan = 20)"},
     {"pcf", ST_PARAM_BOOL, 0, 0, 1, NULL, "percentage-closer filtering over 16 taps"},
     {"pcf_radius", ST_PARAM_FLOAT, 1.5, 0.5, 16, NULL, "PCF kernel radius in texels"},
+    {"cascades", ST_PARAM_INT, 4, 1, SM_MAX_CASCADES, NULL, "directional lights: shadow cascades over the view"},
+    {"cascade_split", ST_PARAM_FLOAT, 0.75, 0, 1, NULL,
+     "directional lights: 0 uniform, 1 logarithmic split distances (practical split scheme)"},
 };
 
 typedef struct shadow_map {
@@ -27,6 +34,12 @@ typedef struct shadow_map {
     float far_z;
     st_shader *depth;
     st_pass_info info;
+    // Directional lights: slot per light (-1 none), cascades in a 2D array.
+    int sun_slot[ST_MAX_LIGHTS], num_suns, sun_layers;
+    sm_sun suns[ST_MAX_LIGHTS];
+    bool sun_dirty[ST_MAX_LIGHTS]; // fitted anew but not rendered yet
+    GLuint sun_array;
+    st_shader *cascade;
 } shadow_map;
 
 static void release(shadow_map *s) {
@@ -34,7 +47,12 @@ static void release(shadow_map *s) {
     if (s->cube_array) glDeleteTextures(1, &s->cube_array);
     if (s->depth_rb) glDeleteRenderbuffers(1, &s->depth_rb);
     if (s->size) st_gpu_track(-(long long)s->size * s->size * 4 * (6 * (s->layers > 0 ? s->layers : 1) + 1));
-    s->fbo = s->cube_array = s->depth_rb = 0;
+    if (s->sun_array) {
+        glDeleteTextures(1, &s->sun_array);
+        st_gpu_track(s->sun_layers > 0 ? -(long long)s->size * s->size * 4 * s->sun_layers : -4);
+    }
+    s->fbo = s->cube_array = s->depth_rb = s->sun_array = 0;
+    s->sun_layers = 0;
     s->size = 0;
 }
 
@@ -42,7 +60,8 @@ static void release(shadow_map *s) {
 static bool allocate(shadow_map *s, st_err *err) {
     int size = (int)s->p[P_RESOLUTION];
     int lights = st_world_scene(s->w)->num_lights;
-    if (size == s->size && lights == s->layers && s->fbo) return true;
+    int sun_layers = s->num_suns * (int)s->p[P_CASCADES];
+    if (size == s->size && lights == s->layers && sun_layers == s->sun_layers && s->fbo) return true;
     release(s);
     s->size = size;
     s->layers = lights;
@@ -59,7 +78,22 @@ static bool allocate(shadow_map *s, st_err *err) {
     glCreateFramebuffers(1, &s->fbo);
     glNamedFramebufferRenderbuffer(s->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->depth_rb);
     st_gpu_track((long long)size * size * 4 * (6 * n + 1)); // R32F faces + depth
-    return st_gl_check("shadow cube-map array", err);
+    // The light's path per texel, one layer per (light, cascade). Without a
+    // directional light a 1x1 layer: every sampler the shaders declare must
+    // see a texture of its own type, or the draw fails.
+    {
+        int n_sun = sun_layers > 0 ? size : 1;
+        s->sun_layers = sun_layers;
+        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &s->sun_array);
+        glTextureStorage3D(s->sun_array, 1, GL_R32F, n_sun, n_sun, sun_layers > 0 ? sun_layers : 1);
+        glTextureParameteri(s->sun_array, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(s->sun_array, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        st_gpu_track(sun_layers > 0 ? (long long)size * size * 4 * sun_layers : 4);
+        for (int i = 0; i < ST_MAX_LIGHTS; i++) s->sun_dirty[i] = true;
+    }
+    return st_gl_check("shadow map arrays", err);
 }
 
 // Far plane: past the farthest scene vertex from any light.
@@ -88,9 +122,16 @@ static void *create(st_world *w, const double *p, st_err *err) {
     s->w = w;
     s->p = p;
     s->far_z = scene_far(st_world_scene(w));
+    const st_scene *sc = st_world_scene(w);
+    for (int i = 0; i < sc->num_lights && i < ST_MAX_LIGHTS; i++) {
+        s->sun_slot[i] = sc->lights[i].type == ST_LIGHT_DIRECTIONAL ? s->num_suns++ : -1;
+        if (s->sun_slot[i] >= 0) sm_sun_init(&s->suns[s->sun_slot[i]], sc, sc->lights[i].direction);
+    }
     s->depth = st_shader_load("shadow_map/depth.vert", "shadow_map/depth.frag", NULL, err);
-    if (!s->depth || !allocate(s, err)) {
+    if (s->depth && s->num_suns) s->cascade = st_shader_load("shadow_map/depth.vert", "shadow_map/cascade.frag", NULL, err);
+    if (!s->depth || (s->num_suns && !s->cascade) || !allocate(s, err)) {
         st_shader_destroy(s->depth);
+        st_shader_destroy(s->cascade);
         release(s);
         free(s);
         return NULL;
@@ -102,6 +143,7 @@ static void destroy(void *self) {
     shadow_map *s = self;
     release(s);
     st_shader_destroy(s->depth);
+    st_shader_destroy(s->cascade);
     free(s);
 }
 
@@ -110,18 +152,60 @@ static int num_passes(void *self) { return st_world_scene(((shadow_map *)self)->
 
 static const st_pass_info *pass_info(void *self, int pass) {
     shadow_map *s = self;
-    s->info = (st_pass_info){"cube", ST_STAGE_PRE, "", "shadow_map", 0};
+    s->info = (st_pass_info){s->sun_slot[pass] >= 0 ? "cascades" : "cube", ST_STAGE_PRE, "", "shadow_map", 0};
     return &s->info;
 }
 
-// Only geometry, lights or our parameters invalidate the cube maps.
+enum { SM_REDO = ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_PARAMS };
+
+// Only geometry, lights or our parameters invalidate the cube maps; a
+// directional light's cascades also when the camera's slices leave their fit.
 static bool needed(void *self, int pass, const st_frame *f) {
-    return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_PARAMS);
+    shadow_map *s = self;
+    int slot = s->sun_slot[pass];
+    if (slot < 0) return f->changes & SM_REDO;
+    if (f->changes & (SM_REDO | ST_CHANGE_SIZE)) return true;
+    if ((f->changes & ST_CHANGE_CAMERA) &&
+        sm_sun_fit(&s->suns[slot], f->scene, f, (int)s->p[P_CASCADES], s->p[P_SPLIT], false))
+        s->sun_dirty[slot] = true;
+    return s->sun_dirty[slot];
+}
+
+static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *err) {
+    sm_sun *sun = &s->suns[slot];
+    if (f->changes & (SM_REDO | ST_CHANGE_SIZE)) {
+        const st_light_desc *l = &f->scene->lights[0];
+        for (int i = 0; i < f->scene->num_lights; i++)
+            if (s->sun_slot[i] == slot) l = &f->scene->lights[i];
+        sm_sun_init(sun, f->scene, l->direction);
+        sm_sun_fit(sun, f->scene, f, (int)s->p[P_CASCADES], s->p[P_SPLIT], true);
+    }
+    st_shader_use(s->cascade);
+    float L[3] = {(float)sun->L[0], (float)sun->L[1], (float)sun->L[2]};
+    st_shader_set_vec3(s->cascade, "u_to_light", L);
+    st_shader_set_float(s->cascade, "u_entry", (float)sun->entry);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glViewport(0, 0, s->size, s->size);
+    const float cleared[4] = {1e30f, 0, 0, 0};
+    for (int c = 0; c < sun->count; c++) {
+        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->sun_array, 0, slot * sun->count + c);
+        glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
+        glClearBufferfv(GL_COLOR, 0, cleared);
+        glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
+        float m[16];
+        sm_sun_matrix(sun, c, m);
+        st_shader_set_mat4(s->cascade, "u_view_proj", m);
+        st_world_draw(s->w, s->cascade);
+    }
+    s->sun_dirty[slot] = false;
+    return st_gl_check("shadow cascades", err);
 }
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     shadow_map *s = self;
     if (!allocate(s, err)) return false;
+    if (s->sun_slot[pass] >= 0) return render_cascades(s, s->sun_slot[pass], f, err);
     const float *lp = f->scene->lights[pass].position;
     // Cube face directions and up vectors of the GL cube-map convention.
     static const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -172,7 +256,40 @@ static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f
     glUniform1f(loc, (float)((shadow_map *)self)->p[P_PCF_RADIUS]);
 }
 
+static void u_suns(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, ((shadow_map *)self)->sun_array);
+}
+static void u_sun_slot(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1iv(loc, ST_MAX_LIGHTS, ((shadow_map *)self)->sun_slot);
+}
+static void u_cascade_count(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1i(loc, (int)((shadow_map *)self)->p[P_CASCADES]);
+}
+// Every sun's cascades end at the same view depths (they depend on the camera).
+static void u_cascade_far(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    shadow_map *s = self;
+    float far_z[SM_MAX_CASCADES] = {0};
+    for (int c = 0; s->num_suns && c < s->suns[0].count; c++) far_z[c] = (float)s->suns[0].far_z[c];
+    glUniform1fv(loc, SM_MAX_CASCADES, far_z);
+}
+static void u_cascade_rect(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    shadow_map *s = self;
+    float r[ST_MAX_LIGHTS * SM_MAX_CASCADES][4] = {{0}};
+    for (int k = 0; k < s->num_suns; k++)
+        for (int c = 0; c < s->suns[k].count; c++) {
+            const sm_rect *q = &s->suns[k].fit[c];
+            r[k * SM_MAX_CASCADES + c][0] = (float)q->cu, r[k * SM_MAX_CASCADES + c][1] = (float)q->cv;
+            r[k * SM_MAX_CASCADES + c][2] = (float)q->half;
+        }
+    glUniform4fv(loc, ST_MAX_LIGHTS * SM_MAX_CASCADES, &r[0][0]);
+}
+
 static const st_uniform uniforms_table[] = {
+    {"st_shadow_suns", u_suns},
+    {"st_shadow_sun_slot", u_sun_slot},
+    {"st_shadow_cascade_count", u_cascade_count},
+    {"st_shadow_cascade_far", u_cascade_far},
+    {"st_shadow_cascade_rect", u_cascade_rect},
     {"st_shadow_cubes", u_cubes}, {"st_shadow_res", u_res},       {"st_shadow_bias", u_bias},
     {"st_shadow_slope", u_slope}, {"st_shadow_pcf", u_pcf},       {"st_shadow_pcf_radius", u_pcf_radius},
 };
@@ -182,12 +299,16 @@ static int uniforms(void *self, const st_uniform **out) {
     return (int)(sizeof uniforms_table / sizeof uniforms_table[0]);
 }
 
-static bool reload(void *self, st_err *err) { return st_shader_reload(((shadow_map *)self)->depth, err); }
+static bool reload(void *self, st_err *err) {
+    shadow_map *s = self;
+    return st_shader_reload(s->depth, err) && (!s->cascade || st_shader_reload(s->cascade, err));
+}
 
 ST_PLUGIN(.name = "shadow_map",
-          .description = "omnidirectional shadow maps for point lights (distance cube maps, "
+          .description = "shadow maps: distance cube maps for point and spot lights, cascades for directional ones ("
                          "slope-scaled bias, optional PCF)",
           ST_PARAMS(params), .provides = "shadow_map",
           .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .reload = reload)
+          .on_pass = on_pass, .reload = reload,
+          /* a spot's cone lies inside its distance cube */ .light_types = ST_LIGHT_BITS_ALL)

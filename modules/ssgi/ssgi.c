@@ -81,4 +81,5 @@ ST_PLUGIN(.name = "ssgi",
           .description =
               "screen-space one-bounce gather from the camera's G-buffer (baseline for atlas_gi)",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
-          .pass_info = pass_info, .shader = shader, .on_pass = on_pass, .reload = reload)
+          .pass_info = pass_info, .shader = shader, .on_pass = on_pass, .reload = reload,
+          .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

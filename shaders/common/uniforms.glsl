@@ -11,7 +11,13 @@ uniform vec2 st_resolution;
 uniform int st_frame_index;
 uniform int st_num_lights;
 uniform vec3 st_light_pos[ST_MAX_LIGHTS];
-uniform vec3 st_light_intensity[ST_MAX_LIGHTS]; // W/sr
+uniform vec3 st_light_intensity[ST_MAX_LIGHTS]; // W/sr (point, spot on its axis); W/m^2 (directional)
+// 0 point, 1 directional, 2 spot (st_light_type in C).
+uniform int st_light_type[ST_MAX_LIGHTS];
+uniform vec3 st_light_dir[ST_MAX_LIGHTS]; // unit travel direction (directional, spot)
+// Spot: x, y = glTF falloff scale and offset in cos (st_spot_falloff);
+// directional: z = entry (st_directional_entry).
+uniform vec3 st_light_shape[ST_MAX_LIGHTS];
 // Homogeneous medium (1/m) and its phase function: 0 isotropic, 1 Rayleigh, 2 HG.
 uniform int st_has_medium;
 uniform vec3 st_sigma_s, st_sigma_a;

@@ -1,5 +1,6 @@
-// Point-light shadow test against shadow_map's distance cube maps. Included
-// into the regular pass (as ST_HAS_VISIBILITY) and by volumetric modules.
+// Shadow test against shadow_map's distance cube maps (point and spot lights)
+// and its cascades (directional lights). Included into the regular pass (as
+// ST_HAS_VISIBILITY) and by volumetric modules.
 #ifndef ST_SHADOW_MAP_VISIBILITY_GLSL
 #define ST_SHADOW_MAP_VISIBILITY_GLSL
 #include "common/uniforms.glsl"
@@ -10,6 +11,49 @@ uniform float st_shadow_bias;  // texels
 uniform float st_shadow_slope; // texels per unit tan(incidence)
 uniform int st_shadow_pcf;
 uniform float st_shadow_pcf_radius;
+// Directional lights (modules/shadow_map/cascades.h): slot per light (-1:
+// none), cascades ending at view depths st_shadow_cascade_far, each a square
+// (centre u, v; half size) in the light's basis, layer slot * 4 + cascade.
+uniform sampler2DArray st_shadow_suns;
+uniform int st_shadow_sun_slot[ST_MAX_LIGHTS];
+uniform int st_shadow_cascade_count;
+uniform float st_shadow_cascade_far[4];
+uniform vec4 st_shadow_cascade_rect[ST_MAX_LIGHTS * 4];
+
+// The basis rule of cascades.c: any axis not nearly parallel to L.
+void st_shadow_sun_basis(vec3 L, out vec3 u, out vec3 v) {
+    u = normalize(cross(L, abs(L.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
+    v = cross(L, u);
+}
+
+// A directional light: the cascade covering p's view depth; its texels are
+// 2 half / res wide. Outside every fitted square nothing is known: lit.
+float st_shadow_sun(int light, vec3 p, float bias_texels, float tan_i) {
+    int slot = st_shadow_sun_slot[light];
+    if (slot < 0) return 1.0;
+    float depth = -(st_view * vec4(p, 1.0)).z;
+    int c = 0;
+    while (c < st_shadow_cascade_count - 1 && depth > st_shadow_cascade_far[c]) c++;
+    vec4 r = st_shadow_cascade_rect[slot * 4 + c];
+    vec3 L = -st_light_dir[light], u, v;
+    st_shadow_sun_basis(L, u, v);
+    vec2 uv = (vec2(dot(p, u), dot(p, v)) - r.xy) / r.z * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    float path = st_light_shape[light].z - dot(p, L);
+    float texel = 2.0 * r.z / st_shadow_res;
+    float bias = texel * bias_texels;
+    float layer = float(slot * st_shadow_cascade_count + c);
+    if (st_shadow_pcf == 0) return path - bias <= texture(st_shadow_suns, vec3(uv, layer)).r ? 1.0 : 0.0;
+    float sum = 0.0;
+    for (int k = 0; k < 16; k++) { // Vogel disk, as for the cubes
+        float rad = st_shadow_pcf_radius * sqrt((float(k) + 0.5) / 16.0);
+        float ang = float(k) * 2.39996323;
+        vec2 o = vec2(cos(ang), sin(ang)) * rad / st_shadow_res;
+        float stored = texture(st_shadow_suns, vec3(uv + o, layer)).r;
+        sum += path - bias - rad * texel * tan_i <= stored ? 1.0 : 0.0;
+    }
+    return sum / 16.0;
+}
 
 // World size of one cube texel at distance d (a face spans 2d).
 float st_shadow_texel(float d) { return 2.0 * d / st_shadow_res; }
@@ -46,6 +90,11 @@ float st_shadow_visibility_biased(int light, vec3 p, float bias, float tan_i) {
 // Surfaces: the bias grows with the slope, since a texel covers a longer
 // stretch of distance the more obliquely it sees the surface.
 float st_visibility(int light, vec3 p, vec3 n) {
+    if (st_light_type[light] == 1) { // directional
+        float c = clamp(dot(n, -st_light_dir[light]), 1e-3, 1.0);
+        float tan_i = min(sqrt(1.0 - c * c) / c, 20.0);
+        return st_shadow_sun(light, p, st_shadow_bias + st_shadow_slope * tan_i, tan_i);
+    }
     vec3 l = st_light_pos[light] - p;
     float d = length(l);
     float c = clamp(dot(n, l / max(d, 1e-20)), 1e-3, 1.0);
@@ -56,6 +105,7 @@ float st_visibility(int light, vec3 p, vec3 n) {
 
 // Points in a volume have no normal: constant bias only.
 float st_visibility_point(int light, vec3 p) {
+    if (st_light_type[light] == 1) return st_shadow_sun(light, p, st_shadow_bias, 0.0);
     float d = distance(p, st_light_pos[light]);
     return st_shadow_visibility_biased(light, p, st_shadow_texel(d) * st_shadow_bias, 0.0);
 }

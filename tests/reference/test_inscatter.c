@@ -163,8 +163,104 @@ static void combined(void) {
     st_scene_free(&s);
 }
 
+// ---- directional and spot lights, against adaptive quadrature of integrands
+// written out here (docs/physics.md): E e^(-sigma_t path) for the sun, path
+// measured from the entry plane touching the scene's bounds; I f / d^2
+// e^(-sigma_t d) for the spot with glTF's falloff f.
+typedef struct {
+    int type; // 1 directional, 2 spot
+    double o[3], d[3], ss, st, g;
+    double dir[3], entry; // directional: travel direction, entry
+    double cos_in, cos_out; // spot
+} lt_problem;
+
+static double lt_integrand(double t, void *ctx) {
+    const lt_problem *p = ctx;
+    double x[3], l[3], E, path;
+    for (int k = 0; k < 3; k++) x[k] = p->o[k] + t * p->d[k];
+    if (p->type == 1) {
+        for (int k = 0; k < 3; k++) l[k] = -p->dir[k];
+        path = fmax(0.0, p->entry - (x[0] * l[0] + x[1] * l[1] + x[2] * l[2]));
+        E = I;
+    } else {
+        double v[3] = {light[0] - x[0], light[1] - x[1], light[2] - x[2]};
+        double d = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        for (int k = 0; k < 3; k++) l[k] = v[k] / d;
+        double a = (-(l[0] * p->dir[0] + l[1] * p->dir[1] + l[2] * p->dir[2]) - p->cos_out) /
+                   fmax(0.001, p->cos_in - p->cos_out);
+        a = fmin(fmax(a, 0.0), 1.0);
+        E = I * a * a / (d * d), path = d;
+    }
+    double c = l[0] * p->d[0] + l[1] * p->d[1] + l[2] * p->d[2];
+    double ph = (1 - p->g * p->g) / (4 * ST_PI * pow(1 + p->g * p->g - 2 * p->g * c, 1.5));
+    return exp(-p->st * (t + path)) * p->ss * ph * E;
+}
+
+static void light_types(void) {
+    const double sun[3] = {0.3 / 1.0630146, -1 / 1.0630146, 0.2 / 1.0630146}; // unit
+    const double axis[3] = {-0.2 / 1.0198039, -1 / 1.0198039, 0};
+    for (int type = 1; type <= 2; type++) {
+        st_scene s;
+        scene_init(&s, 15, 15, cam, tgt, up, 40, far_z);
+        // Far behind the camera, out of every ray's way: it only gives the scene bounds.
+        add_quad(&s, (double[]){-1, -1, 30}, (double[]){2, 0, 0}, (double[]){0, 2, 0}, 0.5, 0);
+        st_light_desc l = {0};
+        l.type = type == 1 ? ST_LIGHT_DIRECTIONAL : ST_LIGHT_SPOT;
+        for (int k = 0; k < 3; k++) {
+            l.position[k] = (float)light[k], l.intensity[k] = (float)I;
+            l.direction[k] = (float)(type == 1 ? sun[k] : axis[k]);
+        }
+        l.inner_angle = (float)(15 * ST_PI / 180), l.outer_angle = (float)(40 * ST_PI / 180);
+        st_err err = {0};
+        CHECK(st_scene_add_light(&s, &l, &err), "add light");
+        set_medium(&s, 0.1, 0.05, ST_PHASE_HG, 0.4);
+        st_ref_options o = {.spp = 8, .aov = ST_REF_INSCATTER, .seed = 40 + type};
+        st_image img;
+        if (!render(&s, &o, &img)) continue;
+        lt_problem p = {type, {cam[0], cam[1], cam[2]}, {0}, 0.1, 0.15, 0.4, {0}, 0, cos(l.inner_angle), cos(l.outer_angle)};
+        for (int k = 0; k < 3; k++) p.dir[k] = l.direction[k];
+        p.entry = -INFINITY; // the quad's corners
+        for (int k = 0; k < 4; k++) {
+            double c[3] = {k & 1 ? 1 : -1, k & 2 ? 1 : -1, 30};
+            p.entry = fmax(p.entry, -(c[0] * p.dir[0] + c[1] * p.dir[1] + c[2] * p.dir[2]));
+        }
+        double worst = 0, z2 = 0, mean = 0, wants[15][15];
+        int n = 0, lit = 0;
+        for (int j = 0; j < 15; j++)
+            for (int i = 0; i < 15; i++) {
+                contract_ray(&s, i, j, p.d);
+                wants[j][i] = st_integrate(lt_integrand, &p, 0, far_length(&s, p.d), 1e-14, 1e-10);
+                mean += wants[j][i] / (15 * 15);
+            }
+        for (int j = 0; j < 15; j++)
+            for (int i = 0; i < 15; i++) {
+                double want = wants[j][i];
+                const float *px = st_image_px(&img, i, j);
+                n++;
+                // Rays that graze the cone: quadrature and march both ~0.
+                if (!(want > 1e-3 * mean)) {
+                    CHECK(px[0] <= 2e-3 * mean, "%s: pixel (%d %d) outside the light: %g (mean %g)",
+                          type == 1 ? "sun" : "spot", i, j, px[0], mean);
+                    continue;
+                }
+                lit++;
+                worst = fmax(worst, fabs(px[0] - want) / want);
+                if (px[3] > 0) z2 += (px[0] - want) * (px[0] - want) / ((double)px[3] * px[3]);
+            }
+        fprintf(stderr, "  %s in-scatter: worst rel error %.2e over %d lit of %d pixels, mean z^2 %.2f\n",
+                type == 1 ? "directional" : "spot", worst, lit, n, lit ? z2 / lit : 0.0);
+        CHECK(lit > 50, "%s: %d pixels see the light", type == 1 ? "sun" : "spot", lit);
+        CHECK(worst < 5e-3, "%s in-scatter: worst relative error %.3g", type == 1 ? "sun" : "spot", worst);
+        CHECK(z2 / lit < 4.0, "%s: mean z^2 %.3g: stderr inconsistent with the error", type == 1 ? "sun" : "spot",
+              z2 / lit);
+        st_image_free(&img);
+        st_scene_free(&s);
+    }
+}
+
 int main(void) {
     open_space();
+    light_types();
     shadowed();
     combined();
     return st_test_summary("reference_inscatter");

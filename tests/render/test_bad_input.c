@@ -44,6 +44,20 @@ int main(void) {
     expect_refused("unknown key", json, NULL, NULL, "colour", 2);
     snprintf(json, sizeof json, "%s, \"modules\": [{\"name\": \"nosuch\"}]}", GOOD_HEAD);
     expect_refused("unknown module", json, NULL, NULL, "nosuch", 2);
+    // A technique refuses a light type it cannot handle, naming both.
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 16, \"height\": 16},"
+             " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 50},"
+             " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.5, 0], \"intensity\": [1, 1, 1]},"
+             " {\"type\": \"directional\", \"direction\": [0, -1, 0], \"irradiance\": [1, 1, 1]}],"
+             " \"medium\": {\"sigma_s\": [0.1, 0.1, 0.1]}, \"modules\": [{\"name\": \"shadow_map\"}, {\"name\": \"toth\"}]}");
+    expect_refused("light type", json, NULL, NULL, "lights[1]: module 'toth' does not support directional lights", 2);
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 16, \"height\": 16},"
+             " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 50},"
+             " \"lights\": [{\"type\": \"spot\", \"position\": [0, 1.5, 0], \"direction\": [0, -1, 0], \"intensity\": [1, 1, 1]}],"
+             " \"medium\": {\"sigma_s\": [0.1, 0.1, 0.1]}, \"modules\": [{\"name\": \"mitchell\"}]}");
+    expect_refused("light type", json, NULL, NULL, "lights[0]: module 'mitchell' does not support spot lights", 2);
     snprintf(json, sizeof json, "%s, \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"nope\": 1}}]}", GOOD_HEAD);
     expect_refused("unknown parameter", json, NULL, NULL, "nope", 2);
     snprintf(json, sizeof json, "%s, \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 5}}]}", GOOD_HEAD);

@@ -191,6 +191,33 @@ static void expect_fail(const variant *v, const char *needle) {
     st_scene_free(&s);
 }
 
+// Directional and spot lights: direction = the node's -z, lux or candela /
+// 683, glTF's cone half-angles in radians.
+static void test_light_types(void) {
+    const variant kinds[2] = {
+        {"directional", good.children, good.attributes, good.prim_extra, good.count},
+        {"spot\", \"spot\": {\"innerConeAngle\": 0.25, \"outerConeAngle\": 0.5}, \"name\": \"s", good.children,
+         good.attributes, good.prim_extra, good.count}};
+    for (int k = 0; k < 2; k++) {
+        size_t n = make_glb(glb, sizeof glb, &kinds[k]);
+        st_scene s = {0};
+        st_err e = {0};
+        bool cam = false;
+        CHECK(st_gltf_load_memory(glb, n, "lights.glb", ".", &s, &cam, &e) && s.num_lights == 1, "%s: %s",
+              k ? "spot" : "directional", e.msg);
+        if (s.num_lights != 1) continue;
+        const st_light_desc *l = &s.lights[0];
+        CHECK(l->type == (k ? ST_LIGHT_SPOT : ST_LIGHT_DIRECTIONAL), "type %d", l->type);
+        CHECK(l->direction[0] == 0 && l->direction[1] == 0 && l->direction[2] == -1, "direction -z: %g %g %g",
+              l->direction[0], l->direction[1], l->direction[2]);
+        CHECK_REL(l->intensity[0], 1.0, 1e-6, 0); // 683 lux -> 1 W/m^2, 683 cd -> 1 W/sr
+        CHECK_REL(l->intensity[2], 0.25, 1e-6, 0);
+        if (k) CHECK(l->inner_angle == 0.25f && l->outer_angle == 0.5f, "cone %g %g", l->inner_angle, l->outer_angle);
+        if (k) CHECK(l->position[1] == 3, "spot position");
+        st_scene_free(&s);
+    }
+}
+
 static void test_corrupt(void) {
     size_t n = make_glb(glb, sizeof glb, &good);
     // Every truncation fails cleanly.
@@ -230,8 +257,10 @@ static void test_corrupt(void) {
     expect_fail(&v, "accessors[0]: 11 elements at byteOffset 0 exceed bufferViews[0]");
     v = good, v.count = "4294967296";
     expect_fail(&v, "accessors[0]");
-    v = good, v.light = "directional";
-    expect_fail(&v, "type 'directional' is not supported");
+    v = good, v.light = "area";
+    expect_fail(&v, "type 'area' is not point, directional or spot");
+    v = good, v.light = "spot\", \"spot\": {\"innerConeAngle\": 0.5, \"outerConeAngle\": 0.5}, \"name\": \"s";
+    expect_fail(&v, "innerConeAngle < outerConeAngle");
     v = good, v.children = "3";
     expect_fail(&v, "nodes[3]");
     v = good, v.children = "7";
@@ -331,6 +360,7 @@ int main(void) {
     write_file(path, glb, n);
     test_load(path);
     test_scene_override(ST_TEST_SCRATCH);
+    test_light_types();
     test_corrupt();
     test_flat_normals();
     test_ascii();

@@ -188,7 +188,22 @@ static const struct bad {
     {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 40, \"near\": 1, \"far\": 1}}", "camera.far: 1 is not greater"},
     {"{" CAM ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"intensity\": [1,-1,1]}]}",
      "lights[0].intensity: element 1 is -1"},
-    {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"intensity\": [1,1,1]}]}", "lights[0].type: expected \"point\""},
+    {"{" CAM ", \"lights\": [{\"type\": \"area\", \"position\": [0,1,0], \"intensity\": [1,1,1]}]}",
+     "lights[0].type: 'area': expected \"point\", \"directional\" or \"spot\""},
+    {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"intensity\": [1,1,1]}]}",
+     "lights[0].direction: required key missing"},
+    {"{" CAM ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"irradiance\": [1,1,1]}]}",
+     "lights[0].irradiance: unknown key (expected one of: type, position, intensity)"},
+    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,0,0], \"irradiance\": [1,1,1]}]}",
+     "lights[0].direction: must be a non-zero vector"},
+    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": [1,-1,1]}]}",
+     "lights[0].irradiance: element 1 is -1"},
+    {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
+     "\"intensity\": [1,1,1], \"outer_angle\": 91}]}", "lights[0].outer_angle: 91 is out of range (0, 90]"},
+    {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
+     "\"intensity\": [1,1,1], \"inner_angle\": 30, \"outer_angle\": 30}]}", "lights[0].inner_angle: 30 must be in [0, outer_angle = 30)"},
+    {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
+     "\"intensity\": [1,1,1], \"cone\": 30}]}", "lights[0].cone: unknown key"},
     {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"albedo\": [0.5,1.5,0.5]}]}",
      "geometry[0].albedo: element 1 is 1.5"},
     {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"emission\": [0,0,-0.1]}]}",

@@ -56,6 +56,8 @@ typedef struct st_ref_geometry {
     double total_area;
     double eps;       // ray offset, relative to the scene's size
     double sigma_t[3]; // the medium's extinction, 0 without one (light paths)
+    double *light_entry; // per light: st_directional_entry (directional lights)
+    double center[3], radius; // a sphere around the scene's bounds (shadow rays to infinity)
 } st_ref_geometry;
 
 // A surface point as a renderer sees it from one side.
@@ -87,6 +89,9 @@ int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const doub
                         st_ref_surface *out, int max);
 // Whether the segment from surface-offset point `from` to `to` is blocked.
 bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const double to[3]);
+// Whether light `in` (st_light_incident at `from`) reaches `from` unblocked;
+// a directional light's shadow ray runs until it has left the scene's bounds.
+bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const st_incident *in);
 // A point uniform over the scene's area, seen from `viewer` (its side chosen).
 st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng, const double viewer[3]);
 

@@ -148,6 +148,16 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
     // (~1e-7 relative) and far below any feature a test measures.
     g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
     st_medium_sigma_t(&scene->medium, g->sigma_t);
+    for (int k = 0; k < 3; k++) g->center[k] = 0.5 * (lo[k] + hi[k]);
+    g->radius = 0.5 * diag;
+    g->light_entry = calloc(scene->num_lights ? (size_t)scene->num_lights : 1, sizeof *g->light_entry);
+    if (!g->light_entry) {
+        st_ref_geometry_free(g);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    }
+    for (int i = 0; i < scene->num_lights; i++)
+        if (scene->lights[i].type == ST_LIGHT_DIRECTIONAL)
+            g->light_entry[i] = st_directional_entry(scene, scene->lights[i].direction);
     return true;
 }
 
@@ -163,6 +173,7 @@ void st_ref_geometry_free(st_ref_geometry *g) {
     free(g->nrm);
     free(g->ng);
     free(g->cdf);
+    free(g->light_entry);
     free(g->tri_mesh);
     free(g->tri_prim);
     memset(g, 0, sizeof *g);
@@ -256,6 +267,17 @@ bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const doubl
     r.mask = 0xffffffffu;
     rtcOccluded1(g->scene, &ctx, &r);
     return r.tfar < 0.0f; // Embree sets tfar = -inf on a hit
+}
+
+bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const st_incident *in) {
+    double len = in->dist;
+    if (!isfinite(len)) { // past every triangle: beyond the bounding sphere
+        double c[3] = {from[0] - g->center[0], from[1] - g->center[1], from[2] - g->center[2]};
+        len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + g->radius + 2.0 * g->eps + 1.0;
+    }
+    double to[3];
+    for (int k = 0; k < 3; k++) to[k] = from[k] + len * in->to_light[k];
+    return !st_ref_occluded(g, from, to);
 }
 
 st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng, const double viewer[3]) {

@@ -1,7 +1,11 @@
 // Single scattering along a view ray in the homogeneous medium:
-//   integral_0^s e^(-sigma_t t) sigma_s phase(theta) I/d(t)^2 e^(-sigma_t d(t)) V(t) dt
-// summed over the point lights.
+//   integral_0^s e^(-sigma_t t) sigma_s phase(theta) E(t) e^(-sigma_t path(t)) V(t) dt
+// summed over the lights, E the light's irradiance at the point (I/d^2 for a
+// point light, times the cone's falloff for a spot, constant for a
+// directional light) and path its way through the medium (st_light_incident).
 //
+// Directional lights have no 1/d^2 peak: strata uniform in t. Point and spot
+// lights:
 // Method: a stratified march per light, stratified in the light's angle
 // (equi-angular, Kulla & Fajardo 2012) instead of in t. With h the light's
 // distance from the ray's line and t0 its foot point, t = t0 + h tan(a); the
@@ -15,27 +19,32 @@
 #include "ref.h"
 #include <math.h>
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
-// The integrand without 1/d^2 and dt, at ray distance t, for one light.
-static void source(const st_ref_geometry *g, const double origin[3], const double dir[3], const st_light_desc *l,
-                   const double sigma_s[3], const double sigma_t[3], double t, double weight, double out[3]) {
+// The integrand at ray distance t for light i, times `weight`: dt / d^2 for
+// point and spot lights (the 1/d^2 is folded into the equi-angular weight), dt
+// for directional lights.
+static void source(const st_ref_geometry *g, const double origin[3], const double dir[3], int i,
+                   const double sigma_s[3], const double sigma_t[3], double t, double weight,
+                   double out[3]) {
     const st_medium_desc *m = &g->desc->medium;
     double x[3] = {origin[0] + t * dir[0], origin[1] + t * dir[1], origin[2] + t * dir[2]};
-    double lp[3] = {l->position[0], l->position[1], l->position[2]};
-    double L[3] = {lp[0] - x[0], lp[1] - x[1], lp[2] - x[2]};
-    double d = sqrt(dot3(L, L));
-    if (!(d > 0.0)) return;
+    st_incident in;
+    if (!st_light_incident(&g->desc->lights[i], g->light_entry[i], x, &in)) return;
+    const double unfold = isfinite(in.dist) ? in.dist * in.dist : 1.0;
     // cos theta between the light's travel direction and the direction toward
     // the camera (docs/physics.md): dot(normalize(light - x), view ray direction).
-    double ph = st_phase_eval(m->phase, dot3(L, dir) / d, m->g);
+    double ph = st_phase_eval(m->phase, dot3(in.to_light, dir), m->g);
     double w[3], any = 0.0;
     for (int c = 0; c < 3; c++) {
-        w[c] = weight * exp(-sigma_t[c] * (t + d)) * sigma_s[c] * ph * l->intensity[c];
+        w[c] = weight * unfold * exp(-sigma_t[c] * (t + in.path)) * sigma_s[c] * ph * in.E[c];
         any += w[c];
     }
-    if (!(any > 0.0) || st_ref_occluded(g, x, lp)) return;
-    for (int c = 0; c < 3; c++) out[c] += w[c];
+    if (!(any > 0.0) || !st_ref_light_visible(g, x, &in)) return;
+    for (int c = 0; c < 3; c++)
+        out[c] += w[c];
 }
 
 void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const double origin[3],
@@ -53,7 +62,15 @@ void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const d
     const int n = o->march_steps > 0 ? o->march_steps : 256;
     for (int i = 0; i < sc->num_lights; i++) {
         const st_light_desc *l = &sc->lights[i];
-        double to_l[3] = {l->position[0] - origin[0], l->position[1] - origin[1], l->position[2] - origin[2]};
+        if (l->type == ST_LIGHT_DIRECTIONAL) {
+            const double dt = s / n;
+            for (int k = 0; k < n; k++)
+                source(g, origin, dir, i, sigma_s, sigma_t, (k + st_ref_rng_uniform(rng)) * dt, dt,
+                       out);
+            continue;
+        }
+        double to_l[3] = {l->position[0] - origin[0], l->position[1] - origin[1],
+                          l->position[2] - origin[2]};
         double t0 = dot3(to_l, dir);
         double h2 = dot3(to_l, to_l) - t0 * t0, h = sqrt(fmax(h2, 0.0));
         if (h > 1e-6 * (fabs(t0) + s)) {
@@ -61,14 +78,14 @@ void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const d
             for (int k = 0; k < n; k++) {
                 double a = a0 + (k + st_ref_rng_uniform(rng)) * da;
                 // dt / d^2 = da / h: the 1/d^2 of the integrand is folded in.
-                source(g, origin, dir, l, sigma_s, sigma_t, t0 + h * tan(a), da / h, out);
+                source(g, origin, dir, i, sigma_s, sigma_t, t0 + h * tan(a), da / h, out);
             }
         } else {
             double dt = s / n;
             for (int k = 0; k < n; k++) {
                 double t = (k + st_ref_rng_uniform(rng)) * dt;
                 double d2 = (t - t0) * (t - t0) + h2;
-                if (d2 > 0.0) source(g, origin, dir, l, sigma_s, sigma_t, t, dt / d2, out);
+                if (d2 > 0.0) source(g, origin, dir, i, sigma_s, sigma_t, t, dt / d2, out);
             }
         }
     }

@@ -47,20 +47,15 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out
     double from[3];
     offset_point(g, s, from);
     for (int i = 0; i < sc->num_lights; i++) {
-        const st_light_desc *l = &sc->lights[i];
-        double L[3] = {l->position[0] - s->p[0], l->position[1] - s->p[1], l->position[2] - s->p[2]};
-        double d2 = dot3(L, L);
-        if (!(d2 > 0.0)) continue;
-        double inv_d = 1.0 / sqrt(d2);
-        double cos_n = dot3(s->n, L) * inv_d;
+        st_incident in;
+        if (!st_light_incident(&sc->lights[i], g->light_entry[i], s->p, &in)) continue;
+        const double cos_n = dot3(s->n, in.to_light);
         // A light behind the geometric surface is blocked by the surface itself.
-        if (cos_n <= 0.0 || dot3(s->ng, L) <= 0.0) continue;
-        if (l->intensity[0] == 0.0f && l->intensity[1] == 0.0f && l->intensity[2] == 0.0f) continue;
-        const double lp[3] = {l->position[0], l->position[1], l->position[2]};
-        if (st_ref_occluded(g, from, lp)) continue;
-        const double d = sqrt(d2);
+        if (cos_n <= 0.0 || dot3(s->ng, in.to_light) <= 0.0) continue;
+        if (in.E[0] == 0.0 && in.E[1] == 0.0 && in.E[2] == 0.0) continue;
+        if (!st_ref_light_visible(g, from, &in)) continue;
         for (int c = 0; c < 3; c++)
-            out[c] += st_direct_point(s->mesh->albedo[c], l->intensity[c], cos_n, d, g->sigma_t[c]);
+            out[c] += st_direct_lambert(s->mesh->albedo[c], in.E[c], cos_n, in.path, g->sigma_t[c]);
     }
 }
 
