@@ -248,9 +248,12 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
         if (lit && src->fbo) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
-        // Without lights shadow_map binds no cube array, and an unset sampler
-        // of another type on unit 0 makes the draw invalid: bind an empty one.
-        if (!lit) st_shader_texture(t->compose, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, 0);
+        // Without lights shadow_map binds no shadow textures, and an unset
+        // sampler of another type on unit 0 makes the draw invalid: bind empty ones.
+        if (!lit) {
+            st_shader_texture(t->compose, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, 0);
+            st_shader_texture(t->compose, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, 0);
+        }
         break;
     }
     }
