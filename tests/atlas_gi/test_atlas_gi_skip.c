@@ -14,7 +14,7 @@ static const char *scene =
     " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": true},"
     "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": [0.75, 0.1, 0.1]},"
     "  {\"box\": {\"min\": [-0.3, 0, -0.3], \"max\": [0.3, 0.6, 0.3]}}],"
-    " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 64, \"samples\": 32, \"max_frames\": 6,"
+    " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 64, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 32, \"max_frames\": 6,"
     " \"tolerance\": 0, \"display\": \"indirect\"}}]}";
 
 static int gb, ga;
