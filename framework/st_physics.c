@@ -368,3 +368,16 @@ double st_ff_parallelograms(const double ca[3], const double ua[3], const double
 }
 
 double st_area_kernel(double a, double d2) { return ST_PI * a / (ST_PI * d2 + a); }
+
+void st_medium_sigma_t(const st_medium_desc *m, double out[3]) {
+    for (int c = 0; c < 3; c++) out[c] = m->present ? (double)m->sigma_s[c] + (double)m->sigma_a[c] : 0.0;
+}
+
+void st_transmittance(const double sigma_t[3], double d, double out[3]) {
+    for (int c = 0; c < 3; c++) out[c] = sigma_t[c] > 0.0 ? exp(-sigma_t[c] * d) : 1.0;
+}
+
+double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t) {
+    if (!(cos_theta > 0.0) || !(d > 0.0)) return 0.0;
+    return rho / ST_PI * intensity * cos_theta / (d * d) * exp(-sigma_t * d);
+}

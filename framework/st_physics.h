@@ -16,6 +16,18 @@ extern "C" {
 
 #define ST_PI 3.14159265358979323846
 
+// ---- Extinction on light paths ---------------------------------------------
+// With a medium, every path from a light to a point (a surface point or a
+// scattering point) and a diffuse bounce's path from sender to receiver is
+// attenuated by e^(-sigma_t d); the view ray keeps its own e^(-sigma_t s).
+// sigma_t = sigma_s + sigma_a per channel, 0 without a medium.
+void st_medium_sigma_t(const st_medium_desc *m, double out[3]);
+// e^(-sigma_t d) per channel (GLSL: st_transmittance).
+void st_transmittance(const double sigma_t[3], double d, double out[3]);
+// Direct light on a Lambertian surface of albedo rho from a point light of
+// intensity I at distance d: rho/pi I max(cos, 0) / d^2 e^(-sigma_t d).
+double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t);
+
 // ---- Phase functions (normalized: integral over the sphere = 1) ----------
 double st_phase_isotropic(void);                        // 1/(4 pi)
 double st_phase_rayleigh(double cos_theta);             // 3/(16 pi) (1 + cos^2)

@@ -5,6 +5,7 @@
 // output 1 (blended additively on the last bounce): rgb and luminance^2 for
 // the running mean and its variance.
 #include "atlas_gi/estimator.glsl"
+#include "common/medium.glsl"
 #ifdef AG_VISIBILITY
 #include "atlas_gi/bvh.glsl"
 #endif
@@ -69,6 +70,7 @@ void main() {
 #ifdef AG_VISIBILITY
         if (ag_occluded(x + nx * ag_offset, pa.xyz + nj * ag_offset)) continue;
 #endif
+        L *= st_path_transmittance(d2 * inversesqrt(d2)); // sender -> receiver
         sum += L * (ag_sample_weight(ag_estimator, cx, cj, pa.w, d2) * ws);
     }
     vec3 L1 = ag_estimator == 1 ? ag_estimate(1, rho, sum, cells, float(ag_samples)) : ag_estimate(0, rho, sum, 1.0, 1.0);

@@ -1,8 +1,7 @@
 // G-buffer atlas: per texel the world position and area a_j, the normal and
 // validity, the albedo, and the outgoing radiance L0 = direct + emission
-// (Lambertian, DESIGN.md units; shadow_map's visibility when AG_SHADOW).
-#include "common/uniforms.glsl"
-#include "common/physics.glsl"
+// (common/lighting.glsl; shadow_map's visibility when AG_SHADOW).
+#include "common/lighting.glsl"
 #ifdef AG_SHADOW
 #include "shadow_map/visibility.glsl"
 #else
@@ -33,14 +32,7 @@ void main() {
     vec3 p = v_world;
     float nl = length(v_normal);
     vec3 n = nl > 0.0 ? v_normal / nl : vec3(0.0, 1.0, 0.0);
-    vec3 direct = vec3(0.0);
-    for (int i = 0; i < st_num_lights; i++) {
-        vec3 l = st_light_pos[i] - p;
-        float d2 = max(dot(l, l), 1e-12);
-        float c = dot(n, l) * inversesqrt(d2);
-        if (c <= 0.0) continue;
-        direct += albedo / ST_PI * st_light_intensity[i] * (c / d2) * st_visibility(i, p, n);
-    }
+    vec3 direct = st_direct_light(p, n, albedo);
     bool valid = a > 0.0;
     o_pos = vec4(p, valid ? a : 0.0);
     o_normal = vec4(n, valid ? 1.0 : 0.0);

@@ -50,6 +50,10 @@ vec3 st_step_transfer(vec3 sigma_t, float dt) {
 // length dt whose start has transmittance T contributes T S transfer.
 vec3 st_step_inscatter(vec3 S, vec3 sigma_t, float dt) { return S * st_step_transfer(sigma_t, dt); }
 
+// e^(-sigma_t d) per channel: the transmittance of a path of length d
+// (C: st_transmittance).
+vec3 st_transmittance(vec3 sigma_t, float d) { return exp(-sigma_t * d); }
+
 // Integrators (C: st_integrator).
 const int ST_INTEGRATOR_ENERGY = 0;
 const int ST_INTEGRATOR_THESIS = 1;     // Riemann sum, source at the near end

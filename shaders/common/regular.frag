@@ -1,9 +1,8 @@
-// Regular pass: Lambertian direct light from point lights (design units:
-// L = rho/pi * I * cos / d^2 * V) plus emission, plus indirect light when a
-// module provides it. Modules hook in through their regular_include, which
-// the world expands before this file.
-#include "common/uniforms.glsl"
-#include "common/physics.glsl"
+// Regular pass: Lambertian direct light from point lights (docs/physics.md:
+// L = rho/pi * I * cos / d^2 * V * e^(-sigma_t d)) plus emission, plus
+// indirect light when a module provides it. Modules hook in through their
+// regular_include, which the world expands before this file.
+#include "common/lighting.glsl"
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv1;
@@ -36,13 +35,7 @@ void main() {
     vec3 indirect = vec3(0.0);
     vec3 emission = vec3(0.0);
     if (front) {
-        for (int i = 0; i < st_num_lights; i++) {
-            vec3 l = st_light_pos[i] - p;
-            float d2 = max(dot(l, l), 1e-12);
-            float c = dot(n, l) * inversesqrt(d2);
-            if (c <= 0.0) continue;
-            direct += st_albedo / ST_PI * st_light_intensity[i] * (c / d2) * st_visibility(i, p, n);
-        }
+        direct = st_direct_light(p, n, st_albedo);
         emission = st_emission;
         indirect = st_indirect(p, n, v_uv1);
     }

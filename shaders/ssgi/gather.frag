@@ -3,7 +3,7 @@
 // patch it sees: area = (pixel solid angle) d_j^2 / max(|cos view|, min_cos),
 // the pixel solid angle being s^2 cos^3(alpha) for a pixel of side s on the
 // image plane at distance 1 and alpha its angle to the optical axis.
-#include "common/uniforms.glsl"
+#include "common/medium.glsl"
 #include "atlas_gi/estimator.glsl"
 uniform sampler2D st_hdr_in;     // direct + emission (the regular pass)
 uniform sampler2D st_gbuffer;    // normal, distance (-1: no surface)
@@ -54,7 +54,7 @@ void main() {
         vec3 w = d * inversesqrt(d2);
         float cx = dot(nx, w), cj = -dot(gj.xyz, w);
         if (cx <= 0.0 || cj <= 0.0) continue;
-        sum += L * ag_sample_weight(ss_estimator, cx, cj, area, d2);
+        sum += L * st_path_transmittance(sqrt(d2)) * ag_sample_weight(ss_estimator, cx, cj, area, d2);
     }
     vec3 L1 = ag_estimate(ss_estimator, alb.rgb, sum, fsize.x * fsize.y, float(ss_samples));
     o_color = vec4(ss_display == 1 ? L1 : hdr + L1, 1.0);

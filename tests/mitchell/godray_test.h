@@ -250,7 +250,7 @@ static inline double gt_image_max_diff(const st_image *a, const st_image *b) {
 
 // ---- fading along a camera path ------------------------------------------------
 
-// Effect energy (the scene with medium minus without) along a camera path
+// Effect energy (the scene with the module minus without it) along a camera path
 // pose(t), t in [0, 1], in `steps` steps: the largest step-to-step change,
 // where it becomes exactly zero, and whether the module's `last` pass is
 // skipped and its `first` pass culled exactly then.

@@ -30,15 +30,17 @@ static const char *scene_json(const char *lights, const char *geometry, const ch
              CAM[0], CAM[1], CAM[2], CAM[0], CAM[1]);
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},\n \"camera\": %s,\n \"lights\": [%s],\n"
-             " \"geometry\": [%s],\n%s%s%s \"modules\": [{\"name\": \"mitchell\", \"params\": {%s}}]}\n",
+             " \"geometry\": [%s],\n%s%s%s \"modules\": [%s%s%s]}\n",
              RES, RES, camera ? camera : cam, lights, geometry, medium ? " \"medium\": " : "", medium ? medium : "",
-             medium ? ",\n" : "", params);
+             medium ? ",\n" : "", params ? "{\"name\": \"mitchell\", \"params\": {" : "",
+             params ? params : "", params ? "}}" : ""); // params NULL: no module
     return json;
 }
 
 static const char *MEDIUM = "{\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 0.01, 0.01]}";
 
-// Renders the scene with and without its medium; effect = difference.
+// Renders the scene with and without the module; effect = difference (the
+// medium also dims the surfaces, so the baseline keeps it).
 typedef struct {
     st_image with, without, effect;
 } render_pair;
@@ -54,7 +56,7 @@ static bool render_effect(const char *lights, const char *geometry, const char *
     memset(r, 0, sizeof *r);
     st_scene a, b;
     gt_scene(scene_json(lights, geometry, MEDIUM, params, camera), &a);
-    gt_scene(scene_json(lights, geometry, NULL, params, camera), &b);
+    gt_scene(scene_json(lights, geometry, MEDIUM, NULL, camera), &b);
     st_world *wa = gt_world(&a), *wb = gt_world(&b);
     bool ok = gt_frames(wa, 1, &r->with) && gt_frames(wb, 1, &r->without);
     st_world_destroy(wa);
@@ -216,7 +218,7 @@ static void check_sweep(const char *what, int steps, void (*pose)(double, double
     const char *geo = "{\"box\": {\"min\": [-0.5, -0.1, -1], \"max\": [0.5, 0.1, -0.9]}}";
     char with[8192];
     snprintf(with, sizeof with, "%s", scene_json(light, geo, MEDIUM, params, NULL));
-    gt_check_sweep(what, "mitchell", "blur", "occlusion", with, scene_json(light, geo, NULL, params, NULL), steps,
+    gt_check_sweep(what, "mitchell", "blur", "occlusion", with, scene_json(light, geo, MEDIUM, NULL, NULL), steps,
                    pose);
 }
 
@@ -253,7 +255,7 @@ static void expect_idle(const char *what, const char *lights, const char *medium
                         medium, params, camera),
              &sc);
     gt_scene(scene_json(lights, "{\"box\": {\"min\": [-1, -1, -2], \"max\": [1, 1, -1.5]}, \"emission\": [1, 1, 1]}",
-                        NULL, "", camera),
+                        medium, NULL, camera),
              &base);
     st_world *w = gt_world(&sc), *wb = gt_world(&base);
     st_image a = {0}, b = {0};

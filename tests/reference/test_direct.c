@@ -178,8 +178,48 @@ static void combined_equals_direct(void) {
     st_scene_free(&s);
 }
 
+// A plane in an absorbing medium (sigma_s = 0: no in-scatter, no noise):
+// every pixel is rho/pi I cos/d^2 e^(-sigma_t d), d from the light, seen
+// through e^(-sigma_t s), s from the camera (docs/physics.md).
+static void plane_in_medium(void) {
+    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0}, light[3] = {0.3, 1, -0.2};
+    const double I = 2.0, rho = 0.6, sigma_a = 0.35;
+    const int W = 32, H = 24;
+    st_scene s;
+    scene_init(&s, W, H, cam, tgt, up, 50, 100);
+    add_light(&s, light, I);
+    add_quad(&s, (double[]){-5, 0, -5}, (double[]){0, 0, 10}, (double[]){10, 0, 0}, rho, 0);
+    set_medium(&s, 0.0, sigma_a, ST_PHASE_ISOTROPIC, 0);
+    st_ref_options o = {.spp = 2, .aov = ST_REF_COMBINED};
+    st_image img;
+    if (render(&s, &o, &img)) {
+        double worst = 0, mean_t = 0;
+        int n = 0;
+        for (int j = 0; j < H; j++)
+            for (int i = 0; i < W; i++) {
+                double d[3];
+                contract_ray(&s, i, j, d);
+                if (d[1] >= -1e-3) continue;
+                double t = -cam[1] / d[1], p[3], l[3];
+                for (int k = 0; k < 3; k++) p[k] = cam[k] + t * d[k], l[k] = light[k] - p[k];
+                if (fabs(p[0]) > 4.9 || fabs(p[2]) > 4.9) continue; // off the quad or at its edge
+                double dl = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+                double want = st_direct_point(rho, I, l[1] / dl, dl, sigma_a) * exp(-sigma_a * t);
+                worst = fmax(worst, fabs(st_image_px(&img, i, j)[0] - want) / want);
+                mean_t += exp(-sigma_a * (t + dl)), n++;
+            }
+        printf("  plane in medium: worst relative error %.2e over %d pixels (mean transmittance %.3f)\n", worst, n,
+               mean_t / n);
+        CHECK(n > 300 && mean_t / n < 0.5, "the medium matters: %d pixels, mean transmittance %g", n, mean_t / n);
+        CHECK(worst < 1e-5, "plane in medium: worst relative error %g", worst);
+        st_image_free(&img);
+    }
+    st_scene_free(&s);
+}
+
 int main(void) {
     plane_under_light();
+    plane_in_medium();
     sides();
     combined_equals_direct();
     return st_test_summary("reference_direct");

@@ -175,6 +175,9 @@ static void parallel(void) {
     }
 }
 
+// e^(-sigma_t d) / d^3: the coaxial disk's kernel in a medium (ctx: sigma_t).
+static double disk_kernel(double d, void *ctx) { return exp(-*(double *)ctx * d) / (d * d * d); }
+
 // A point under a coaxial disk (an area-matched 256-gon) of radius R at
 // height h: F = R^2 / (R^2 + h^2). One pixel looks at the point.
 static void disk(void) {
@@ -217,6 +220,22 @@ static void disk(void) {
         stats r = compare(&img, &oracle);
         r.z2 = 1; // one pixel: its z^2 is a single draw, checked through z instead
         check_stats(vis ? "disk, visibility on" : "disk, visibility off", &r, 0.005);
+        st_image_free(&img);
+    }
+    // In an absorbing medium the bounce's path is attenuated: with d^2 = h^2 +
+    // r^2, L1 = rho 2 h^2 integral_h^sqrt(h^2 + R^2) e^(-sigma_t d) / d^3 dd.
+    double sigma_a = 0.7;
+    set_medium(&s, 0.0, sigma_a, ST_PHASE_ISOTROPIC, 0);
+    double oracle = rho * 2 * h * h * st_integrate(disk_kernel, &sigma_a, h, sqrt(h * h + R * R), 1e-14, 1e-12);
+    CHECK(oracle < 0.8 * rho * F, "the medium matters: %g vs %g", oracle, rho * F);
+    for (int vis = 0; vis < 2; vis++) {
+        st_ref_options o = {.spp = vis ? 1000000 : 200000, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 7,
+                            .no_visibility = !vis};
+        st_image img;
+        if (!render(&s, &o, &img)) continue;
+        stats r = compare(&img, &oracle);
+        r.z2 = 1;
+        check_stats(vis ? "disk in medium, visibility on" : "disk in medium, visibility off", &r, 0.005);
         st_image_free(&img);
     }
     st_scene_free(&s);

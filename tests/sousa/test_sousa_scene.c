@@ -24,9 +24,10 @@ static const char *scene_json(const char *lights, const char *geometry, const ch
              "{\"image\": {\"width\": %d, \"height\": %d},\n"
              " \"camera\": {\"position\": [%s], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40,"
              " \"near\": 0.05, \"far\": 100},\n \"lights\": [%s],\n \"geometry\": [%s],\n%s%s%s"
-             " \"modules\": [{\"name\": \"sousa\", \"params\": {%s}}]}\n",
+             " \"modules\": [%s%s%s]}\n",
              RES, RES, camera_pos ? camera_pos : "0, 0, 5", lights, geometry, medium ? " \"medium\": " : "",
-             medium ? medium : "", medium ? ",\n" : "", params);
+             medium ? medium : "", medium ? ",\n" : "", params ? "{\"name\": \"sousa\", \"params\": {" : "",
+             params ? params : "", params ? "}}" : ""); // params NULL: no module
     return json;
 }
 
@@ -53,7 +54,7 @@ static bool render_effect(const char *lights, const char *geometry, const char *
     memset(r, 0, sizeof *r);
     st_scene a, b;
     gt_scene(scene_json(lights, geometry, MEDIUM, params, NULL), &a);
-    gt_scene(scene_json(lights, geometry, NULL, params, NULL), &b);
+    gt_scene(scene_json(lights, geometry, MEDIUM, NULL, NULL), &b);
     st_world *wa = gt_world(&a), *wb = gt_world(&b);
     bool ok = gt_frames(wa, 1, &r->with) && gt_frames(wb, 1, &r->without);
     const st_camera *c = st_world_camera(wa);
@@ -138,7 +139,7 @@ static void check_sweep(const char *what, int steps, void (*pose)(double, double
     const char *geo = "{\"box\": {\"min\": [-0.5, -0.1, -1], \"max\": [0.5, 0.1, -0.9]}}";
     char with[8192];
     snprintf(with, sizeof with, "%s", scene_json(light, geo, MEDIUM, "\"resolution\": 0.5", NULL));
-    gt_check_sweep(what, "sousa", "blur3", "mask", with, scene_json(light, geo, NULL, "\"resolution\": 0.5", NULL),
+    gt_check_sweep(what, "sousa", "blur3", "mask", with, scene_json(light, geo, MEDIUM, NULL, NULL),
                    steps, pose);
 }
 
@@ -153,7 +154,7 @@ static void test_fade(void) {
 static void expect_idle(const char *what, const char *lights, const char *medium, const char *params) {
     st_scene sc, base;
     gt_scene(scene_json(lights, WALL, medium, params, NULL), &sc);
-    gt_scene(scene_json(lights, WALL, NULL, "", NULL), &base);
+    gt_scene(scene_json(lights, WALL, medium, NULL, NULL), &base);
     st_world *w = gt_world(&sc), *wb = gt_world(&base);
     st_image a = {0}, b = {0};
     if (gt_frames(w, 3, &a) && gt_frames(wb, 1, &b)) {

@@ -116,9 +116,10 @@ static void test_convergence(void) {
     }
 }
 
-// Surface extinction: with walls of albedo 0.5, the image is the unattenuated
-// surface (no medium: no toth pass) times e^(-sigma_t s) plus the in-scatter
-// of the black room.
+// Surface extinction: with walls of albedo 0.5, the image is the surface lit
+// without medium times e^(-sigma_t (d + s)) -- d from the light to the
+// surface point, s from there to the camera -- plus the in-scatter of the
+// black room.
 static void test_compose(void) {
     const char *med = "\"sigma_s\": [0.1, 0.2, 0.3], \"sigma_a\": [0.2, 0.1, 0.05]";
     const double st[3] = {0.3, 0.3, 0.35};
@@ -135,9 +136,11 @@ static void test_compose(void) {
             for (int i = 0; i < N; i++) {
                 double d[3];
                 st_test_ray(&cam, i, j, d);
-                double s = toth_box_exit(cam.pos, d, ROOM_MIN, ROOM_MAX);
+                double s = toth_box_exit(cam.pos, d, ROOM_MIN, ROOM_MAX), dl2 = 0;
+                for (int k = 0; k < 3; k++) dl2 += pow(LIGHT[k] - (cam.pos[k] + s * d[k]), 2);
                 for (int c = 0; c < 3; c++) {
-                    double want = st_image_px(&surf, i, j)[c] * exp(-st[c] * s) + st_image_px(&black, i, j)[c];
+                    double want =
+                        st_image_px(&surf, i, j)[c] * exp(-st[c] * (s + sqrt(dl2))) + st_image_px(&black, i, j)[c];
                     worst = fmax(worst, fabs(st_image_px(&both, i, j)[c] - want) / want);
                     mean_surf += st_image_px(&surf, i, j)[c] / (3.0 * N * N);
                 }

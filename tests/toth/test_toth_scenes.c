@@ -60,7 +60,8 @@ static double cpu_pixel(const double o[3], const double d[3], double *inscatter)
             for (int k = 0; k < 3; k++) x[k] = o[k] + s * d[k], l[k] = light[k] - x[k];
             double d2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
             double c = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]) / sqrt(d2);
-            if (c > 0) L = ALBEDO / ST_PI * intensity * c / d2 * exp(-sigma_t * s);
+            // light -> surface and surface -> camera both through the medium
+            if (c > 0) L = st_direct_point(ALBEDO, intensity, c, sqrt(d2), sigma_t) * exp(-sigma_t * s);
         }
     }
     return L + *inscatter;

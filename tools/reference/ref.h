@@ -10,9 +10,9 @@
 //   inscatter single scattering in the homogeneous medium, exact visibility,
 //             see ref_medium.c.
 //   combined  (direct + indirect) e^(-sigma_t s) + inscatter.
-// DECISION: the medium acts on view rays only. Surfaces (and the bounce
-// between surfaces) are lit without attenuation by the medium; in-scattered
-// light carries the light -> scatter point transmittance e^(-sigma_t d).
+// With a medium every light path is attenuated (docs/physics.md): light ->
+// surface (direct), light -> scattering point (in-scatter) and sender ->
+// receiver (each bounce) by e^(-sigma_t d); the view ray by e^(-sigma_t s).
 #ifndef ST_REF_H
 #define ST_REF_H
 #include "st_base.h"
@@ -52,6 +52,7 @@ typedef struct st_ref_geometry {
     uint64_t num_tris;
     double total_area;
     double eps;       // ray offset, relative to the scene's size
+    double sigma_t[3]; // the medium's extinction, 0 without one (light paths)
 } st_ref_geometry;
 
 // A surface point as a renderer sees it from one side.

@@ -147,6 +147,7 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
     // Offsets for secondary rays: far above float rounding of positions
     // (~1e-7 relative) and far below any feature a test measures.
     g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
+    st_medium_sigma_t(&scene->medium, g->sigma_t);
     return true;
 }
 

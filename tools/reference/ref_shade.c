@@ -2,7 +2,8 @@
 // shadows, and the diffuse bounce estimators.
 //
 // Indirect light at a receiver x with albedo rho, one bounce:
-//   L1(x) = rho/pi integral_A L0(y) V(x,y) cos+(theta_x) cos+(theta_y) / d^2 dA(y)
+//   L1(x) = rho/pi integral_A L0(y) V(x,y) cos+(theta_x) cos+(theta_y) / d^2 e^(-sigma_t d) dA(y)
+// (e^(-sigma_t d) = 1 without a medium; direct light carries it too).
 // with L0(y) = emission + direct (+ the previous bounce for K > 1, computed
 // the same way, recursively: one path per sample).
 //   visibility on:  cosine-weighted directions from x (pdf cos/pi), traced to
@@ -57,7 +58,9 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out
         if (l->intensity[0] == 0.0f && l->intensity[1] == 0.0f && l->intensity[2] == 0.0f) continue;
         const double lp[3] = {l->position[0], l->position[1], l->position[2]};
         if (st_ref_occluded(g, from, lp)) continue;
-        for (int c = 0; c < 3; c++) out[c] += s->mesh->albedo[c] / ST_PI * l->intensity[c] * cos_n / d2;
+        const double d = sqrt(d2);
+        for (int c = 0; c < 3; c++)
+            out[c] += st_direct_point(s->mesh->albedo[c], l->intensity[c], cos_n, d, g->sigma_t[c]);
     }
 }
 
@@ -92,9 +95,10 @@ static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o, c
     offset_point(g, x, from);
     st_ref_surface y = st_ref_intersect(g, from, dir, 0.0, INFINITY);
     if (!y.hit || !y.lit_side) return;
-    double L[3];
+    double L[3], T[3];
     outgoing(g, o, &y, bounces - 1, rng, L);
-    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] * L[c];
+    st_transmittance(g->sigma_t, y.t, T); // dir is unit: t is the distance
+    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] * L[c] * T[c];
 }
 
 // The MIS score of the unoccluded bounce for y seen from x (see the top of
@@ -109,10 +113,11 @@ static void mis_score(const st_ref_geometry *g, const st_ref_options *o, const s
     double d = sqrt(d2);
     double cos_x = dot3(x->n, w) / d, cos_y = -dot3(y->n, w) / d, cos_yg = -dot3(y->ng, w) / d;
     if (cos_x <= 0.0 || cos_y <= 0.0 || cos_yg <= 0.0) return;
-    double L[3];
+    double L[3], T[3];
     outgoing(g, o, y, bounces - 1, rng, L);
+    st_transmittance(g->sigma_t, d, T);
     double k = scale * 2.0 * cos_x * cos_y / (cos_x * cos_yg + ST_PI * d2 / g->total_area);
-    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] * k * L[c];
+    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] * k * L[c] * T[c];
 }
 
 enum { MAX_CROSSINGS = 64 }; // surfaces counted along one unoccluded ray
@@ -147,9 +152,10 @@ static void indirect_thesis(const st_ref_geometry *g, const st_ref_options *o, c
     if (!(d > 0.0)) return;
     double cos_x = dot3(x->n, w) / d, cos_y = -dot3(y.n, w) / d;
     if (cos_x <= 0.0 || cos_y <= 0.0) return; // "facing each other"
-    double L[3];
+    double L[3], T[3];
     outgoing(g, o, &y, bounces - 1, rng, L);
-    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] / ST_PI * 2.0 * ST_PI * cos_x * L[c];
+    st_transmittance(g->sigma_t, d, T);
+    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] / ST_PI * 2.0 * ST_PI * cos_x * L[c] * T[c];
 }
 
 void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s, int bounces,
