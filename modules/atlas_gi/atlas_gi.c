@@ -617,7 +617,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
     if (pass == 0) {
         if (st_world_has_module(g->w, "shadow_map") != g->shadow) g->gb_dirty = true;
         return g->atlas_dirty || g->gb_dirty ||
-               (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_INPUTS));
+               (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM));
     }
     return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS)) || !g->converged;
 }
@@ -678,10 +678,6 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
     for (int i = 0; i < 6; i++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, g->tr_buf[i]);
     const float zero[4] = {0, 0, 0, 0};
     glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
-    float sigma_t[3] = {0, 0, 0};
-    const st_scene *sc = st_world_scene(g->w);
-    if (sc->medium.present)
-        for (int c = 0; c < 3; c++) sigma_t[c] = sc->medium.sigma_s[c] + sc->medium.sigma_a[c];
     glViewport(0, 0, g->W, g->H);
     glDisable(GL_DEPTH_TEST);
     int bounces = ip(g, P_BOUNCES);
@@ -703,7 +699,7 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
         }
         st_shader_use(g->sh_tr_gather);
         st_shader_set_int(g->sh_tr_gather, "ag_num_nodes", T->num_nodes);
-        st_shader_set_vec3(g->sh_tr_gather, "ag_sigma_t", sigma_t);
+        st_world_apply_uniforms(g->w, g->sh_tr_gather, f); // the medium
         glDispatchCompute((GLuint)((T->num_nodes + 63) / 64), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         GLuint fbo = g->fbo_gather[b & 1];
@@ -769,6 +765,7 @@ static bool gather_pass(agi *g, const st_frame *f, st_err *err) {
         rotation(ip(g, P_PROGRESSIVE) ? g->frames * 8 + b : b, rot);
         if (power && !upload_picks(g, rot, err)) return false;
         st_shader_use(sh);
+        st_world_apply_uniforms(g->w, sh, f); // the medium's extinction per segment
         st_shader_texture(sh, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
         st_shader_texture(sh, "ag_normal", GL_TEXTURE_2D, g->tex[T_NORMAL]);
         st_shader_texture(sh, "ag_albedo", GL_TEXTURE_2D, g->tex[T_ALBEDO]);

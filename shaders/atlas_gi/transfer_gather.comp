@@ -5,16 +5,16 @@
 // grad ln(cos_x cos_j / d^2) at the centroids (receiver nodes are flat),
 // which removes the steps between neighbouring receiver nodes.
 #include "atlas_gi/transfer.glsl"
+#include "common/medium.glsl"
 layout(local_size_x = 64) in;
 uniform int ag_num_nodes;
-uniform vec3 ag_sigma_t; // 1/m, zero without a medium
 
 void main() {
     int i = int(gl_GlobalInvocationID.x);
     if (i >= ag_num_nodes) return;
     uint b = ag_link_off[i], e = ag_link_off[i + 1];
     vec3 sum = vec3(0.0), gx = vec3(0.0), gy = vec3(0.0), gz = vec3(0.0);
-    bool medium = any(greaterThan(ag_sigma_t, vec3(0.0)));
+    bool medium = st_has_medium != 0;
     vec3 c = ag_nodes[i].ca.xyz, nr = ag_nodes[i].nc.xyz;
     for (uint k = b; k < e; k++) {
         uvec2 l = ag_links[k];
@@ -22,7 +22,7 @@ void main() {
         vec4 sa = ag_nodes[s].ca;
         vec3 L = ag_flux[s].rgb / sa.w;
         float w = uintBitsToFloat(l.y);
-        if (medium) L *= exp(-ag_sigma_t * distance(c, sa.xyz));
+        if (medium) L *= st_path_transmittance(distance(c, sa.xyz)); // sender -> receiver
         vec3 wl = w * L;
         sum += wl;
         // grad_x ln k, k = (nr.d)(-ns.d)/|d|^4, d = y - x; terms whose cosine
