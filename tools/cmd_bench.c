@@ -86,6 +86,19 @@ static bool run_one(const st_scene *scene, const st_image *ref, int frames, int 
         glFinish();
         if (f >= warmup) ft[timed++] = (float)(st_now_ms() - t0);
     }
+    // A still is a converged image: the error is measured once every
+    // progressive module has converged (frames past the timed ones).
+    st_progress pr = {0};
+    long extra = 0;
+    while (ok && st_world_progress(w, &pr) && !pr.converged && extra < 2000) {
+        ok = st_world_frame(w, err);
+        extra++;
+    }
+    if (ok && extra)
+        fprintf(stderr,
+                "strahl bench: %s: %ld more frame(s) to converge, estimated remaining relative "
+                "error %.4g\n",
+                r->setting, extra, pr.error);
     ok = ok && st_world_read(w, &img, err) && st_image_compare(&img, ref, &r->m, err);
     if (ok) {
         r->frame_ms = st_median_f(ft, timed);

@@ -716,6 +716,8 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
         st_draw_fullscreen();
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     }
+    for (int i = 0; i < 6; i++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, 0);
     g->frames = 1;
     g->restart = false;
     resolve(g);
@@ -836,6 +838,25 @@ static bool reload(void *self, st_err *err) {
     return true;
 }
 
+static bool progress(void *self, st_progress *out) {
+    agi *g = self;
+    out->converged = g->converged;
+    out->frames = (uint32_t)g->frames;
+    out->error = g->rel_err;
+    if (g->have_transfer) {
+        const transfer *T = &g->T;
+        uint32_t texels = T->num_nodes ? T->nodes[0].end : 0;
+        snprintf(out->info, sizeof out->info,
+                 "transfer precompute %.2f s on %d threads, %u texels, %d nodes (<= %d texels per "
+                 "leaf), %llu links, "
+                 "%llu rays, %.1f MiB",
+                 T->seconds, T->threads, texels, T->num_nodes, T->leaf_texels,
+                 (unsigned long long)T->num_links, (unsigned long long)T->rays,
+                 transfer_bytes(T) / 1048576.0);
+    }
+    return true;
+}
+
 // ---- uniforms for the regular pass ------------------------------------------
 
 #define G(self) ((agi *)(self))
@@ -869,7 +890,8 @@ static const st_plugin plugin = {
     .abi_minor = ST_ABI_MINOR,
     .struct_size = sizeof(st_plugin),
     .name = "atlas_gi",
-    .description = "texture-atlas global illumination (Merz 2010): G-buffer atlas, Hammersley gather over the whole "
+    .description = "texture-atlas global illumination (Merz 2010): G-buffer atlas, Hammersley "
+                   "gather over the whole "
                    "scene, optional BVH visibility and more bounces, textured back onto the scene",
     .params = params,
     .num_params = P_COUNT,
@@ -885,6 +907,7 @@ static const st_plugin plugin = {
     .on_pass = on_pass,
     .param_changed = param_changed,
     .reload = reload,
+    .progress = progress,
 };
 
 ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }

@@ -75,7 +75,7 @@ static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, l
     for (int i = 0; i < count; i++) {
         tr_node *nd = &t->nodes[i];
         long b = nd->begin, e = nd->end;
-        if (e - b <= c.leaf) continue;
+        if (e - b < 2) continue;
         float lo[6], hi[6];
         for (int a = 0; a < 6; a++)
             lo[a] = INFINITY, hi[a] = -INFINITY;
@@ -87,6 +87,12 @@ static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, l
         int axis = 0;
         for (int a = 1; a < 6; a++)
             if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+        // Small enough for a leaf, unless its texels face different ways
+        // (a leaf stands for one flat piece of surface).
+        float bend = 0;
+        for (int a = 3; a < 6; a++)
+            bend = fmaxf(bend, hi[a] - lo[a]);
+        if (e - b <= c.leaf && bend <= 0.3f * c.lambda) continue;
         long mid = (b + e) / 2;
         select_kth(&c, t->perm, b, e, mid, axis);
         nd->child = count;
@@ -468,7 +474,7 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     if (threads > 64) threads = 64;
     t->threads = threads;
     char cfg[32];
-    snprintf(cfg, sizeof cfg, "threads=%d", threads);
+    snprintf(cfg, sizeof cfg, "threads=1"); // our own threads trace; no TBB pool
     RTCDevice dev = rtcNewDevice(cfg);
     bool ok = dev && make_scene(&c, dev, tris, num_tris, err);
     if (!dev) st_fail(err, ST_ERR_RUNTIME, "transfer: embree device failed");

@@ -16,6 +16,7 @@ void main() {
     vec3 sum = vec3(0.0), gx = vec3(0.0), gy = vec3(0.0), gz = vec3(0.0);
     bool medium = st_has_medium != 0;
     vec3 c = ag_nodes[i].ca.xyz, nr = ag_nodes[i].nc.xyz;
+    bool flat_r = ag_nodes[i].nc.w > 0.9; // the first-order correction needs one receiver plane
     for (uint k = b; k < e; k++) {
         uvec2 l = ag_links[k];
         int s = int(l.x);
@@ -27,6 +28,7 @@ void main() {
         sum += wl;
         // grad_x ln k, k = (nr.d)(-ns.d)/|d|^4, d = y - x; terms whose cosine
         // is not well defined (a curved sender node) are left out.
+        if (!flat_r) continue;
         vec3 d = sa.xyz - c;
         float d2 = max(dot(d, d), 1e-12);
         vec3 g = 4.0 * d / d2;
