@@ -233,8 +233,10 @@ static bool occluded(const ctx *c, const float *o, const float *q) {
 // The link weight: sender area times the area-weighted mean kernel over
 // stratified texel pairs.
 // *partial: some of the rays were blocked, some not.
+// With may_open, a partly blocked link will be opened, so tracing stops at
+// the first disagreement.
 static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkbuf *lb,
-                         bool *partial) {
+                         bool may_open, bool *partial) {
     uint32_t nr = r->end - r->begin, ns = s->end - s->begin;
     uint32_t m = nr > ns ? nr : ns;
     if (m > (uint32_t)c->o->samples) m = (uint32_t)c->o->samples;
@@ -257,11 +259,10 @@ static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkb
             for (int k = 0; k < 3; k++)
                 a[k] = x->p[k] + off * x->n[k], b[k] = y->p[k] + off * y->n[k];
             lb->rays++;
-            if (occluded(c, a, b)) {
-                hit++;
-                continue;
-            }
-            miss++;
+            bool blocked = occluded(c, a, b);
+            hit += blocked, miss += !blocked;
+            if (may_open && hit && miss) break; // it will be opened: the weight is not used
+            if (blocked) continue;
         }
         sum += y->a * (double)cx * cy * TR_PI / (TR_PI * d2 + y->a);
     }
@@ -339,13 +340,13 @@ static void refine(ctx *c, int r, const int *cand, int num, int depth, bool spaw
         switch (classify(c, r, s)) {
         case L_ACCEPT: {
             const tr_node *rn = &t->nodes[r], *sn = &t->nodes[s];
-            bool partial = false;
-            float w = link_weight(c, rn, sn, lb, &partial);
             // A partly blocked link would smear its shadow over the whole
             // receiver node: open the larger node while it has children
             // and is not too small to matter.
             bool sopen = sn->child >= 0 && sn->end - sn->begin > (uint32_t)c->o->min_split;
             bool ropen = rn->child >= 0 && rn->end - rn->begin > (uint32_t)c->o->min_split;
+            bool partial = false;
+            float w = link_weight(c, rn, sn, lb, sopen || ropen, &partial);
             if (partial && (sopen || ropen)) {
                 if (sopen && (!ropen || sn->rad >= rn->rad))
                     ok = ipush(&stack, sn->child) && ipush(&stack, sn->child + 1);
