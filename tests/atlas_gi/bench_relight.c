@@ -30,7 +30,7 @@ static bool open_world(const char *path, int size, bool gi, st_scene *sc, st_wor
             if (strcmp(sc->modules[i].name, "atlas_gi")) sc->modules[k++] = sc->modules[i];
         sc->num_modules = k;
     }
-    st_world_opts o = {0};
+    st_world_opts o = {.timing = true};
     *w = st_world_create(sc, &o, err);
     return *w != NULL;
 }
@@ -93,6 +93,12 @@ int main(int argc, char **argv) {
            "\"direct_only_ms_median\": %.2f, \"ratio\": %.2f, \"frames_per_relight\": %d, "
            "\"info\": \"%s\"}\n",
            argv[1], size, moves, first, mg, md, mg / md, frames_max, pr.info);
+    // Per-pass medians over the moves (CPU-side ms; llvmpipe runs on the CPU).
+    for (int i = 0; i < st_world_num_pass_stats(wg); i++) {
+        const st_pass_stats *ps = st_world_pass_stats(wg, i);
+        fprintf(stderr, "  %s.%s: %u runs, median %.2f ms\n", ps->module, ps->pass, ps->runs,
+                st_median_f(ps->cpu_ms, ps->num_samples));
+    }
     free(tg);
     free(td);
     st_world_destroy(wg);
