@@ -149,6 +149,15 @@ typedef struct st_uniform {
     void (*set)(void *self, st_shader *sh, GLint loc, const st_frame *f);
 } st_uniform;
 
+// A module's answer to "is your result converged, and how far off is it?"
+// (the progress hook, ABI 1.1).
+typedef struct st_progress {
+    bool converged;  // more frames would not change the result (beyond its tolerance)
+    uint32_t frames; // frames accumulated into the current result
+    double error;    // estimated remaining relative error (0: exact for its model)
+    char info[256];  // what the module precomputed, for --stats ("" if nothing)
+} st_progress;
+
 typedef struct st_plugin {
     uint16_t abi_major, abi_minor;
     uint32_t struct_size;
@@ -182,6 +191,10 @@ typedef struct st_plugin {
     // Recompile shaders from their files; keep the old ones on failure.
     bool (*reload)(void *self, st_err *err);
     void (*cleanup)(void); // once, after the last instance, before dlclose
+
+    // ABI 1.1, optional: progressive modules report their convergence, so
+    // `strahl render` can run frames until the image is converged.
+    bool (*progress)(void *self, st_progress *out);
 
     // ABI 1.1: the light types the technique handles (ST_LIGHT_BIT mask);
     // 0 = point lights only. The world refuses a scene with any other type.

@@ -967,6 +967,41 @@ bool st_world_get_param(const st_world *w, const char *module, const char *param
     return true;
 }
 
+bool st_world_set_light(st_world *w, int i, const float pos[3], const float intensity[3],
+                        st_err *err) {
+    if (i < 0 || i >= w->num_lights)
+        return st_fail(err, ST_ERR_INPUT, "light %d: the scene has %d", i, w->num_lights);
+    memcpy(w->light_pos[i], pos, sizeof w->light_pos[i]);
+    memcpy(w->light_int[i], intensity, sizeof w->light_int[i]);
+    // Modules (shadow_map) read lights from the scene the caller lent the
+    // world; it is the caller's, so it follows the move too.
+    st_light_desc *l = &((st_scene *)w->scene)->lights[i];
+    memcpy(l->position, pos, sizeof l->position);
+    memcpy(l->intensity, intensity, sizeof l->intensity);
+    st_world_invalidate(w, ST_CHANGE_LIGHTS);
+    return true;
+}
+
+bool st_world_progress(const st_world *w, st_progress *out) {
+    *out = (st_progress){.converged = true};
+    bool any = false;
+    for (int i = 0; i < w->num_mods; i++) {
+        if (!w->mods[i]->p->progress) continue;
+        st_progress p = {0};
+        if (!w->mods[i]->p->progress(w->mods[i]->self, &p)) continue;
+        any = true;
+        out->converged = out->converged && p.converged;
+        if (p.frames > out->frames) out->frames = p.frames;
+        if (p.error > out->error || isnan(p.error)) out->error = p.error;
+        if (p.info[0]) {
+            size_t n = strlen(out->info);
+            snprintf(out->info + n, sizeof out->info - n, "%s%s: %s", n ? "; " : "",
+                     w->mods[i]->p->name, p.info);
+        }
+    }
+    return any;
+}
+
 bool st_world_reload_shaders(st_world *w, st_err *err) {
     // Rebuilt for the current module list (a switch made while the file was
     // broken left the old program); the old one stays on failure.

@@ -121,6 +121,14 @@ bool st_world_has_module(const st_world *w, const char *module);
 // Sets a parameter of a loaded module (range-checked).
 bool st_world_set_param(st_world *w, const char *module, const char *param, double value, st_err *err);
 bool st_world_get_param(const st_world *w, const char *module, const char *param, double *value);
+// Convergence over every module with a progress hook: converged when all
+// are, the largest frame count and error, their info lines joined. False
+// when no loaded module reports progress (one frame is the final image).
+bool st_world_progress(const st_world *w, st_progress *out);
+// Moves point light i (relighting) in the world and in the scene it was
+// created from; passes that depend on lights rerun.
+bool st_world_set_light(st_world *w, int i, const float pos[3], const float intensity[3],
+                        st_err *err);
 // Recompiles every shader; on failure the old ones stay and err says why.
 bool st_world_reload_shaders(st_world *w, st_err *err);
 

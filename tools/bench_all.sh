@@ -180,12 +180,16 @@ for s in gi_cornell gi_dense; do
     ref scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_area.exr" --spp "$GI_REF_SPP" --bounces 1 --bounce-visibility off
     ref scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_vis.exr" --spp "$GI_REF_SPP" --bounces 1 --bounce-visibility on
     bench scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_area.exr" "$OUT/atlas_gi.csv" rmse \
-        --set atlas_gi.progressive=false \
+        --set atlas_gi.mode=gather --set atlas_gi.progressive=false \
+        --set atlas_gi.visibility=false --set atlas_gi.sampling=uniform \
         --sweep atlas_gi.samples=10,50,100,200,400 --sweep atlas_gi.atlas_size=512,1024 \
         --sweep atlas_gi.estimator=area,thesis
     bench scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_vis.exr" "$OUT/atlas_gi.csv" rmse \
-        --set atlas_gi.progressive=false --set atlas_gi.visibility=true \
-        --sweep atlas_gi.samples=10,100,400 --sweep atlas_gi.atlas_size=512
+        --set atlas_gi.mode=gather --set atlas_gi.progressive=false --set atlas_gi.visibility=true \
+        --set atlas_gi.sampling=uniform --sweep atlas_gi.samples=10,100,400 --sweep atlas_gi.atlas_size=512
+    # The precomputed transfer (the default), per relight (--mode recompute).
+    bench scenes/$s.json "$GI_SIZE" "$OUT/ref_${s}_vis.exr" "$OUT/atlas_gi.csv" rmse \
+        --set atlas_gi.mode=transfer --sweep atlas_gi.atlas_size=512,1024
 done
 
 fi

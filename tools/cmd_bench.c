@@ -122,6 +122,19 @@ static bool run_one(const st_scene *scene, const st_image *ref, const st_image *
         glFinish();
         if (f >= warmup) ft[timed++] = (float)(st_now_ms() - t0);
     }
+    // A still is a converged image: the error is measured once every
+    // progressive module has converged (frames past the timed ones).
+    st_progress pr = {0};
+    long extra = 0;
+    while (ok && st_world_progress(w, &pr) && !pr.converged && extra < 2000) {
+        ok = st_world_frame(w, err);
+        extra++;
+    }
+    if (ok && extra)
+        fprintf(stderr,
+                "strahl bench: %s: %ld more frame(s) to converge, estimated remaining relative "
+                "error %.4g\n",
+                r->setting, extra, pr.error);
     ok = ok && st_world_read(w, &img, err) && st_image_compare_noisy(&img, ref, ref_se, &r->m, err);
     if (ok) {
         r->frame_ms = st_median_f(ft, timed);
@@ -254,7 +267,7 @@ int st_cmd_bench(int argc, char **argv) {
     row *rows = calloc((size_t)total, sizeof *rows);
     st_context *ctx = NULL;
     int rc = 0, done = 0;
-    st_progress bar;
+    st_progress_bar bar;
     // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
     st_progress_begin(&bar, "bench", "settings", shard_n > 1 ? (int)((total - shard_i + shard_n) / shard_n) : total);
     if (!rows) {

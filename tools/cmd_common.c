@@ -67,12 +67,12 @@ bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_met
     return true;
 }
 
-void st_progress_begin(st_progress *p, const char *label, const char *unit, int total) {
-    *p = (st_progress){.label = label, .unit = unit, .total = total, .tty = isatty(STDERR_FILENO) == 1};
+void st_progress_begin(st_progress_bar *p, const char *label, const char *unit, int total) {
+    *p = (st_progress_bar){.label = label, .unit = unit, .total = total, .tty = isatty(STDERR_FILENO) == 1};
     p->t0 = p->last = st_now_ms();
 }
 
-static void progress_draw(st_progress *p, int done, const char *item, bool final) {
+static void progress_draw(st_progress_bar *p, int done, const char *item, bool final) {
     double el = (st_now_ms() - p->t0) / 1000.0;
     double frac = p->total > 0 ? (double)done / p->total : 1.0;
     char bar[31];
@@ -89,7 +89,7 @@ static void progress_draw(st_progress *p, int done, const char *item, bool final
     p->drawn = true;
 }
 
-void st_progress_update(st_progress *p, int done, const char *item) {
+void st_progress_update(st_progress_bar *p, int done, const char *item) {
     if (!p->tty) return;
     double now = st_now_ms();
     // A changed item is drawn at once (bench: one per setting), rows 4x/s.
@@ -99,7 +99,7 @@ void st_progress_update(st_progress *p, int done, const char *item) {
     progress_draw(p, done, item, false);
 }
 
-void st_progress_end(st_progress *p, int done, const char *extra) {
+void st_progress_end(st_progress_bar *p, int done, const char *extra) {
     if (p->tty) {
         if (p->drawn) progress_draw(p, done, NULL, true);
         return;

@@ -19,18 +19,18 @@ bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_met
 // Progress of a long command on stderr: on a terminal a bar with the
 // elapsed time and an ETA (redrawn at most 4 times a second, from 1 s on);
 // otherwise nothing until st_progress_end's one summary line.
-typedef struct st_progress {
+typedef struct st_progress_bar {
     const char *label; // "reference", "bench"
     const char *unit;  // what is counted: "rows", "settings"
     int total;
     double t0, last;
     bool tty, drawn;
-} st_progress;
-void st_progress_begin(st_progress *p, const char *label, const char *unit, int total);
+} st_progress_bar;
+void st_progress_begin(st_progress_bar *p, const char *label, const char *unit, int total);
 // done of total finished; item (may be NULL) names what runs now.
-void st_progress_update(st_progress *p, int done, const char *item);
+void st_progress_update(st_progress_bar *p, int done, const char *item);
 // Ends the bar (terminal) or prints "strahl LABEL: DONE UNIT in T s[, extra]".
-void st_progress_end(st_progress *p, int done, const char *extra);
+void st_progress_end(st_progress_bar *p, int done, const char *extra);
 // The time-against-error plot of bench CSVs (tools/cmd_plot.c); metric names
 // the error column when the CSVs have no header (NULL: from the header);
 // baseline "M.P=V,..." marks that setting (NULL: none).

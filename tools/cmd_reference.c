@@ -137,7 +137,7 @@ int st_cmd_reference(int argc, char **argv) {
     st_image img;
     const int w0 = scene.width, h0 = scene.height;
     double t0 = st_now_ms();
-    st_progress bar;
+    st_progress_bar bar;
     st_progress_begin(&bar, "reference", "rows", h0);
     o.progress = on_rows;
     o.progress_user = &bar;

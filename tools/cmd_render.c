@@ -34,15 +34,23 @@ static bool out_ext_ok(const char *p) {
     return dot && (!strcasecmp(dot, ".exr") || !strcasecmp(dot, ".png"));
 }
 
-static void print_stats(st_world *w, const float *frame_ms, int nframes, bool json) {
+static void print_stats(st_world *w, const float *frame_ms, int nframes, bool json,
+                        const st_progress *pr, long ran, double total_ms) {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     double fm = st_median_f(frame_ms, nframes);
     const st_camera *c = st_world_camera(w);
     if (json) {
         printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, "
-               "\"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, \"gpu_bytes\": %zu, \"passes\": [",
-               st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss, st_gpu_bytes());
+               "\"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, \"gpu_bytes\": %zu, ",
+               st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss,
+               st_gpu_bytes());
+        if (pr)
+            printf("\"frames_run\": %ld, \"total_ms\": %.3f, \"converged\": %s, \"error\": %.6g, "
+                   "\"progress_info\": \"%s\", ",
+                   ran, total_ms, pr->converged ? "true" : "false",
+                   isfinite(pr->error) ? pr->error : -1.0, pr->info);
+        printf("\"passes\": [");
         for (int i = 0; i < st_world_num_pass_stats(w); i++) {
             const st_pass_stats *s = st_world_pass_stats(w, i);
             printf("%s\n  {\"module\": \"%s\", \"pass\": \"%s\", \"runs\": %u, \"skipped\": %u, "
@@ -57,6 +65,10 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
            "GPU allocations %.1f MiB\n",
            st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss / 1024.0,
            st_gpu_bytes() / 1048576.0);
+    if (pr)
+        printf("%s after %ld frame(s), %.0f ms, estimated remaining relative error %.4g%s%s\n",
+               pr->converged ? "converged" : "not converged", ran, total_ms, pr->error,
+               pr->info[0] ? "\n" : "", pr->info);
     printf("%-12s %-14s %6s %8s %7s %12s %12s\n", "module", "pass", "runs", "skipped", "culled",
            "gpu ms (med)", "cpu ms (med)");
     for (int i = 0; i < st_world_num_pass_stats(w); i++) {
@@ -70,7 +82,9 @@ int st_cmd_render(int argc, char **argv) {
     const char *scene_path = NULL, *out = NULL;
     char *sets[MAX_SETS];
     int num_sets = 0, width = 0, height = 0, stats = 0;
-    long frames = 1, warmup = -1;
+    long frames = 1, warmup = -1, max_frames = 2000;
+    double max_seconds = 600;
+    bool frames_given = false;
     double exposure = 0;
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
@@ -91,6 +105,18 @@ int st_cmd_render(int argc, char **argv) {
         } else if (!strcmp(a, "--frames") && has_next) {
             if (!st_parse_int(argv[++i], 1, 100000, &frames))
                 return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..100000", argv[i]),
+                       st_report("render", &err);
+            frames_given = true;
+        } else if (!strcmp(a, "--max-frames") && has_next) {
+            if (!st_parse_int(argv[++i], 1, 100000, &max_frames))
+                return st_fail(&err, ST_ERR_INPUT, "--max-frames %s: expected 1..100000", argv[i]),
+                       st_report("render", &err);
+        } else if (!strcmp(a, "--max-seconds") && has_next) {
+            char *e;
+            max_seconds = strtod(argv[++i], &e);
+            if (*e || !isfinite(max_seconds) || max_seconds <= 0 || max_seconds > 1e6)
+                return st_fail(&err, ST_ERR_INPUT,
+                               "--max-seconds %s: expected a number in (0, 1e6]", argv[i]),
                        st_report("render", &err);
         } else if (!strcmp(a, "--warmup") && has_next) {
             if (!st_parse_int(argv[++i], 0, 100000, &warmup))
@@ -118,7 +144,11 @@ int st_cmd_render(int argc, char **argv) {
     if (!out_ext_ok(out))
         return st_fail(&err, ST_ERR_INPUT, "-o %s: the output must end in .exr or .png", out),
                st_report("render", &err);
-    if (warmup < 0) warmup = frames > 1 ? 1 : 0;
+    // Without --frames a still image is a converged one: frames run until
+    // every progressive module reports convergence (or a cap is reached).
+    bool until_converged = !frames_given;
+    if (until_converged) frames = max_frames;
+    if (warmup < 0) warmup = frames > 1 && !until_converged ? 1 : 0;
     if (warmup >= frames) warmup = frames - 1;
 
     st_scene scene = {0};
@@ -134,13 +164,23 @@ int st_cmd_render(int argc, char **argv) {
     w = st_world_create(&scene, &opts, &err);
     if (!w) goto fail;
     int timed = 0;
+    long ran = 0;
+    double start = st_now_ms();
+    st_progress prog = {.converged = true};
+    bool has_prog = false;
     for (long f = 0; f < frames; f++) {
         if (f == warmup) st_world_reset_samples(w);
         double t0 = st_now_ms();
         if (!st_world_frame(w, &err)) goto fail;
         glFinish();
         if (f >= warmup) frame_ms[timed++] = (float)(st_now_ms() - t0);
+        ran++;
+        has_prog = st_world_progress(w, &prog);
+        if (until_converged &&
+            (!has_prog || prog.converged || st_now_ms() - start > 1000 * max_seconds))
+            break;
     }
+    double total_ms = st_now_ms() - start;
     if (!st_world_read(w, &img, &err)) goto fail;
     size_t bad = st_image_count_nonfinite(&img);
     if (bad) {
@@ -148,7 +188,12 @@ int st_cmd_render(int argc, char **argv) {
         goto fail;
     }
     if (!st_image_write(out, &img, (float)exposure, &err)) goto fail;
-    if (stats) print_stats(w, frame_ms, timed, stats == 2);
+    if (stats)
+        print_stats(w, frame_ms, timed, stats == 2, has_prog ? &prog : NULL, ran, total_ms);
+    else if (has_prog)
+        printf("strahl render: %s after %ld frame(s), %.0f ms, estimated remaining relative error "
+               "%.4g\n",
+               prog.converged ? "converged" : "not converged", ran, total_ms, prog.error);
     goto done;
 fail:
     rc = st_report("render", &err);

@@ -15,6 +15,7 @@
 // while accumulation has not converged. A camera-only frame runs neither pass.
 #include "atlas.h"
 #include "bvh.h"
+#include "transfer.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -34,6 +35,9 @@ enum {
     P_TOLERANCE,
     P_DISPLAY,
     P_CHART_ANGLE,
+    P_MODE,
+    P_TRANSFER_LEAVES,
+    P_TRANSFER_EPS,
     P_COUNT
 };
 
@@ -45,10 +49,10 @@ static const st_param_def params[P_COUNT] = {
     {"samples", ST_PARAM_INT, 100, 1, 4096, NULL, "Hammersley samples over the atlas per texel and frame (the thesis' N)"},
     {"estimator", ST_PARAM_ENUM, 0, 0, 1, "area|thesis",
      "area: the design's area-sampling estimator with disk-bounded 1/d^2; thesis: 2 pi/N sum L0 cos (Merz 2010, eq. 9)"},
-    {"sampling", ST_PARAM_ENUM, 0, 0, 1, "uniform|power",
+    {"sampling", ST_PARAM_ENUM, 1, 0, 1, "uniform|power",
      "area estimator: uniform picks over the atlas (the design), or picks in proportion to each texel's flux a_j L0_j "
      "(25% in proportion to a_j), weighted by 1/(N p_j): same expectation, far less variance from small bright spots"},
-    {"visibility", ST_PARAM_BOOL, 0, 0, 1, NULL,
+    {"visibility", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "trace each sample's segment against a BVH of the scene (off: the thesis, light leaks through walls)"},
     {"bounces", ST_PARAM_INT, 1, 1, 8, NULL, "diffuse bounces; each repeats the gather with L0 = direct + previous bounce"},
     {"progressive", ST_PARAM_BOOL, 1, 0, 1, NULL,
@@ -61,6 +65,16 @@ static const st_param_def params[P_COUNT] = {
      "combined: direct + emission + indirect; direct; indirect only; atlas: the combined atlas textured back (the thesis' display)"},
     {"chart_angle", ST_PARAM_FLOAT, 30, 1, 89, NULL,
      "generated atlas: largest angle (degrees) between a triangle and its chart's plane"},
+    {"mode", ST_PARAM_ENUM, 0, 0, 1, "transfer|gather",
+     "transfer: links between texel clusters with form factors and visibility, precomputed once per atlas on the CPU "
+     "(Embree, all cores); a relight is GPU passes without noise, the first frame is converged. gather: the thesis' "
+     "per-frame Hammersley gather, accumulated over frames"},
+    {"transfer_leaves", ST_PARAM_INT, 32768, 256, 1048576, NULL,
+     "transfer: at most this many leaves in the cluster tree; on larger atlases a leaf groups neighbouring texels "
+     "(bounds precompute time and memory; a texel still gets its own first-order value)"},
+    {"transfer_eps", ST_PARAM_FLOAT, 0.02, 0.002, 0.5, NULL,
+     "transfer: a link's sender node may subtend at most this A/(pi d^2) (receivers a quarter of it); smaller is more "
+     "accurate, with more links and a longer precompute"},
 };
 
 enum {
@@ -98,6 +112,12 @@ typedef struct agi {
     int lookup; // 0: uv1, 1: triangle table
     GLuint nodes_ssbo, tris_ssbo;
     st_shader *sh_gb, *sh_gbp, *sh_gather, *sh_gather_vis, *sh_resolve;
+    // Precomputed transfer (mode=transfer), built on first use per atlas.
+    transfer T;
+    bool have_transfer;
+    GLuint tr_buf[6]; // nodes, flux, gathered, link offsets, links, texel slots
+    GLuint leaf_tex;
+    st_shader *sh_tr_reduce, *sh_tr_gather, *sh_tr_push;
     bool shadow;
     bool atlas_dirty, gb_dirty, restart;
     int frames;
@@ -109,6 +129,15 @@ typedef struct agi {
 static int ip(const agi *g, int k) { return (int)g->p[k]; }
 
 // ---- resources ----------------------------------------------------------------
+
+static void release_transfer(agi *g) {
+    glDeleteBuffers(6, g->tr_buf);
+    memset(g->tr_buf, 0, sizeof g->tr_buf);
+    if (g->leaf_tex) glDeleteTextures(1, &g->leaf_tex);
+    g->leaf_tex = 0;
+    transfer_free(&g->T);
+    g->have_transfer = false;
+}
 
 static void release_atlas_gpu(agi *g) {
     glDeleteTextures(T_COUNT, g->tex);
@@ -130,6 +159,7 @@ static void release_atlas_gpu(agi *g) {
     g->num_models = 0;
     bvh_free(&g->B);
     g->have_bvh = false;
+    release_transfer(g);
     atlas_free(&g->A);
 }
 
@@ -172,6 +202,12 @@ static bool build_atlas(agi *g, st_err *err) {
     if (!atlas_build(&g->A, sc->meshes, sc->num_meshes, &o, err)) return false;
     atlas *A = &g->A;
     int W = g->W = A->width, H = g->H = A->height;
+    // The transfer's CPU side holds ~70 bytes per texel.
+    if (ip(g, P_MODE) == 0 && (long)W * H > 2048L * 2048L)
+        return st_fail(err, ST_ERR_INPUT,
+                       "atlas_gi.atlas_size: a %dx%d atlas is too large for mode=transfer (at most 2048x2048; use "
+                       "mode=gather or a smaller atlas)",
+                       W, H);
     g->lookup = o.use_uv1 ? 0 : 1;
     // Scene extent, for the visibility rays' offset.
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -264,15 +300,17 @@ static bool build_atlas(agi *g, st_err *err) {
     return st_gl_check("atlas_gi atlas", err);
 }
 
-// The BVH for visibility, built on first use over every scene triangle once.
-static bool ensure_bvh(agi *g, st_err *err) {
-    if (g->have_bvh) return true;
+// Every front-side world triangle once, 9 floats each (visibility).
+static float *scene_triangles(const agi *g, uint32_t *count, st_err *err) {
     const atlas *A = &g->A;
     uint32_t n = 0;
     for (int i = 0; i < A->num_meshes; i++)
         if (!A->meshes[i].back) n += A->meshes[i].mesh.num_triangles;
     float *c = malloc((n ? n : 1) * 9 * sizeof *c);
-    if (!c) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    if (!c) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
     uint32_t k = 0;
     for (int i = 0; i < A->num_meshes; i++) {
         if (A->meshes[i].back) continue;
@@ -285,6 +323,16 @@ static bool ensure_bvh(agi *g, st_err *err) {
             }
         }
     }
+    *count = n;
+    return c;
+}
+
+// The BVH for visibility, built on first use over every scene triangle once.
+static bool ensure_bvh(agi *g, st_err *err) {
+    if (g->have_bvh) return true;
+    uint32_t n = 0;
+    float *c = scene_triangles(g, &n, err);
+    if (!c) return false;
     bool ok = bvh_build(&g->B, c, n, err);
     free(c);
     if (!ok) return false;
@@ -294,6 +342,81 @@ static bool ensure_bvh(agi *g, st_err *err) {
     glNamedBufferStorage(g->tris_ssbo, (GLsizeiptr)((n ? n : 1) * 12 * sizeof(float)), g->B.tris, 0);
     g->have_bvh = true;
     return st_gl_check("atlas_gi bvh", err);
+}
+
+// The precomputed transfer, built on first use per atlas from the G-buffer's
+// texel positions and normals (read back once) and uploaded for the relight
+// passes.
+static bool ensure_transfer(agi *g, st_err *err) {
+    if (g->have_transfer) return true;
+    size_t cells = (size_t)g->W * g->H;
+    float *pos = malloc(cells * 4 * sizeof *pos), *nrm = malloc(cells * 4 * sizeof *nrm);
+    uint32_t ntri = 0;
+    float *tris = pos && nrm ? scene_triangles(g, &ntri, err) : NULL;
+    if (!tris) {
+        free(pos);
+        free(nrm);
+        return pos && nrm ? false : st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    }
+    glGetTextureImage(g->tex[T_POS], 0, GL_RGBA, GL_FLOAT, (GLsizei)(cells * 4 * sizeof *pos), pos);
+    glGetTextureImage(g->tex[T_NORMAL], 0, GL_RGBA, GL_FLOAT, (GLsizei)(cells * 4 * sizeof *nrm), nrm);
+    tr_opts o = {
+        .eps = g->p[P_TRANSFER_EPS],
+        .recv = 0.25,
+        .near_k = 2.0,
+        .cone_deg = 20.0,
+        .samples = 4,
+        .min_split = 4,
+        .offset = 1e-4 * g->extent,
+        .visibility = ip(g, P_VISIBILITY) != 0,
+        .max_leaves = ip(g, P_TRANSFER_LEAVES),
+    };
+    bool ok = transfer_build(&g->T, g->W, g->H, pos, nrm, tris, ntri, &o, err);
+    free(pos);
+    free(nrm);
+    free(tris);
+    if (!ok) return false;
+    const transfer *T = &g->T;
+    size_t nn = T->num_nodes ? (size_t)T->num_nodes : 1;
+    float *nodes = calloc(nn * 12, sizeof *nodes);
+    uint32_t *links = malloc((T->num_links ? T->num_links : 1) * 2 * sizeof *links);
+    if (!nodes || !links) {
+        free(nodes);
+        free(links);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    }
+    for (int i = 0; i < T->num_nodes; i++) {
+        const tr_node *n = &T->nodes[i];
+        float *o8 = nodes + 12 * (size_t)i;
+        memcpy(o8, n->c, 3 * sizeof(float));
+        o8[3] = n->area;
+        memcpy(o8 + 4, n->n, 3 * sizeof(float));
+        o8[7] = cosf(n->cone);
+        int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, n->parent};
+        memcpy(o8 + 8, info, sizeof info);
+    }
+    for (uint64_t k = 0; k < T->num_links; k++) {
+        links[2 * k] = T->link_node[k];
+        memcpy(&links[2 * k + 1], &T->link_w[k], 4);
+    }
+    uint32_t zero_off[2] = {0, 0};
+    glCreateBuffers(6, g->tr_buf);
+    glNamedBufferStorage(g->tr_buf[0], (GLsizeiptr)(nn * 12 * sizeof(float)), nodes, 0);
+    glNamedBufferStorage(g->tr_buf[1], (GLsizeiptr)(nn * 4 * sizeof(float)), NULL, 0);
+    glNamedBufferStorage(g->tr_buf[2], (GLsizeiptr)(nn * 16 * sizeof(float)), NULL, 0);
+    glNamedBufferStorage(g->tr_buf[3], (GLsizeiptr)((nn + 1) * sizeof(uint32_t)), T->link_off ? T->link_off : zero_off, 0);
+    glNamedBufferStorage(g->tr_buf[4], (GLsizeiptr)((T->num_links ? T->num_links : 1) * 2 * sizeof(uint32_t)), links, 0);
+    uint32_t nperm = T->num_nodes ? T->nodes[0].end : 0;
+    glNamedBufferStorage(g->tr_buf[5], (GLsizeiptr)((nperm ? nperm : 1) * sizeof(uint32_t)), nperm ? T->perm : zero_off, 0);
+    free(nodes);
+    free(links);
+    glCreateTextures(GL_TEXTURE_2D, 1, &g->leaf_tex);
+    glTextureStorage2D(g->leaf_tex, 1, GL_R32I, g->W, g->H);
+    glTextureParameteri(g->leaf_tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(g->leaf_tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureSubImage2D(g->leaf_tex, 0, 0, 0, g->W, g->H, GL_RED_INTEGER, GL_INT, T->texel_leaf);
+    g->have_transfer = true;
+    return st_gl_check("atlas_gi transfer upload", err);
 }
 
 // The sample texture (thesis 4.5): X_i = (i/N, radical inverse base 2 of i).
@@ -411,7 +534,8 @@ static bool compile_gbuffer(agi *g, bool shadow, st_err *err) {
 // ---- convergence ------------------------------------------------------------
 
 static void update_converged(agi *g) {
-    if (!ip(g, P_PROGRESSIVE)) g->converged = g->frames >= 1;
+    if (ip(g, P_MODE) == 0) g->converged = g->frames >= 1; // transfer: deterministic
+    else if (!ip(g, P_PROGRESSIVE)) g->converged = g->frames >= 1;
     else if (g->frames >= ip(g, P_MAX_FRAMES)) g->converged = true;
     else g->converged = g->frames >= 4 && g->rel_err <= g->p[P_TOLERANCE];
 }
@@ -433,6 +557,9 @@ static void destroy(void *self) {
     st_shader_destroy(g->sh_gather);
     st_shader_destroy(g->sh_gather_vis);
     st_shader_destroy(g->sh_resolve);
+    st_shader_destroy(g->sh_tr_reduce);
+    st_shader_destroy(g->sh_tr_gather);
+    st_shader_destroy(g->sh_tr_push);
     free(g);
 }
 
@@ -449,6 +576,9 @@ static void *create(st_world *w, const double *p, st_err *err) {
               (g->sh_gather = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", NULL, err)) &&
               (g->sh_gather_vis = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", "AG_VISIBILITY 1\n", err)) &&
               (g->sh_resolve = st_shader_load("common/fullscreen.vert", "atlas_gi/resolve.frag", NULL, err)) &&
+              (g->sh_tr_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", NULL, err)) &&
+              (g->sh_tr_gather = st_shader_load_compute("atlas_gi/transfer_gather.comp", NULL, err)) &&
+              (g->sh_tr_push = st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", NULL, err)) &&
               build_atlas(g, err);
     if (!ok) {
         destroy(g);
@@ -473,7 +603,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
     if (pass == 0) {
         if (st_world_has_module(g->w, "shadow_map") != g->shadow) g->gb_dirty = true;
         return g->atlas_dirty || g->gb_dirty ||
-               (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_INPUTS));
+               (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM));
     }
     return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS)) || !g->converged;
 }
@@ -514,7 +644,76 @@ static void rotation(int index, float *r) {
     r[1] = (float)fmod(index * 0.5698402909980532, 1.0);
 }
 
+// Resolve: mean (accumulated sum / frames), combined atlas, dilation, statistics.
+static void resolve(agi *g) {
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_resolve);
+    glViewport(0, 0, g->W, g->H);
+    st_shader_use(g->sh_resolve);
+    st_shader_texture(g->sh_resolve, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
+    st_shader_texture(g->sh_resolve, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
+    st_shader_texture(g->sh_resolve, "ag_accum", GL_TEXTURE_2D, g->tex[T_ACCUM]);
+    st_shader_set_float(g->sh_resolve, "ag_frames", (float)g->frames);
+    st_draw_fullscreen();
+}
+
+// mode=transfer: every bounce is a reduction up the cluster tree, one pass
+// over the links and a push down to the texels. Deterministic: one frame.
+static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
+    if (!ensure_transfer(g, err)) return false;
+    const transfer *T = &g->T;
+    for (int i = 0; i < 6; i++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, g->tr_buf[i]);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
+    glViewport(0, 0, g->W, g->H);
+    glDisable(GL_DEPTH_TEST);
+    int bounces = ip(g, P_BOUNCES);
+    for (int b = 0; b < bounces && T->num_nodes; b++) {
+        bool last = b == bounces - 1;
+        GLuint prev = g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1];
+        st_shader *r = g->sh_tr_reduce;
+        st_shader_use(r);
+        st_shader_texture(r, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
+        st_shader_texture(r, "ag_prev", GL_TEXTURE_2D, prev);
+        st_shader_set_int(r, "ag_use_prev", b > 0);
+        st_shader_texture(r, "ag_area", GL_TEXTURE_2D, g->tex[T_AREA]);
+        for (int l = T->num_levels - 1; l >= 0; l--) {
+            int lb = T->level_begin[l], le = T->level_begin[l + 1];
+            st_shader_set_int(r, "ag_begin", lb);
+            st_shader_set_int(r, "ag_end", le);
+            glDispatchCompute((GLuint)((le - lb + 63) / 64), 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        st_shader_use(g->sh_tr_gather);
+        st_shader_set_int(g->sh_tr_gather, "ag_num_nodes", T->num_nodes);
+        st_world_apply_uniforms(g->w, g->sh_tr_gather, f); // the medium
+        glDispatchCompute((GLuint)((T->num_nodes + 63) / 64), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        GLuint fbo = g->fbo_gather[b & 1];
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, last ? GL_COLOR_ATTACHMENT1 : GL_NONE};
+        glNamedFramebufferDrawBuffers(fbo, 2, bufs);
+        glDisablei(GL_BLEND, 0);
+        glDisablei(GL_BLEND, 1);
+        st_shader *p = g->sh_tr_push;
+        st_shader_use(p);
+        st_shader_texture(p, "ag_leaf", GL_TEXTURE_2D, g->leaf_tex);
+        st_shader_texture(p, "ag_albedo", GL_TEXTURE_2D, g->tex[T_ALBEDO]);
+        st_shader_texture(p, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
+        st_draw_fullscreen();
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    }
+    for (int i = 0; i < 6; i++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, 0);
+    g->frames = 1;
+    g->restart = false;
+    resolve(g);
+    g->rel_err = 0;
+    g->converged = true;
+    return st_gl_check("atlas_gi transfer", err);
+}
+
 static bool gather_pass(agi *g, const st_frame *f, st_err *err) {
+    if (ip(g, P_MODE) == 0) return transfer_pass(g, f, err);
     ensure_hammersley(g);
     bool vis = ip(g, P_VISIBILITY) != 0;
     if (vis && !ensure_bvh(g, err)) return false;
@@ -554,6 +753,7 @@ static bool gather_pass(agi *g, const st_frame *f, st_err *err) {
         rotation(ip(g, P_PROGRESSIVE) ? g->frames * 8 + b : b, rot);
         if (power && !upload_picks(g, rot, err)) return false;
         st_shader_use(sh);
+        st_world_apply_uniforms(g->w, sh, f); // the medium's extinction per segment
         st_shader_texture(sh, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
         st_shader_texture(sh, "ag_normal", GL_TEXTURE_2D, g->tex[T_NORMAL]);
         st_shader_texture(sh, "ag_albedo", GL_TEXTURE_2D, g->tex[T_ALBEDO]);
@@ -571,14 +771,7 @@ static bool gather_pass(agi *g, const st_frame *f, st_err *err) {
         glDisablei(GL_BLEND, 1);
     }
     g->frames++;
-    // Mean, combined atlas, dilation, statistics.
-    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_resolve);
-    st_shader_use(g->sh_resolve);
-    st_shader_texture(g->sh_resolve, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
-    st_shader_texture(g->sh_resolve, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
-    st_shader_texture(g->sh_resolve, "ag_accum", GL_TEXTURE_2D, g->tex[T_ACCUM]);
-    st_shader_set_float(g->sh_resolve, "ag_frames", (float)g->frames);
-    st_draw_fullscreen();
+    resolve(g);
     if (ip(g, P_PROGRESSIVE) && g->frames >= 4 && g->frames < ip(g, P_MAX_FRAMES)) {
         // Relative standard error of the mean over the valid texels, from the
         // 1x1 mip level of the statistics (one small read back per frame).
@@ -602,10 +795,17 @@ static void param_changed(void *self, int k) {
     case P_ATLAS_SIZE:
     case P_TEXELS_PER_METER:
     case P_CHART_ANGLE: g->atlas_dirty = true; break;
+    case P_VISIBILITY:
+    case P_TRANSFER_EPS:
+    case P_TRANSFER_LEAVES:
+        release_transfer(g);
+        g->restart = true;
+        g->converged = false;
+        break;
     case P_SAMPLES:
     case P_SAMPLING:
     case P_ESTIMATOR:
-    case P_VISIBILITY:
+    case P_MODE:
     case P_BOUNCES: g->restart = true; g->converged = false; break;
     case P_PROGRESSIVE:
     case P_MAX_FRAMES:
@@ -616,10 +816,30 @@ static void param_changed(void *self, int k) {
 
 static bool reload(void *self, st_err *err) {
     agi *g = self;
-    st_shader *all[5] = {g->sh_gb, g->sh_gbp, g->sh_gather, g->sh_gather_vis, g->sh_resolve};
-    for (int i = 0; i < 5; i++)
+    st_shader *all[8] = {g->sh_gb,      g->sh_gbp,       g->sh_gather,    g->sh_gather_vis,
+                         g->sh_resolve, g->sh_tr_reduce, g->sh_tr_gather, g->sh_tr_push};
+    for (int i = 0; i < 8; i++)
         if (!st_shader_reload(all[i], err)) return false;
     g->gb_dirty = true;
+    return true;
+}
+
+static bool progress(void *self, st_progress *out) {
+    agi *g = self;
+    out->converged = g->converged;
+    out->frames = (uint32_t)g->frames;
+    out->error = g->rel_err;
+    if (g->have_transfer) {
+        const transfer *T = &g->T;
+        uint32_t texels = T->num_nodes ? T->nodes[0].end : 0;
+        snprintf(out->info, sizeof out->info,
+                 "transfer precompute %.2f s on %d threads, %u texels, %d nodes (<= %d texels per "
+                 "leaf), %llu links, "
+                 "%llu rays, %.1f MiB",
+                 T->seconds, T->threads, texels, T->num_nodes, T->leaf_texels,
+                 (unsigned long long)T->num_links, (unsigned long long)T->rays,
+                 transfer_bytes(T) / 1048576.0);
+    }
     return true;
 }
 
@@ -659,5 +879,5 @@ ST_PLUGIN(.name = "atlas_gi",
           ST_PARAMS(params), .requires = "shadow_map?", .provides = "atlas_gi",
           .regular_include = "atlas_gi/regular.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
+          .on_pass = on_pass, .param_changed = param_changed, .reload = reload, .progress = progress,
           .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

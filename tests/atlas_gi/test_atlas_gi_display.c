@@ -20,7 +20,7 @@ static const char *scene_fmt =
     " ],"
     " \"modules\": [%s]}";
 
-#define ATLAS "{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 256, \"samples\": 64, \"progressive\": false, \"display\": \"%s\"}}"
+#define ATLAS "{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 256, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 64, \"progressive\": false, \"display\": \"%s\"}}"
 #define SHADOW "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}"
 
 static int render(const char *name, const char *display, bool shadow_first, st_image *img) {

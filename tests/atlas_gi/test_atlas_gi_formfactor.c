@@ -75,7 +75,7 @@ int main(void) {
         for (int est = 0; est < 3; est++) {
             char params[256], name[64];
             snprintf(params, sizeof params,
-                     "\"atlas_size\": %d, \"samples\": 256, \"estimator\": \"%s\", \"sampling\": \"%s\", "
+                     "\"atlas_size\": %d, \"mode\": \"gather\", \"visibility\": false, \"samples\": 256, \"estimator\": \"%s\", \"sampling\": \"%s\", "
                      "\"display\": \"indirect\", \"max_frames\": 16, \"tolerance\": 0",
                      ATLAS, est_name[est], smp_name[est]);
             scene_json(json, sizeof json, cf, params);

@@ -19,7 +19,7 @@ static double receiver(const char *name, const char *emitter, const char *extra_
              " \"geometry\": [\n"
              "  {\"quad\": {\"corner\": [0, 0, 0], \"u\": [0, 0, 1], \"v\": [1, 0, 0]}, \"albedo\": [%g, %g, %g]},\n"
              "  {\"quad\": %s, \"albedo\": [0, 0, 0], \"emission\": [1, 1, 1]}%s],\n"
-             " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, \"samples\": 256,"
+             " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, \"mode\": \"gather\", \"sampling\": \"uniform\", \"samples\": 256,"
              " \"display\": \"indirect\", \"visibility\": %s, \"max_frames\": 12, \"tolerance\": 0}}]}\n",
              H, H, cam, RHO, RHO, RHO, emitter, extra_geometry, vis ? "true" : "false");
     st_image img = {0};

@@ -14,7 +14,7 @@ static double view(const char *name, const char *geometry, double D) {
     gi_headon_camera(cam, sizeof cam, H, K, D);
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d}, %s, \"lights\": [],\n \"geometry\": [%s],\n"
-             " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, \"samples\": 256,"
+             " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 256,"
              " \"display\": \"indirect\", \"max_frames\": 12, \"tolerance\": 0}}]}\n",
              H, H, cam, geometry);
     st_image img = {0};

@@ -124,7 +124,7 @@ int main(void) {
         }
     (void)probe;
     double pa[NPTS], ps[NPTS];
-    double atlas = spread("atlas_gi", "\"atlas_size\": 128, \"samples\": 128, \"display\": \"indirect\", \"max_frames\": 48", pa, 1);
+    double atlas = spread("atlas_gi", "\"atlas_size\": 128, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 128, \"display\": \"indirect\", \"max_frames\": 48", pa, 1);
     double ss = spread("ssgi", "\"samples\": 256, \"display\": \"indirect\"", ps, 0);
     printf("largest spread: atlas_gi %.4f%%, ssgi %.2f%% (ratio %.0f)\n", 100 * atlas, 100 * ss, ss / atlas);
     CHECK(atlas >= 0 && atlas < 0.005, "atlas_gi spread %.4f%% < 0.5%%", 100 * atlas);

@@ -36,20 +36,20 @@ int main(void) {
     char name[64], params[256];
     for (int size = 64; size <= 2048; size *= 2) {
         snprintf(name, sizeof name, "atlas_%d", size);
-        snprintf(params, sizeof params, "\"atlas_size\": %d, \"samples\": %d", size, size >= 1024 ? 1 : 16);
+        snprintf(params, sizeof params, "\"atlas_size\": %d, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": %d", size, size >= 1024 ? 1 : 16);
         run(name, "0, 1.5, 0", "0.15", "1", params, "2");
     }
     const int samples[] = {1, 2, 7, 100, 1024};
     for (int i = 0; i < 5; i++) {
         snprintf(name, sizeof name, "samples_%d", samples[i]);
-        snprintf(params, sizeof params, "\"atlas_size\": 64, \"samples\": %d, \"bounces\": %d", samples[i], i == 2 ? 3 : 1);
+        snprintf(params, sizeof params, "\"atlas_size\": 64, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": %d, \"bounces\": %d", samples[i], i == 2 ? 3 : 1);
         run(name, "0, 1.5, 0", "0.15", "1", params, "3");
     }
-    run("thesis_bounces", "0, 1.5, 0", "0.15", "1", "\"atlas_size\": 64, \"samples\": 64, \"estimator\": \"thesis\", \"bounces\": 4", "2");
-    run("visibility_bounces", "0, 1.5, 0", "0.15", "1", "\"atlas_size\": 64, \"samples\": 64, \"visibility\": true, \"bounces\": 2", "2");
+    run("thesis_bounces", "0, 1.5, 0", "0.15", "1", "\"atlas_size\": 64, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 64, \"estimator\": \"thesis\", \"bounces\": 4", "2");
+    run("visibility_bounces", "0, 1.5, 0", "0.15", "1", "\"atlas_size\": 64, \"mode\": \"gather\", \"sampling\": \"uniform\", \"samples\": 64, \"visibility\": true, \"bounces\": 2", "2");
     // The light on the wall, a 0.1 mm sphere, an emitter at 1e30.
-    run("light_on_wall", "0, 1, -1", "0.15", "1", "\"atlas_size\": 128, \"samples\": 64", "2");
-    run("tiny_sphere", "0, 1.5, 0", "0.0001", "1", "\"atlas_size\": 128, \"samples\": 64, \"visibility\": true", "2");
-    run("huge_emission", "0, 1.5, 0", "0.15", "1e30", "\"atlas_size\": 64, \"samples\": 64, \"bounces\": 2, \"display\": \"atlas\"", "4");
+    run("light_on_wall", "0, 1, -1", "0.15", "1", "\"atlas_size\": 128, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 64", "2");
+    run("tiny_sphere", "0, 1.5, 0", "0.0001", "1", "\"atlas_size\": 128, \"mode\": \"gather\", \"sampling\": \"uniform\", \"samples\": 64, \"visibility\": true", "2");
+    run("huge_emission", "0, 1.5, 0", "0.15", "1e30", "\"atlas_size\": 64, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 64, \"bounces\": 2, \"display\": \"atlas\"", "4");
     return st_test_summary("test_atlas_gi_stress");
 }

@@ -52,18 +52,15 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // toth's error at its defaults is mostly at the edges of the lit floor
-    // patch (half-resolution march, upsampled): resolution=full gives 0.20.
-    {"window_hg", "toth", "nrmse", 0.458},
-    {"window_iso", "toth", "nrmse", 0.562},
-    // Most of it in the few pixels around the light, where toth gives about
-    // half of the peak (1.27 against 2.63); resolution=full gives 0.137.
-    {"light_visible", "toth", "nrmse", 0.268},
-    // Image means agree (0.04362 against 0.04373); the error sits at the
-    // edges of the lit floor patch under the opening (resolution=full:
-    // relMSE 0.0011, NRMSE 0.234; shadow_map.resolution=4096: NRMSE 0.229).
-    {"hidden_light", "toth", "relmse", 0.0083},
-    {"hidden_light", "toth", "nrmse", 0.325},
+    // toth (equi-angular, issue 11) at its defaults. The light in view
+    // (light_visible: NRMSE 0.0079) and hidden_light's relMSE (0.0012) now
+    // pass. What is left sits at the edges of the lit floor patches under
+    // the openings and stays at the full-resolution 256-step march (window_hg
+    // NRMSE 0.177) and at shadow_map.resolution=4096 (0.169): shadow-map
+    // visibility against Cycles' exact edges, in images whose mean is small.
+    {"window_hg", "toth", "nrmse", 0.222},
+    {"window_iso", "toth", "nrmse", 0.206},
+    {"hidden_light", "toth", "nrmse", 0.240},
     {NULL, NULL, NULL, 0},
 };
 

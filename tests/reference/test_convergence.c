@@ -65,7 +65,7 @@ int main(void) {
                   "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}},\n"
                   "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": [0.75, 0.1, 0.1]},\n"
                   "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, \"albedo\": [0.1, 0.75, 0.1]}],\n"
-                  " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 256, \"progressive\": false}}]}\n");
+                  " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 256, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"progressive\": false}}]}\n");
     snprintf(ref, sizeof ref, "%s/room_ref.exr", ST_TEST_SCRATCH);
     CHECK(st_test_sh("%s reference %s -o %s --spp 2048 --bounces 1 --bounce-visibility off", ST_TEST_STRAHL,
                      scene, ref) == 0, "atlas_gi reference");

@@ -22,7 +22,7 @@ static void scene(char *out, size_t n, const char *camera, const char *module) {
              H, H, camera, RHO, RHO, RHO, module);
 }
 
-static const char *atlas_mod = "{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, \"samples\": 256, "
+static const char *atlas_mod = "{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 256, "
                                "\"display\": \"indirect\", \"max_frames\": 12, \"tolerance\": 0}}";
 
 // Mean of channel 0 over pixels where `mask` (the atlas_gi image) is lit.

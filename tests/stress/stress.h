@@ -145,10 +145,14 @@ typedef struct stress_config {
 static const stress_config stress_configs[] = {
     {"none", "[]", NULL, 1},
     {"shadow_map", "[" STRESS_SHADOW "]", NULL, 1},
-    {"toth", "[" STRESS_SHADOW ", {\"name\": \"toth\", \"params\": {\"samples\": 16}}]", STRESS_MEDIUM, 0},
+    {"toth", "[" STRESS_SHADOW ", {\"name\": \"toth\", \"params\": {\"samples\": 16}}]",
+     STRESS_MEDIUM, 0},
     {"mitchell", "[{\"name\": \"mitchell\", \"params\": {\"n\": 32}}]", STRESS_MEDIUM, 0},
     {"sousa", "[{\"name\": \"sousa\"}]", STRESS_MEDIUM, 0},
-    {"atlas_gi", "[" STRESS_SHADOW ", {\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 64, \"samples\": 256}}]",
+    {"atlas_gi",
+     "[" STRESS_SHADOW ", {\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 64, \"mode\": "
+                       "\"gather\", \"visibility\": false, \"sampling\": \"uniform\", "
+                       "\"progressive\": false, \"samples\": 256}}]",
      NULL, 0},
     {"ssgi", "[{\"name\": \"ssgi\", \"params\": {\"samples\": 16}}]", NULL, 0},
 };

@@ -1,0 +1,559 @@
+// atlas_gi: precomputed transfer (see transfer.h).
+#define _GNU_SOURCE
+#include "transfer.h"
+#include <embree3/rtcore.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define TR_PI 3.14159265358979323846
+#define TR_SPAWN_DEPTH 7 // receiver subtrees at this depth are the threads' tasks
+
+typedef struct texel {
+    float p[3], n[3], a;
+} texel;
+
+// ---- the cluster tree ----------------------------------------------------------
+
+typedef struct tree_ctx {
+    const texel *tx;
+    uint32_t *perm;
+    float lambda; // normal scale in the k-d key (m)
+    long leaf;    // most texels in a leaf
+} tree_ctx;
+
+static float key(const tree_ctx *c, uint32_t slot_texel, int axis) {
+    const texel *t = &c->tx[slot_texel];
+    return axis < 3 ? t->p[axis] : c->lambda * t->n[axis - 3];
+}
+
+// Reorders perm[b, e) so that the k-th is in place and smaller keys precede it.
+static void select_kth(const tree_ctx *c, uint32_t *perm, long b, long e, long k, int axis) {
+    while (e - b > 1) {
+        float pv = key(c, perm[(b + e) / 2], axis);
+        long i = b, j = e - 1;
+        while (i <= j) {
+            while (key(c, perm[i], axis) < pv)
+                i++;
+            while (key(c, perm[j], axis) > pv)
+                j--;
+            if (i <= j) {
+                uint32_t s = perm[i];
+                perm[i] = perm[j], perm[j] = s;
+                i++, j--;
+            }
+        }
+        if (k <= j)
+            e = j + 1;
+        else if (k >= i)
+            b = i;
+        else
+            return;
+    }
+}
+
+static float angle_between(const float *a, const float *b) {
+    float d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return acosf(fmaxf(-1.0f, fminf(1.0f, d)));
+}
+
+static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, long leaf,
+                       st_err *err) {
+    t->nodes = calloc(2 * (size_t)n, sizeof *t->nodes);
+    int *depth = calloc(2 * (size_t)n, sizeof *depth);
+    if (!t->nodes || !depth) {
+        free(depth);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
+    }
+    tree_ctx c = {tx, t->perm, 0.15f * extent, leaf};
+    int count = 1;
+    t->nodes[0] = (tr_node){.child = -1, .parent = -1, .begin = 0, .end = n};
+    // Breadth first: children are appended, so levels come out contiguous.
+    for (int i = 0; i < count; i++) {
+        tr_node *nd = &t->nodes[i];
+        long b = nd->begin, e = nd->end;
+        if (e - b < 2) continue;
+        float lo[6], hi[6];
+        for (int a = 0; a < 6; a++)
+            lo[a] = INFINITY, hi[a] = -INFINITY;
+        for (long s = b; s < e; s++)
+            for (int a = 0; a < 6; a++) {
+                float v = key(&c, t->perm[s], a);
+                lo[a] = fminf(lo[a], v), hi[a] = fmaxf(hi[a], v);
+            }
+        int axis = 0;
+        for (int a = 1; a < 6; a++)
+            if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+        // Small enough for a leaf, unless its texels face different ways
+        // (a leaf stands for one flat piece of surface).
+        float bend = 0;
+        for (int a = 3; a < 6; a++)
+            bend = fmaxf(bend, hi[a] - lo[a]);
+        if (e - b <= c.leaf && bend <= 0.3f * c.lambda) continue;
+        long mid = (b + e) / 2;
+        select_kth(&c, t->perm, b, e, mid, axis);
+        nd->child = count;
+        t->nodes[count] =
+            (tr_node){.child = -1, .parent = i, .begin = (uint32_t)b, .end = (uint32_t)mid};
+        t->nodes[count + 1] =
+            (tr_node){.child = -1, .parent = i, .begin = (uint32_t)mid, .end = (uint32_t)e};
+        depth[count] = depth[count + 1] = depth[i] + 1;
+        count += 2;
+    }
+    t->num_nodes = count;
+    t->num_levels = depth[count - 1] + 1;
+    t->level_begin = calloc((size_t)t->num_levels + 1, sizeof *t->level_begin);
+    if (!t->level_begin) {
+        free(depth);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    }
+    for (int i = count - 1; i >= 0; i--)
+        t->level_begin[depth[i]] = i;
+    t->level_begin[t->num_levels] = count;
+    free(depth);
+    // Bounds bottom-up: centroid, area, normal cone, radius.
+    for (int i = count - 1; i >= 0; i--) {
+        tr_node *nd = &t->nodes[i];
+        if (nd->child < 0) {
+            // A leaf: its texels' area-weighted centroid and mean normal.
+            double a = 0, cc[3] = {0, 0, 0}, nn[3] = {0, 0, 0};
+            for (uint32_t s = nd->begin; s < nd->end; s++) {
+                const texel *x = &tx[t->perm[s]];
+                a += x->a;
+                for (int k = 0; k < 3; k++)
+                    cc[k] += x->a * x->p[k], nn[k] += x->a * x->n[k];
+                t->texel_leaf[t->perm[s]] = i;
+            }
+            double nl = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+            for (int k = 0; k < 3; k++) {
+                nd->c[k] = (float)(a > 0 ? cc[k] / a : tx[t->perm[nd->begin]].p[k]);
+                nd->n[k] = (float)(nl > 0 ? nn[k] / nl : k == 1);
+            }
+            nd->area = (float)a;
+            nd->cone = nl > 1e-6 * a ? 0.0f : (float)TR_PI;
+            nd->rad = 0;
+            for (uint32_t s = nd->begin; s < nd->end; s++) {
+                const texel *x = &tx[t->perm[s]];
+                float d[3] = {x->p[0] - nd->c[0], x->p[1] - nd->c[1], x->p[2] - nd->c[2]};
+                nd->rad = fmaxf(nd->rad, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) +
+                                             0.75f * sqrtf(x->a));
+                if (nd->cone < (float)TR_PI) nd->cone = fmaxf(nd->cone, angle_between(nd->n, x->n));
+            }
+            continue;
+        }
+        const tr_node *k0 = &t->nodes[nd->child], *k1 = k0 + 1;
+        nd->area = k0->area + k1->area;
+        float w0 = nd->area > 0 ? k0->area / nd->area : 0.5f, w1 = 1 - w0, nl = 0;
+        for (int a = 0; a < 3; a++) {
+            nd->c[a] = w0 * k0->c[a] + w1 * k1->c[a];
+            nd->n[a] = k0->area * k0->n[a] + k1->area * k1->n[a];
+            nl += nd->n[a] * nd->n[a];
+        }
+        nl = sqrtf(nl);
+        if (nl > 1e-6f * nd->area && nd->area > 0) {
+            for (int a = 0; a < 3; a++)
+                nd->n[a] /= nl;
+            nd->cone = fminf((float)TR_PI, fmaxf(angle_between(nd->n, k0->n) + k0->cone,
+                                                 angle_between(nd->n, k1->n) + k1->cone));
+        } else {
+            nd->n[0] = 0, nd->n[1] = 1, nd->n[2] = 0;
+            nd->cone = (float)TR_PI;
+        }
+        nd->rad = 0;
+        for (int k = 0; k < 2; k++) {
+            const tr_node *ch = k ? k1 : k0;
+            float d[3] = {ch->c[0] - nd->c[0], ch->c[1] - nd->c[1], ch->c[2] - nd->c[2]};
+            nd->rad = fmaxf(nd->rad, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + ch->rad);
+        }
+    }
+    return true;
+}
+
+// ---- links ---------------------------------------------------------------------
+
+typedef struct tr_link {
+    uint32_t r, s;
+    float w;
+} tr_link;
+
+typedef struct linkbuf {
+    tr_link *v;
+    size_t n, cap;
+    uint64_t rays;
+    bool oom;
+} linkbuf;
+
+typedef struct task {
+    int r;
+    int *cand;
+    int num;
+} task;
+
+typedef struct ctx {
+    const transfer *t;
+    const texel *tx;
+    const tr_opts *o;
+    float cos_cone;
+    RTCScene scene;
+    task *tasks;
+    int num_tasks, task_cap;
+    int next_task;
+    pthread_mutex_t lock;
+    bool oom;
+} ctx;
+
+static void push_link(linkbuf *lb, uint32_t r, uint32_t s, float w) {
+    if (lb->n == lb->cap) {
+        size_t cap = lb->cap ? 2 * lb->cap : 4096;
+        tr_link *v = realloc(lb->v, cap * sizeof *v);
+        if (!v) {
+            lb->oom = true;
+            return;
+        }
+        lb->v = v, lb->cap = cap;
+    }
+    lb->v[lb->n++] = (tr_link){r, s, w};
+}
+
+static bool occluded(const ctx *c, const float *o, const float *q) {
+    struct RTCIntersectContext ic;
+    rtcInitIntersectContext(&ic);
+    struct RTCRay ray = {0};
+    ray.org_x = o[0], ray.org_y = o[1], ray.org_z = o[2];
+    ray.dir_x = q[0] - o[0], ray.dir_y = q[1] - o[1], ray.dir_z = q[2] - o[2];
+    ray.tnear = 1e-4f, ray.tfar = 1.0f - 1e-4f;
+    ray.mask = 0xFFFFFFFFu;
+    rtcOccluded1(c->scene, &ic, &ray);
+    return ray.tfar < 0;
+}
+
+// The link weight: sender area times the area-weighted mean kernel over
+// stratified texel pairs.
+// *partial: some of the rays were blocked, some not.
+// With may_open, a partly blocked link will be opened, so tracing stops at
+// the first disagreement.
+static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkbuf *lb,
+                         bool may_open, bool *partial) {
+    uint32_t nr = r->end - r->begin, ns = s->end - s->begin;
+    uint32_t m = nr > ns ? nr : ns;
+    if (m > (uint32_t)c->o->samples) m = (uint32_t)c->o->samples;
+    double sum = 0, asum = 0;
+    int hit = 0, miss = 0;
+    for (uint32_t i = 0; i < m; i++) {
+        const texel *x = &c->tx[c->t->perm[r->begin + (uint32_t)((i + 0.5) * nr / m)]];
+        const texel *y = &c->tx[c->t->perm[s->begin + (uint32_t)((m - 1 - i + 0.5) * ns / m)]];
+        asum += y->a;
+        float d[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
+        float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        if (d2 < 1e-20f) continue;
+        float il = 1.0f / sqrtf(d2);
+        float cx = (x->n[0] * d[0] + x->n[1] * d[1] + x->n[2] * d[2]) * il;
+        float cy = -(y->n[0] * d[0] + y->n[1] * d[1] + y->n[2] * d[2]) * il;
+        if (cx <= 0 || cy <= 0) continue;
+        if (c->o->visibility) {
+            float off = (float)c->o->offset;
+            float a[3], b[3];
+            for (int k = 0; k < 3; k++)
+                a[k] = x->p[k] + off * x->n[k], b[k] = y->p[k] + off * y->n[k];
+            lb->rays++;
+            bool blocked = occluded(c, a, b);
+            hit += blocked, miss += !blocked;
+            if (may_open && hit && miss) break; // it will be opened: the weight is not used
+            if (blocked) continue;
+        }
+        sum += y->a * (double)cx * cy * TR_PI / (TR_PI * d2 + y->a);
+    }
+    *partial = hit && miss;
+    return asum > 0 ? (float)(s->area * sum / asum) : 0.0f;
+}
+
+enum { L_CULL, L_ACCEPT, L_SPLIT_S, L_SPLIT_R };
+
+static int classify(const ctx *c, int ri, int si) {
+    const tr_node *r = &c->t->nodes[ri], *s = &c->t->nodes[si];
+    bool rleaf = r->child < 0, sleaf = s->child < 0;
+    if (ri == si) return rleaf ? L_CULL : L_SPLIT_R;
+    float d[3] = {s->c[0] - r->c[0], s->c[1] - r->c[1], s->c[2] - r->c[2]};
+    float dl = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    float rr = r->rad + s->rad;
+    if (dl > rr) {
+        // Cull when every normal of one cone faces away from every direction
+        // between the two bounding spheres.
+        float beta = asinf(fminf(1.0f, rr / dl));
+        float w[3] = {d[0] / dl, d[1] / dl, d[2] / dl}, mw[3] = {-w[0], -w[1], -w[2]};
+        if (angle_between(r->n, w) - r->cone - beta >= (float)(TR_PI / 2)) return L_CULL;
+        if (angle_between(s->n, mw) - s->cone - beta >= (float)(TR_PI / 2)) return L_CULL;
+    }
+    if (rleaf && sleaf) return L_ACCEPT;
+    bool near = dl < c->o->near_k * rr;
+    float pd2 = (float)TR_PI * dl * dl;
+    bool s_ok = sleaf || (!near && s->area <= c->o->eps * pd2);
+    bool r_ok = rleaf || (!near && r->area <= c->o->recv * c->o->eps * pd2 &&
+                          r->cone <= c->o->cone_deg * TR_PI / 180);
+    if (s_ok && r_ok) return L_ACCEPT;
+    if (!s_ok && (r_ok || s->rad >= r->rad)) return L_SPLIT_S;
+    return L_SPLIT_R;
+}
+
+typedef struct ivec {
+    int *v;
+    int n, cap;
+} ivec;
+
+static bool ipush(ivec *a, int x) {
+    if (a->n == a->cap) {
+        int cap = a->cap ? 2 * a->cap : 64;
+        int *v = realloc(a->v, (size_t)cap * sizeof *v);
+        if (!v) return false;
+        a->v = v, a->cap = cap;
+    }
+    a->v[a->n++] = x;
+    return true;
+}
+
+// Links of receiver r against the candidate senders; what needs a smaller
+// receiver goes down to r's children. At spawn depth the rest becomes a task.
+static void refine(ctx *c, int r, const int *cand, int num, int depth, bool spawn, linkbuf *lb) {
+    const transfer *t = c->t;
+    if (spawn && depth == TR_SPAWN_DEPTH) {
+        int *copy = malloc((num ? (size_t)num : 1) * sizeof *copy);
+        if (!copy || (c->num_tasks == c->task_cap &&
+                      !(c->tasks = realloc(c->tasks, (size_t)(c->task_cap = 2 * c->task_cap + 16) *
+                                                         sizeof *c->tasks)))) {
+            free(copy);
+            c->oom = true;
+            return;
+        }
+        memcpy(copy, cand, (size_t)num * sizeof *copy);
+        c->tasks[c->num_tasks++] = (task){r, copy, num};
+        return;
+    }
+    ivec stack = {0}, down = {0};
+    bool ok = true;
+    for (int i = 0; i < num && ok; i++)
+        ok = ipush(&stack, cand[i]);
+    while (ok && stack.n) {
+        int s = stack.v[--stack.n];
+        switch (classify(c, r, s)) {
+        case L_ACCEPT: {
+            const tr_node *rn = &t->nodes[r], *sn = &t->nodes[s];
+            // A partly blocked link would smear its shadow over the whole
+            // receiver node: open the larger node while it has children
+            // and is not too small to matter.
+            bool sopen = sn->child >= 0 && sn->end - sn->begin > (uint32_t)c->o->min_split;
+            bool ropen = rn->child >= 0 && rn->end - rn->begin > (uint32_t)c->o->min_split;
+            bool partial = false;
+            float w = link_weight(c, rn, sn, lb, sopen || ropen, &partial);
+            if (partial && (sopen || ropen)) {
+                if (sopen && (!ropen || sn->rad >= rn->rad))
+                    ok = ipush(&stack, sn->child) && ipush(&stack, sn->child + 1);
+                else
+                    ok = ipush(&down, s);
+                break;
+            }
+            if (w > 0) push_link(lb, (uint32_t)r, (uint32_t)s, w);
+            break;
+        }
+        case L_SPLIT_S:
+            ok = ipush(&stack, t->nodes[s].child) && ipush(&stack, t->nodes[s].child + 1);
+            break;
+        case L_SPLIT_R:
+            ok = ipush(&down, s);
+            break;
+        default:
+            break;
+        }
+    }
+    if (!ok) lb->oom = true;
+    free(stack.v);
+    if (ok && down.n && t->nodes[r].child >= 0)
+        for (int k = 0; k < 2; k++)
+            refine(c, t->nodes[r].child + k, down.v, down.n, depth + 1, spawn, lb);
+    free(down.v);
+}
+
+typedef struct worker_arg {
+    ctx *c;
+    linkbuf lb;
+} worker_arg;
+
+static void *worker(void *p) {
+    worker_arg *wa = p;
+    ctx *c = wa->c;
+    for (;;) {
+        pthread_mutex_lock(&c->lock);
+        int k = c->next_task++;
+        pthread_mutex_unlock(&c->lock);
+        if (k >= c->num_tasks) break;
+        task *tk = &c->tasks[k];
+        refine(c, tk->r, tk->cand, tk->num, TR_SPAWN_DEPTH, false, &wa->lb);
+    }
+    return NULL;
+}
+
+static bool make_scene(ctx *c, RTCDevice dev, const float *tris, uint32_t n, st_err *err) {
+    c->scene = rtcNewScene(dev);
+    rtcSetSceneBuildQuality(c->scene, RTC_BUILD_QUALITY_MEDIUM);
+    if (n) {
+        RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+        float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                            3 * sizeof(float), 3 * (size_t)n);
+        unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                               3 * sizeof(unsigned), n);
+        if (!vb || !ib) {
+            rtcReleaseGeometry(g);
+            return st_fail(err, ST_ERR_RUNTIME, "transfer: embree buffers failed (error %d)",
+                           (int)rtcGetDeviceError(dev));
+        }
+        memcpy(vb, tris, 9 * sizeof(float) * (size_t)n);
+        for (uint32_t i = 0; i < 3 * n; i++)
+            ib[i] = i;
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(c->scene, g);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(c->scene);
+    if (rtcGetDeviceError(dev) != RTC_ERROR_NONE)
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: embree scene build failed (error %d)",
+                       (int)rtcGetDeviceError(dev));
+    return true;
+}
+
+static int cmp_link(const void *a, const void *b) {
+    const tr_link *x = a, *y = b;
+    return x->r != y->r ? (x->r < y->r ? -1 : 1) : (x->s < y->s ? -1 : x->s > y->s);
+}
+
+bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nrm,
+                    const float *tris, uint32_t num_tris, const tr_opts *o, st_err *err) {
+    memset(t, 0, sizeof *t);
+    double t0 = st_now_ms();
+    t->W = W, t->H = H;
+    size_t cells = (size_t)W * H;
+    uint32_t n = 0;
+    for (size_t i = 0; i < cells; i++)
+        n += pos[4 * i + 3] > 0;
+    texel *tx = calloc(cells ? cells : 1, sizeof *tx);
+    t->perm = malloc((n ? n : 1) * sizeof *t->perm);
+    t->texel_leaf = malloc(cells * sizeof *t->texel_leaf);
+    if (!tx || !t->perm || !t->texel_leaf) {
+        free(tx);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for a %dx%d atlas", W, H);
+    }
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    uint32_t k = 0;
+    for (size_t i = 0; i < cells; i++) {
+        t->texel_leaf[i] = -1;
+        if (!(pos[4 * i + 3] > 0)) continue;
+        texel *x = &tx[i];
+        for (int a = 0; a < 3; a++) {
+            x->p[a] = pos[4 * i + a], x->n[a] = nrm[4 * i + a];
+            lo[a] = fminf(lo[a], x->p[a]), hi[a] = fmaxf(hi[a], x->p[a]);
+        }
+        x->a = pos[4 * i + 3];
+        t->perm[k++] = (uint32_t)i;
+    }
+    if (!n) {
+        t->seconds = (st_now_ms() - t0) / 1000;
+        return true;
+    }
+    float extent = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
+    long leaf = o->max_leaves > 0 ? ((long)n + o->max_leaves - 1) / o->max_leaves : 1;
+    t->leaf_texels = (int)leaf;
+    if (!build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, err)) {
+        free(tx);
+        return false;
+    }
+    // Links.
+    ctx c = {.t = t, .tx = tx, .o = o};
+    pthread_mutex_init(&c.lock, NULL);
+    int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
+    if (threads < 1) threads = 1;
+    if (threads > 64) threads = 64;
+    t->threads = threads;
+    char cfg[32];
+    snprintf(cfg, sizeof cfg, "threads=1"); // our own threads trace; no TBB pool
+    RTCDevice dev = rtcNewDevice(cfg);
+    bool ok = dev && make_scene(&c, dev, tris, num_tris, err);
+    if (!dev) st_fail(err, ST_ERR_RUNTIME, "transfer: embree device failed");
+    worker_arg *wa = calloc((size_t)threads, sizeof *wa);
+    if (ok && !wa) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    if (ok) {
+        for (int i = 0; i < threads; i++)
+            wa[i].c = &c;
+        int root = 0;
+        refine(&c, 0, &root, 1, 0, true, &wa[0].lb); // the top of the tree serially, then tasks
+        pthread_t th[64];
+        int started = 0;
+        for (int i = 1; i < threads && !c.oom; i++)
+            if (!pthread_create(&th[started], NULL, worker, &wa[i])) started++;
+        worker(&wa[0]);
+        for (int i = 0; i < started; i++)
+            pthread_join(th[i], NULL);
+    }
+    for (int i = 0; i < c.num_tasks; i++)
+        free(c.tasks[i].cand);
+    free(c.tasks);
+    pthread_mutex_destroy(&c.lock);
+    if (c.scene) rtcReleaseScene(c.scene);
+    if (dev) rtcReleaseDevice(dev);
+    free(tx);
+    // Gather every thread's links, sorted by receiver (then sender, so the
+    // result does not depend on the thread schedule).
+    size_t total = 0;
+    for (int i = 0; ok && i < threads; i++) {
+        total += wa[i].lb.n;
+        t->rays += wa[i].lb.rays;
+        if (wa[i].lb.oom) c.oom = true;
+    }
+    if (ok && c.oom) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for the links");
+    tr_link *all = ok ? malloc((total ? total : 1) * sizeof *all) : NULL;
+    if (ok && !all)
+        ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
+    size_t m = 0;
+    for (int i = 0; i < threads && wa; i++) {
+        if (all) memcpy(all + m, wa[i].lb.v, wa[i].lb.n * sizeof *all), m += wa[i].lb.n;
+        free(wa[i].lb.v);
+    }
+    free(wa);
+    if (!ok) return false;
+    qsort(all, total, sizeof *all, cmp_link);
+    t->link_off = calloc((size_t)t->num_nodes + 1, sizeof *t->link_off);
+    t->link_node = malloc((total ? total : 1) * sizeof *t->link_node);
+    t->link_w = malloc((total ? total : 1) * sizeof *t->link_w);
+    if (!t->link_off || !t->link_node || !t->link_w) {
+        free(all);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
+    }
+    for (size_t i = 0; i < total; i++) {
+        t->link_off[all[i].r + 1]++;
+        t->link_node[i] = all[i].s;
+        t->link_w[i] = all[i].w;
+    }
+    for (int i = 0; i < t->num_nodes; i++)
+        t->link_off[i + 1] += t->link_off[i];
+    t->num_links = total;
+    free(all);
+    t->seconds = (st_now_ms() - t0) / 1000;
+    return true;
+}
+
+void transfer_free(transfer *t) {
+    free(t->nodes);
+    free(t->perm);
+    free(t->level_begin);
+    free(t->texel_leaf);
+    free(t->link_off);
+    free(t->link_node);
+    free(t->link_w);
+    memset(t, 0, sizeof *t);
+}
+
+uint64_t transfer_bytes(const transfer *t) {
+    return (uint64_t)t->num_nodes * sizeof(tr_node) + t->num_links * 8 +
+           (uint64_t)t->W * t->H * sizeof(int32_t) + (t->num_nodes + 1) * sizeof(uint32_t) +
+           (uint64_t)(t->num_nodes ? t->nodes[0].end : 0) * sizeof(uint32_t);
+}

@@ -1,0 +1,31 @@
+// Precomputed transfer, step 1 of a relight: per cluster node the flux of
+// the senders, sum a_j L_j (L = L0, plus the previous bounce when
+// ag_use_prev), one tree level per dispatch from the leaves up.
+#include "atlas_gi/transfer.glsl"
+layout(local_size_x = 64) in;
+uniform int ag_begin, ag_end; // this level's nodes
+uniform sampler2D ag_l0;
+uniform sampler2D ag_prev;
+uniform int ag_use_prev;
+uniform sampler2D ag_area;
+
+void main() {
+    int i = ag_begin + int(gl_GlobalInvocationID.x);
+    if (i >= ag_end) return;
+    ag_node n = ag_nodes[i];
+    vec3 f;
+    if (n.info.x < 0) {
+        int w = textureSize(ag_l0, 0).x;
+        f = vec3(0.0);
+        for (int k = n.info.y; k < n.info.z; k++) {
+            int j = int(ag_perm[k]);
+            ivec2 t = ivec2(j % w, j / w);
+            vec3 L = texelFetch(ag_l0, t, 0).rgb;
+            if (ag_use_prev != 0) L += texelFetch(ag_prev, t, 0).rgb;
+            f += L * texelFetch(ag_area, t, 0).r;
+        }
+    } else {
+        f = ag_flux[n.info.x].rgb + ag_flux[n.info.x + 1].rgb;
+    }
+    ag_flux[i] = vec4(f, 0.0);
+}

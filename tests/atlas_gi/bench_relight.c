@@ -1,0 +1,110 @@
+// Benchmark (not a test): time from "a light moved" to the converged image
+// with atlas_gi's precomputed transfer, against a frame of the same scene
+// with direct light only (shadow_map, no atlas_gi) after the same move, both
+// worlds alive in one process and measured interleaved (medians of N moves),
+// plus the transfer's precompute statistics.
+//   bench_relight SCENE.json [SIZE] [MOVES]
+#include "st_gl.h"
+#include "st_world.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double median(double *v, int n) {
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && v[j] < v[j - 1]; j--) {
+            double t = v[j];
+            v[j] = v[j - 1], v[j - 1] = t;
+        }
+    return n ? (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])) : 0;
+}
+
+static bool open_world(const char *path, int size, bool gi, st_scene *sc, st_world **w,
+                       st_err *err) {
+    if (!st_scene_load(path, sc, err)) return false;
+    sc->width = sc->height = size;
+    if (!gi) { // direct light only: drop atlas_gi (its settings leak; a benchmark)
+        int k = 0;
+        for (int i = 0; i < sc->num_modules; i++)
+            if (strcmp(sc->modules[i].name, "atlas_gi")) sc->modules[k++] = sc->modules[i];
+        sc->num_modules = k;
+    }
+    st_world_opts o = {.timing = true};
+    *w = st_world_create(sc, &o, err);
+    return *w != NULL;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fprintf(stderr, "usage: bench_relight SCENE.json [SIZE] [MOVES]\n");
+        return 2;
+    }
+    int size = argc > 2 ? atoi(argv[2]) : 256, moves = argc > 3 ? atoi(argv[3]) : 9;
+    if (moves < 1 || moves > 200) moves = 9;
+    st_err err = {0};
+    st_context *ctx = st_context_create_headless(&err);
+    st_scene sg = {0}, sd = {0};
+    st_world *wg = NULL, *wd = NULL;
+    if (!ctx || !open_world(argv[1], size, true, &sg, &wg, &err) ||
+        !open_world(argv[1], size, false, &sd, &wd, &err)) {
+        fprintf(stderr, "bench_relight: %s\n", err.msg);
+        return 1;
+    }
+    if (!sg.num_lights) {
+        fprintf(stderr, "bench_relight: %s has no light to move\n", argv[1]);
+        return 2;
+    }
+    double t0 = st_now_ms();
+    if (!st_world_frame(wg, &err) || !st_world_frame(wd, &err)) {
+        fprintf(stderr, "bench_relight: %s\n", err.msg);
+        return 1;
+    }
+    glFinish();
+    double first = st_now_ms() - t0;
+    st_progress pr = {0};
+    st_world_progress(wg, &pr);
+    double *tg = calloc((size_t)moves, sizeof *tg), *td = calloc((size_t)moves, sizeof *td);
+    float base[3], inten[3];
+    memcpy(base, sg.lights[0].position, sizeof base);
+    memcpy(inten, sg.lights[0].intensity, sizeof inten);
+    int frames_max = 0;
+    for (int m = 0; m < moves; m++) {
+        float p[3] = {base[0] + 0.3f * (float)cos(m * 2.4), base[1] - 0.05f * (m % 3),
+                      base[2] + 0.3f * (float)sin(m * 2.4)};
+        for (int k = 0; k < 2; k++) {
+            st_world *w = k ? wd : wg;
+            if (!st_world_set_light(w, 0, p, inten, &err)) return 1;
+            double s = st_now_ms();
+            int f = 0;
+            // Frames until converged (one with the transfer).
+            do {
+                if (!st_world_frame(w, &err)) return 1;
+                f++;
+            } while (k == 0 && st_world_progress(w, &pr) && !pr.converged && f < 10000);
+            glFinish();
+            (k ? td : tg)[m] = st_now_ms() - s;
+            if (!k && f > frames_max) frames_max = f;
+        }
+    }
+    double mg = median(tg, moves), md = median(td, moves);
+    printf("{\"scene\": \"%s\", \"size\": %d, \"moves\": %d, \"first_frame_ms\": %.1f, "
+           "\"relight_ms_median\": %.2f, "
+           "\"direct_only_ms_median\": %.2f, \"ratio\": %.2f, \"frames_per_relight\": %d, "
+           "\"info\": \"%s\"}\n",
+           argv[1], size, moves, first, mg, md, mg / md, frames_max, pr.info);
+    // Per-pass medians over the moves (CPU-side ms; llvmpipe runs on the CPU).
+    for (int i = 0; i < st_world_num_pass_stats(wg); i++) {
+        const st_pass_stats *ps = st_world_pass_stats(wg, i);
+        fprintf(stderr, "  %s.%s: %u runs, median %.2f ms\n", ps->module, ps->pass, ps->runs,
+                st_median_f(ps->cpu_ms, ps->num_samples));
+    }
+    free(tg);
+    free(td);
+    st_world_destroy(wg);
+    st_world_destroy(wd);
+    st_scene_free(&sg);
+    st_scene_free(&sd);
+    st_context_destroy(ctx);
+    return 0;
+}
