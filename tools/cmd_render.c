@@ -20,14 +20,17 @@ static const char help_text[] =
     "  -o OUT.exr|OUT.png       output file (required; written atomically)\n"
     "  --set MODULE.PARAM=VALUE change a module parameter (repeatable; default: the scene's)\n"
     "  --size WxH               image size (default: the scene's image.width x height)\n"
-    "  --frames N               frames to render, 1..100000 (default 1; progressive\n"
-    "                           techniques such as atlas_gi accumulate over them)\n"
+    "  --frames N               render exactly N frames, 1..100000 (default: run until\n"
+    "                           every progressive module, e.g. atlas_gi's gather, reports\n"
+    "                           its image converged; 1 frame if none is progressive)\n"
+    "  --max-frames N           cap on frames when running to convergence (default 2000)\n"
+    "  --max-seconds S          cap on seconds when running to convergence (default 600)\n"
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
     "  -h, --help               this text\n"
     "example:\n"
-    "  strahl render scenes/cornell.json -o out/cornell.png --frames 16 --stats\n";
+    "  strahl render scenes/cornell.json -o out/cornell.png --stats\n";
 
 static bool out_ext_ok(const char *p) {
     const char *dot = strrchr(p, '.');
