@@ -12,15 +12,24 @@ struct st_context {
 
 static const char *egl_error_name(EGLint e) {
     switch (e) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    default: return "EGL error";
+    case EGL_SUCCESS:
+        return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+        return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ALLOC:
+        return "EGL_BAD_ALLOC";
+    case EGL_BAD_CONFIG:
+        return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+        return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+        return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+        return "EGL_BAD_MATCH";
+    case EGL_BAD_ATTRIBUTE:
+        return "EGL_BAD_ATTRIBUTE";
+    default:
+        return "EGL error";
     }
 }
 
@@ -40,8 +49,12 @@ static bool try_display(st_context *c, EGLDisplay dpy) {
                                   EGL_PBUFFER_BIT, EGL_NONE};
         if (!eglChooseConfig(dpy, pb_attr, &cfg, 1, &n) || n < 1) goto fail;
     }
-    const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+    const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION,
+                               4,
+                               EGL_CONTEXT_MINOR_VERSION,
+                               5,
+                               EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                EGL_NONE};
     EGLContext ctx = eglCreateContext(dpy, cfg, EGL_NO_CONTEXT, ctx_attr);
     if (ctx == EGL_NO_CONTEXT) goto fail;
@@ -65,16 +78,19 @@ st_context *st_context_create_headless(st_err *err) {
     }
     bool ok = false;
     if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_device")) {
-        PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
+        PFNEGLQUERYDEVICESEXTPROC query =
+            (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
         EGLDeviceEXT devs[8];
         EGLint ndev = 0;
         if (query && query(8, devs, &ndev)) {
             for (EGLint i = 0; i < ndev && !ok; i++)
-                ok = try_display(c, eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devs[i], NULL));
+                ok = try_display(c,
+                                 eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devs[i], NULL));
         }
     }
     if (!ok && epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
-        ok = try_display(c, eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL));
+        ok = try_display(
+            c, eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL));
     if (!ok) ok = try_display(c, eglGetDisplay(EGL_DEFAULT_DISPLAY));
     if (!ok) {
         st_fail(err, ST_ERR_RUNTIME,
@@ -87,9 +103,12 @@ st_context *st_context_create_headless(st_err *err) {
     return c;
 }
 
-static void glfw_error(int code, const char *msg) { (void)code, (void)msg; }
+static void glfw_error(int code, const char *msg) {
+    (void)code, (void)msg;
+}
 
-st_context *st_context_create_window(int width, int height, const char *title, int vsync, st_err *err) {
+st_context *st_context_create_window(int width, int height, const char *title, int vsync,
+                                     st_err *err) {
     glfwSetErrorCallback(glfw_error);
     if (!glfwInit()) {
         const char *d = NULL;
@@ -105,7 +124,8 @@ st_context *st_context_create_window(int width, int height, const char *title, i
     if (!w) {
         const char *d = NULL;
         glfwGetError(&d);
-        st_fail(err, ST_ERR_RUNTIME, "cannot create an OpenGL 4.5 core window: %s", d ? d : "unknown");
+        st_fail(err, ST_ERR_RUNTIME, "cannot create an OpenGL 4.5 core window: %s",
+                d ? d : "unknown");
         glfwTerminate();
         return NULL;
     }
@@ -135,7 +155,9 @@ void st_context_destroy(st_context *c) {
     free(c);
 }
 
-void *st_context_window(st_context *c) { return c ? c->window : NULL; }
+void *st_context_window(st_context *c) {
+    return c ? c->window : NULL;
+}
 
 const char *st_context_renderer(void) {
     const char *r = (const char *)glGetString(GL_RENDERER);
@@ -144,19 +166,26 @@ const char *st_context_renderer(void) {
 
 static const char *gl_error_name(GLenum e) {
     switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "GL error";
+    case GL_INVALID_ENUM:
+        return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+        return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+        return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+        return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY:
+        return "GL_OUT_OF_MEMORY";
+    default:
+        return "GL error";
     }
 }
 
 bool st_gl_check_at(const char *what, const char *file, int line, st_err *err) {
     GLenum e = glGetError(), first = e;
     if (e == GL_NO_ERROR) return true;
-    while (e != GL_NO_ERROR) e = glGetError();
+    while (e != GL_NO_ERROR)
+        e = glGetError();
     return st_fail(err, first == GL_OUT_OF_MEMORY ? ST_ERR_RUNTIME : ST_ERR_RUNTIME,
                    "%s:%d: %s: %s (0x%x)", file, line, what, gl_error_name(first), first);
 }

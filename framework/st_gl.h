@@ -15,7 +15,8 @@ typedef struct st_context st_context;
 // (llvmpipe without a GPU), then the default display. Needs no window system.
 st_context *st_context_create_headless(st_err *err);
 // A window with a 4.5 core context (GLFW); `vsync` 0/1.
-st_context *st_context_create_window(int width, int height, const char *title, int vsync, st_err *err);
+st_context *st_context_create_window(int width, int height, const char *title, int vsync,
+                                     st_err *err);
 void st_context_destroy(st_context *ctx);
 void *st_context_window(st_context *ctx); // GLFWwindow* or NULL when headless
 const char *st_context_renderer(void);    // GL_RENDERER string

@@ -79,7 +79,9 @@ bool fs_exists(const std::string &path, void *) {
     struct stat st;
     return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
-std::string fs_expand(const std::string &path, void *) { return path; }
+std::string fs_expand(const std::string &path, void *) {
+    return path;
+}
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *) {
     std::string e;
     if (read_regular(path, *out, e)) return true;
@@ -98,8 +100,10 @@ bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int,
 
 // tinygltf messages are newline separated; one line reads better.
 std::string one_line(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-    for (size_t i; (i = s.find('\n')) != std::string::npos;) s.replace(i, 1, "; ");
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' '))
+        s.pop_back();
+    for (size_t i; (i = s.find('\n')) != std::string::npos;)
+        s.replace(i, 1, "; ");
     return s.empty() ? "invalid glTF" : s;
 }
 
@@ -115,7 +119,8 @@ Mat mul(const Mat &a, const Mat &b) {
     Mat r{};
     for (int c = 0; c < 4; c++)
         for (int row = 0; row < 4; row++)
-            for (int k = 0; k < 4; k++) r[c * 4 + row] += a[k * 4 + row] * b[c * 4 + k];
+            for (int k = 0; k < 4; k++)
+                r[c * 4 + row] += a[k * 4 + row] * b[c * 4 + k];
     return r;
 }
 
@@ -144,7 +149,8 @@ bool local_transform(const tinygltf::Node &n, int i, Mat &m, std::string &e) {
                                n.rotation[2] * n.rotation[2] + n.rotation[3] * n.rotation[3]);
         if (!(len > 0) || !std::isfinite(len))
             return fail(e, "nodes[%d].rotation: not a valid quaternion", i);
-        for (int k = 0; k < 4; k++) q[k] = n.rotation[k] / len; // exporters round
+        for (int k = 0; k < 4; k++)
+            q[k] = n.rotation[k] / len; // exporters round
     }
     if (!n.scale.empty()) {
         if (n.scale.size() != 3 || !all_finite(n.scale))
@@ -157,8 +163,10 @@ bool local_transform(const tinygltf::Node &n, int i, Mat &m, std::string &e) {
                             {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
     m = identity();
     for (int c = 0; c < 3; c++)
-        for (int row = 0; row < 3; row++) m[c * 4 + row] = r[row][c] * s[c];
-    for (int row = 0; row < 3; row++) m[12 + row] = t[row];
+        for (int row = 0; row < 3; row++)
+            m[c * 4 + row] = r[row][c] * s[c];
+    for (int row = 0; row < 3; row++)
+        m[12 + row] = t[row];
     return true;
 }
 
@@ -174,27 +182,40 @@ struct View {
 size_t comp_size(int t) {
     switch (t) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
     case TINYGLTF_COMPONENT_TYPE_INT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE: return 8;
-    default: return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+        return 8;
+    default:
+        return 0;
     }
 }
 
 int type_comps(int t) {
     switch (t) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+        return 1;
+    case TINYGLTF_TYPE_VEC2:
+        return 2;
+    case TINYGLTF_TYPE_VEC3:
+        return 3;
+    case TINYGLTF_TYPE_VEC4:
+        return 4;
+    case TINYGLTF_TYPE_MAT2:
+        return 4;
+    case TINYGLTF_TYPE_MAT3:
+        return 9;
+    case TINYGLTF_TYPE_MAT4:
+        return 16;
+    default:
+        return 0;
     }
 }
 
@@ -235,8 +256,9 @@ bool accessor_view(const Model &m, int idx, const char *what, View &v, std::stri
         bool fits = a.byteOffset <= bv.byteLength && bv.byteLength - a.byteOffset >= elem &&
                     (a.count - 1) <= (bv.byteLength - a.byteOffset - elem) / v.stride;
         if (!fits)
-            return fail(e, "accessors[%d]: %zu elements at byteOffset %zu exceed bufferViews[%d] "
-                           "(%zu bytes)",
+            return fail(e,
+                        "accessors[%d]: %zu elements at byteOffset %zu exceed bufferViews[%d] "
+                        "(%zu bytes)",
                         idx, a.count, a.byteOffset, a.bufferView, bv.byteLength);
     }
     v.base = data.data() + bv.byteOffset + a.byteOffset;
@@ -333,15 +355,18 @@ const char *mode_name(int mode) {
 bool material(const Model &m, int mi, const char *what, Prim &p, std::string &e) {
     // No material: the scene's default grey (the glTF default, white, would
     // be an albedo of 1).
-    for (int k = 0; k < 3; k++) p.albedo[k] = 0.75f, p.emission[k] = 0;
+    for (int k = 0; k < 3; k++)
+        p.albedo[k] = 0.75f, p.emission[k] = 0;
     p.double_sided = false;
     if (mi < 0) return true;
-    if ((size_t)mi >= m.materials.size()) return fail(e, "%s.material: %d does not exist", what, mi);
+    if ((size_t)mi >= m.materials.size())
+        return fail(e, "%s.material: %d does not exist", what, mi);
     const tinygltf::Material &mat = m.materials[(size_t)mi];
     const std::vector<double> &bc = mat.pbrMetallicRoughness.baseColorFactor;
     const std::vector<double> &em = mat.emissiveFactor;
     if (bc.size() != 4 || !all_finite(bc))
-        return fail(e, "materials[%d].pbrMetallicRoughness.baseColorFactor: expected 4 numbers", mi);
+        return fail(e, "materials[%d].pbrMetallicRoughness.baseColorFactor: expected 4 numbers",
+                    mi);
     if (em.size() != 3 || !all_finite(em))
         return fail(e, "materials[%d].emissiveFactor: expected 3 numbers", mi);
     double strength = 1;
@@ -349,16 +374,19 @@ bool material(const Model &m, int mi, const char *what, Prim &p, std::string &e)
     if (ext != mat.extensions.end()) {
         const tinygltf::Value &s = ext->second;
         if (!s.IsObject() || !s.Has("emissiveStrength") || !s.Get("emissiveStrength").IsNumber())
-            return fail(e, "materials[%d]: KHR_materials_emissive_strength needs emissiveStrength", mi);
+            return fail(e, "materials[%d]: KHR_materials_emissive_strength needs emissiveStrength",
+                        mi);
         strength = s.Get("emissiveStrength").GetNumberAsDouble();
         if (!std::isfinite(strength) || strength < 0)
             return fail(e, "materials[%d]: emissiveStrength must be >= 0", mi);
     }
     for (int k = 0; k < 3; k++) {
         if (bc[k] < 0 || bc[k] > 1)
-            return fail(e, "materials[%d].pbrMetallicRoughness.baseColorFactor[%d]: %g is not in [0, 1]",
-                        mi, k, bc[k]);
-        if (em[k] < 0) return fail(e, "materials[%d].emissiveFactor[%d]: %g is negative", mi, k, em[k]);
+            return fail(
+                e, "materials[%d].pbrMetallicRoughness.baseColorFactor[%d]: %g is not in [0, 1]",
+                mi, k, bc[k]);
+        if (em[k] < 0)
+            return fail(e, "materials[%d].emissiveFactor[%d]: %g is negative", mi, k, em[k]);
         double emission = em[k] * strength;
         if (emission > std::numeric_limits<float>::max())
             return fail(e, "materials[%d]: emission overflows a float", mi);
@@ -396,7 +424,8 @@ void flat_normals(Prim &p) {
         const float *a = &p.pos[3 * p.idx[3 * t]], *b = &p.pos[3 * p.idx[3 * t + 1]],
                     *c = &p.pos[3 * p.idx[3 * t + 2]];
         double e1[3], e2[3];
-        for (int k = 0; k < 3; k++) e1[k] = (double)b[k] - a[k], e2[k] = (double)c[k] - a[k];
+        for (int k = 0; k < 3; k++)
+            e1[k] = (double)b[k] - a[k], e2[k] = (double)c[k] - a[k];
         double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                        e1[0] * e2[1] - e1[1] * e2[0]};
         double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -425,7 +454,8 @@ bool convert_primitive(const Model &m, int mi, int pi, Prim &p, std::string &e) 
     snprintf(what, sizeof what, "meshes[%d].primitives[%d]", mi, pi);
     int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES)
-        return fail(e, "%s: mode %s (%d) is not supported, only TRIANGLES", what, mode_name(mode), mode);
+        return fail(e, "%s: mode %s (%d) is not supported, only TRIANGLES", what, mode_name(mode),
+                    mode);
     auto attr = [&](const char *key) {
         auto it = prim.attributes.find(key);
         return it == prim.attributes.end() ? -1 : it->second;
@@ -445,7 +475,8 @@ bool convert_primitive(const Model &m, int mi, int pi, Prim &p, std::string &e) 
             float *n = &p.nrm[3 * i];
             double len = std::sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
             if (len > 0)
-                for (int k = 0; k < 3; k++) n[k] = (float)(n[k] / len);
+                for (int k = 0; k < 3; k++)
+                    n[k] = (float)(n[k] / len);
             else
                 n[0] = n[1] = 0, n[2] = 1; // see flat_normals
         }
@@ -453,15 +484,18 @@ bool convert_primitive(const Model &m, int mi, int pi, Prim &p, std::string &e) 
     if (iu >= 0) {
         snprintf(aw, sizeof aw, "%s.attributes.TEXCOORD_1", what);
         if (!read_floats(m, iu, aw, 2, true, p.uv, e)) return false;
-        if (p.uv.size() / 2 != nv) return fail(e, "%s: TEXCOORD_1 count differs from POSITION count", what);
+        if (p.uv.size() / 2 != nv)
+            return fail(e, "%s: TEXCOORD_1 count differs from POSITION count", what);
     }
     if (prim.indices >= 0) {
         snprintf(aw, sizeof aw, "%s.indices", what);
         if (!read_indices(m, prim.indices, aw, nv, p.idx, e)) return false;
     } else {
-        if (nv % 3) return fail(e, "%s: %zu vertices without indices is not a multiple of 3", what, nv);
+        if (nv % 3)
+            return fail(e, "%s: %zu vertices without indices is not a multiple of 3", what, nv);
         p.idx.resize(nv);
-        for (size_t i = 0; i < nv; i++) p.idx[i] = (uint32_t)i;
+        for (size_t i = 0; i < nv; i++)
+            p.idx[i] = (uint32_t)i;
     }
     if (!material(m, prim.material, what, p, e)) return false;
     if (in < 0) flat_normals(p);
@@ -481,7 +515,8 @@ bool convert_primitive(const Model &m, int mi, int pi, Prim &p, std::string &e) 
 struct Meshes {
     std::vector<st_mesh> v;
     ~Meshes() {
-        for (st_mesh &m : v) st_mesh_free(&m);
+        for (st_mesh &m : v)
+            st_mesh_free(&m);
     }
 };
 
@@ -495,7 +530,8 @@ bool make_mesh(const Prim &p, const Mat &world, Meshes &out, std::string &e) {
     m.normals = (float *)malloc(p.nrm.size() * sizeof(float) + 1);
     m.indices = (uint32_t *)malloc(p.idx.size() * sizeof(uint32_t) + 1);
     if (!p.uv.empty()) m.uv1 = (float *)malloc(p.uv.size() * sizeof(float));
-    if (!m.positions || !m.normals || !m.indices || (!p.uv.empty() && !m.uv1)) throw std::bad_alloc();
+    if (!m.positions || !m.normals || !m.indices || (!p.uv.empty() && !m.uv1))
+        throw std::bad_alloc();
     if (!p.pos.empty()) memcpy(m.positions, p.pos.data(), p.pos.size() * sizeof(float));
     if (!p.nrm.empty()) memcpy(m.normals, p.nrm.data(), p.nrm.size() * sizeof(float));
     if (!p.uv.empty()) memcpy(m.uv1, p.uv.data(), p.uv.size() * sizeof(float));
@@ -513,7 +549,8 @@ bool make_mesh(const Prim &p, const Mat &world, Meshes &out, std::string &e) {
     return true;
 }
 
-bool make_camera(const Model &m, int ci, int ni, const Mat &w, st_camera_desc &cam, std::string &e) {
+bool make_camera(const Model &m, int ci, int ni, const Mat &w, st_camera_desc &cam,
+                 std::string &e) {
     const tinygltf::PerspectiveCamera &pc = m.cameras[(size_t)ci].perspective;
     const double pi = 3.14159265358979323846;
     if (!(pc.yfov > 0 && pc.yfov < pi))
@@ -525,7 +562,8 @@ bool make_camera(const Model &m, int ci, int ni, const Mat &w, st_camera_desc &c
     if (!(zfar > pc.znear) || !std::isfinite(zfar) || zfar > 1e30)
         return fail(e, "cameras[%d].perspective.zfar: %g is not greater than znear", ci, pc.zfar);
     // Looks down -Z with +Y up in its node's frame.
-    double pos[3] = {w[12], w[13], w[14]}, fwd[3] = {-w[8], -w[9], -w[10]}, up[3] = {w[4], w[5], w[6]};
+    double pos[3] = {w[12], w[13], w[14]}, fwd[3] = {-w[8], -w[9], -w[10]},
+           up[3] = {w[4], w[5], w[6]};
     double fl = std::sqrt(fwd[0] * fwd[0] + fwd[1] * fwd[1] + fwd[2] * fwd[2]);
     double ul = std::sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
     double c[3] = {fwd[1] * up[2] - fwd[2] * up[1], fwd[2] * up[0] - fwd[0] * up[2],
@@ -567,22 +605,26 @@ bool node_light(const Model &m, const tinygltf::Node &n, int ni, const Mat &w,
     else if (l.type == "spot")
         d.type = ST_LIGHT_SPOT;
     else if (l.type != "point")
-        return fail(e, "KHR_lights_punctual.lights[%d]: type '%s' is not point, directional or spot", (int)li,
-                    l.type.c_str());
+        return fail(e,
+                    "KHR_lights_punctual.lights[%d]: type '%s' is not point, directional or spot",
+                    (int)li, l.type.c_str());
     if (d.type != ST_LIGHT_POINT) {
         // Lights shine along the node's local -z.
         double dir[3] = {-w[8], -w[9], -w[10]};
         double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
         if (!(len > 1e-12) || !std::isfinite(len))
             return fail(e, "nodes[%d]: the light's direction is degenerate (scaled to zero?)", ni);
-        for (int k = 0; k < 3; k++) d.direction[k] = (float)(dir[k] / len);
+        for (int k = 0; k < 3; k++)
+            d.direction[k] = (float)(dir[k] / len);
     }
     if (d.type == ST_LIGHT_SPOT) {
         const double pi = 3.14159265358979323846;
         double inner = l.spot.innerConeAngle, outer = l.spot.outerConeAngle;
         if (!(outer > 0 && outer <= pi / 2 + 1e-9) || !(inner >= 0 && inner < outer))
-            return fail(e, "KHR_lights_punctual.lights[%d].spot: expected 0 <= innerConeAngle < outerConeAngle "
-                           "<= pi/2, got %g and %g",
+            return fail(e,
+                        "KHR_lights_punctual.lights[%d].spot: expected 0 <= innerConeAngle < "
+                        "outerConeAngle "
+                        "<= pi/2, got %g and %g",
                         (int)li, inner, outer);
         d.inner_angle = (float)inner;
         d.outer_angle = (float)std::min(outer, pi / 2);
@@ -615,7 +657,8 @@ bool check_extensions(const Model &m, std::string &e) {
                                      "EXT_texture_webp"};
     for (const std::string &x : m.extensionsRequired) {
         bool known = false;
-        for (const char *k : ok) known = known || x == k;
+        for (const char *k : ok)
+            known = known || x == k;
         if (!known) return fail(e, "extensionsRequired: '%s' is not supported", x.c_str());
     }
     return true;
@@ -635,13 +678,15 @@ bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std
     std::vector<int> parents(nn, 0);
     for (size_t i = 0; i < nn; i++)
         for (int c : m.nodes[i].children) {
-            if (c < 0 || (size_t)c >= nn) return fail(e, "nodes[%zu].children: node %d does not exist", i, c);
+            if (c < 0 || (size_t)c >= nn)
+                return fail(e, "nodes[%zu].children: node %d does not exist", i, c);
             if (++parents[(size_t)c] > 1) return fail(e, "nodes[%d] has more than one parent", c);
         }
     std::vector<int> roots;
     if (!m.scenes.empty()) {
         int si = m.defaultScene < 0 ? 0 : m.defaultScene;
-        if ((size_t)si >= m.scenes.size()) return fail(e, "scene: %d does not exist", m.defaultScene);
+        if ((size_t)si >= m.scenes.size())
+            return fail(e, "scene: %d does not exist", m.defaultScene);
         roots = m.scenes[(size_t)si].nodes;
     } else {
         for (size_t i = 0; i < nn; i++)
@@ -654,19 +699,22 @@ bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std
     // Explicit stack: a deep hierarchy must not overflow the C stack. Pushed
     // in reverse so children are visited in file order.
     std::vector<std::pair<int, Mat>> stack;
-    for (size_t i = roots.size(); i-- > 0;) stack.emplace_back(roots[i], identity());
+    for (size_t i = roots.size(); i-- > 0;)
+        stack.emplace_back(roots[i], identity());
     while (!stack.empty()) {
         auto [ni, parent] = stack.back();
         stack.pop_back();
         if (ni < 0 || (size_t)ni >= nn) return fail(e, "scenes: node %d does not exist", ni);
-        if (seen[(size_t)ni]) return fail(e, "nodes[%d] is reached twice; the nodes must form a tree", ni);
+        if (seen[(size_t)ni])
+            return fail(e, "nodes[%d] is reached twice; the nodes must form a tree", ni);
         seen[(size_t)ni] = true;
         const tinygltf::Node &n = m.nodes[(size_t)ni];
         Mat local;
         if (!local_transform(n, ni, local, e)) return false;
         Mat w = mul(parent, local);
         if (n.mesh >= 0 || n.mesh < -1) {
-            if ((size_t)n.mesh >= m.meshes.size()) return fail(e, "nodes[%d].mesh: %d does not exist", ni, n.mesh);
+            if ((size_t)n.mesh >= m.meshes.size())
+                return fail(e, "nodes[%d].mesh: %d does not exist", ni, n.mesh);
             size_t mi = (size_t)n.mesh;
             if (!converted[mi]) {
                 const tinygltf::Mesh &mesh = m.meshes[mi];
@@ -696,7 +744,8 @@ bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std
             }
         }
         if (!node_light(m, n, ni, w, r.lights, e)) return false;
-        for (size_t i = n.children.size(); i-- > 0;) stack.emplace_back(n.children[i], w);
+        for (size_t i = n.children.size(); i-- > 0;)
+            stack.emplace_back(n.children[i], w);
     }
     return true;
 }
@@ -716,7 +765,8 @@ bool commit(Result &r, st_scene *scene, bool *has_camera, st_err *err) {
     for (const st_light_desc &l : r.lights)
         if (ok) ok = st_scene_add_light(scene, &l, err);
     if (!ok) {
-        for (int i = meshes0; i < scene->num_meshes; i++) st_mesh_free(&scene->meshes[i]);
+        for (int i = meshes0; i < scene->num_meshes; i++)
+            st_mesh_free(&scene->meshes[i]);
         scene->num_meshes = meshes0;
         scene->num_lights = lights0;
         return false;
@@ -737,8 +787,10 @@ bool nesting_ok(const unsigned char *json, size_t len) {
     for (size_t i = 0; i < len; i++) {
         unsigned char c = json[i];
         if (in_string) {
-            if (c == '\\') i++;
-            else if (c == '"') in_string = false;
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
         } else if (c == '"') {
             in_string = true;
         } else if (c == '[' || c == '{') {

@@ -5,18 +5,29 @@
 static size_t g_bytes;
 static GLuint g_empty_vao;
 
-size_t st_gpu_bytes(void) { return g_bytes; }
-void st_gpu_track(long long delta) { g_bytes = (size_t)((long long)g_bytes + delta); }
+size_t st_gpu_bytes(void) {
+    return g_bytes;
+}
+void st_gpu_track(long long delta) {
+    g_bytes = (size_t)((long long)g_bytes + delta);
+}
 
 static size_t format_bytes(GLenum f) {
     switch (f) {
-    case GL_RGBA32F: return 16;
-    case GL_RGBA16F: return 8;
-    case GL_RG32F: return 8;
-    case GL_R32F: return 4;
-    case GL_RGBA8: return 4;
-    case GL_R8: return 1;
-    default: return 16;
+    case GL_RGBA32F:
+        return 16;
+    case GL_RGBA16F:
+        return 8;
+    case GL_RG32F:
+        return 8;
+    case GL_R32F:
+        return 4;
+    case GL_RGBA8:
+        return 4;
+    case GL_R8:
+        return 1;
+    default:
+        return 16;
     }
 }
 
@@ -102,7 +113,9 @@ void st_target_bind(const st_target *t) {
 bool st_target_read(const st_target *t, int index, float *rgba, st_err *err) {
     size_t row = (size_t)t->width * 4;
     float *tmp = malloc(row * t->height * sizeof(float));
-    if (!tmp) return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width, t->height);
+    if (!tmp)
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width,
+                       t->height);
     glGetTextureImage(t->color[index], 0, GL_RGBA, GL_FLOAT,
                       (GLsizei)(row * t->height * sizeof(float)), tmp);
     // GL's row 0 is the bottom; images are stored top row first.

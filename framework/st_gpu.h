@@ -10,7 +10,8 @@ extern "C" {
 
 typedef struct st_buffer {
     GLuint id;
-    GLenum target; // GL_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER, GL_UNIFORM_BUFFER, GL_SHADER_STORAGE_BUFFER
+    GLenum target; // GL_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER, GL_UNIFORM_BUFFER,
+                   // GL_SHADER_STORAGE_BUFFER
     size_t size;
 } st_buffer;
 

@@ -70,13 +70,13 @@ double st_srgb_encode(double linear);
 // 2-channel image counts as grey). Non-finite values or a size mismatch are
 // ST_ERR_INPUT errors.
 typedef struct st_metrics {
-    double rmse[4];      // per channel R,G,B and [3] = all
-    double relmse[4];    // mean((a-b)^2 / (b^2 + 1e-2)), b the reference
-    double psnr[4];      // 20 log10(peak / rmse), peak = max of the reference over R,G,B
-                         // (1 if that is <= 0); +inf where rmse = 0
+    double rmse[4];   // per channel R,G,B and [3] = all
+    double relmse[4]; // mean((a-b)^2 / (b^2 + 1e-2)), b the reference
+    double psnr[4];   // 20 log10(peak / rmse), peak = max of the reference over R,G,B
+                      // (1 if that is <= 0); +inf where rmse = 0
     double max_abs[4];
-    double scale;        // s minimising |s a - b|^2 over R,G,B (0 if a is all zero),
-                         // for methods that are not physically scaled
+    double scale;          // s minimising |s a - b|^2 over R,G,B (0 if a is all zero),
+                           // for methods that are not physically scaled
     double scaled_rmse[4]; // rmse of s a against b
     double mean_a[4], mean_b[4];
     // With the reference's per-pixel standard error s (st_image_compare_noisy):

@@ -82,7 +82,8 @@ static bool valid_name(const char *name) {
 st_plugin_lib *st_plugin_open(const char *name, st_err *err) {
     // A scene names a module, never a path.
     if (!valid_name(name)) {
-        st_fail(err, ST_ERR_INPUT, "module '%s': not a module name (lowercase letters, digits, '_')", name);
+        st_fail(err, ST_ERR_INPUT,
+                "module '%s': not a module name (lowercase letters, digits, '_')", name);
         return NULL;
     }
     char dirs[4096];
@@ -118,7 +119,8 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     st_plugin_fn fn;
     *(void **)&fn = dlsym(h, ST_PLUGIN_SYMBOL);
     if (!fn) {
-        st_fail(err, ST_ERR_INPUT, "%s: no '%s' symbol: not a strahl module", path, ST_PLUGIN_SYMBOL);
+        st_fail(err, ST_ERR_INPUT, "%s: no '%s' symbol: not a strahl module", path,
+                ST_PLUGIN_SYMBOL);
         dlclose(h);
         return NULL;
     }
@@ -131,8 +133,8 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     const char *nm = d->struct_size >= offsetof(st_plugin, description) && d->name ? d->name : "?";
     if (d->abi_major != ST_ABI_MAJOR || d->abi_minor > ST_ABI_MINOR) {
         st_fail(err, ST_ERR_INPUT,
-                "module '%s' (%s): built for plugin ABI %u.%u, this strahl supports %d.0..%d.%d", nm,
-                path, d->abi_major, d->abi_minor, ST_ABI_MAJOR, ST_ABI_MAJOR, ST_ABI_MINOR);
+                "module '%s' (%s): built for plugin ABI %u.%u, this strahl supports %d.0..%d.%d",
+                nm, path, d->abi_major, d->abi_minor, ST_ABI_MAJOR, ST_ABI_MAJOR, ST_ABI_MINOR);
         dlclose(h);
         return NULL;
     }
@@ -155,8 +157,10 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     const struct {
         const void *p;
         const char *name;
-    } req[] = {{lib->desc.name, "name"},         {(void *)lib->desc.create, "create"},
-               {(void *)lib->desc.destroy, "destroy"}, {(void *)lib->desc.num_passes, "num_passes"},
+    } req[] = {{lib->desc.name, "name"},
+               {(void *)lib->desc.create, "create"},
+               {(void *)lib->desc.destroy, "destroy"},
+               {(void *)lib->desc.num_passes, "num_passes"},
                {(void *)lib->desc.pass_info, "pass_info"}};
     for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
         if (req[i].p) continue;
@@ -164,7 +168,8 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
         snprintf(missing + l, sizeof missing - l, "%s%s", l ? ", " : "", req[i].name);
     }
     if (missing[0]) {
-        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm, path, missing);
+        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm, path,
+                missing);
         dlclose(h);
         free(lib);
         return NULL;
@@ -180,7 +185,9 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     return lib;
 }
 
-const st_plugin *st_plugin_desc(const st_plugin_lib *lib) { return &lib->desc; }
+const st_plugin *st_plugin_desc(const st_plugin_lib *lib) {
+    return &lib->desc;
+}
 
 void st_plugin_close(st_plugin_lib *lib) {
     if (!lib) return;
@@ -189,7 +196,9 @@ void st_plugin_close(st_plugin_lib *lib) {
     free(lib);
 }
 
-static int cmp_names(const void *a, const void *b) { return strcmp(a, b); }
+static int cmp_names(const void *a, const void *b) {
+    return strcmp(a, b);
+}
 
 int st_plugin_list(char names[][ST_NAME_MAX], int max) {
     char dirs[4096];
@@ -205,7 +214,8 @@ int st_plugin_list(char names[][ST_NAME_MAX], int max) {
             snprintf(nm, sizeof nm, "%.*s", (int)(l - 3), e->d_name);
             if (!valid_name(nm)) continue;
             bool dup = false;
-            for (int i = 0; i < n; i++) dup |= !strcmp(names[i], nm);
+            for (int i = 0; i < n; i++)
+                dup |= !strcmp(names[i], nm);
             if (!dup && n < max) snprintf(names[n++], ST_NAME_MAX, "%s", nm);
         }
         closedir(dir);
@@ -258,22 +268,25 @@ static int choice_index(const char *choices, const char *s) {
     return -1;
 }
 
-bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out, st_err *err) {
+bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out,
+                         st_err *err) {
     const st_param_def *d = &p->params[index];
     switch (d->type) {
     case ST_PARAM_BOOL:
-        if (v->type == ST_VALUE_BOOL || (v->type == ST_VALUE_NUMBER && (v->number == 0 || v->number == 1))) {
+        if (v->type == ST_VALUE_BOOL ||
+            (v->type == ST_VALUE_NUMBER && (v->number == 0 || v->number == 1))) {
             *out = v->number != 0;
             return true;
         }
         return st_fail(err, ST_ERR_INPUT, "%s.%s: expected true or false", p->name, d->name);
     case ST_PARAM_ENUM: {
         if (v->type != ST_VALUE_STRING)
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: expected one of %s", p->name, d->name, d->choices);
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: expected one of %s", p->name, d->name,
+                           d->choices);
         int k = choice_index(d->choices, v->str);
         if (k < 0)
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: '%s' is not one of %s", p->name, d->name, v->str,
-                           d->choices);
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: '%s' is not one of %s", p->name, d->name,
+                           v->str, d->choices);
         *out = k;
         return true;
     }
@@ -282,10 +295,11 @@ bool st_param_from_value(const st_plugin *p, int index, const st_value *v, doubl
         if (v->type != ST_VALUE_NUMBER || !isfinite(v->number))
             return st_fail(err, ST_ERR_INPUT, "%s.%s: expected a number", p->name, d->name);
         if (d->type == ST_PARAM_INT && v->number != floor(v->number))
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is not an integer", p->name, d->name, v->number);
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is not an integer", p->name, d->name,
+                           v->number);
         if (v->number < d->min || v->number > d->max)
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", p->name, d->name,
-                           v->number, d->min, d->max);
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", p->name,
+                           d->name, v->number, d->min, d->max);
         *out = v->number;
         return true;
     }

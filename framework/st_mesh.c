@@ -14,8 +14,10 @@ static const float st_default_albedo = 0.75f;
 static bool mesh_alloc(st_mesh *m, const char *name, uint32_t nv, uint32_t nt) {
     memset(m, 0, sizeof *m);
     strncpy(m->name, name, sizeof m->name - 1);
-    for (int i = 0; i < 16; i++) m->model[i] = (i % 5 == 0) ? 1.0f : 0.0f;
-    for (int c = 0; c < 3; c++) m->albedo[c] = st_default_albedo;
+    for (int i = 0; i < 16; i++)
+        m->model[i] = (i % 5 == 0) ? 1.0f : 0.0f;
+    for (int c = 0; c < 3; c++)
+        m->albedo[c] = st_default_albedo;
     m->positions = malloc((size_t)nv * 3 * sizeof(float));
     m->normals = malloc((size_t)nv * 3 * sizeof(float));
     m->indices = malloc((size_t)nt * 3 * sizeof(uint32_t));
@@ -36,14 +38,16 @@ static void put_quad(st_mesh *m, uint32_t q, const float c[3], const float u[3],
                    (double)u[0] * v[1] - (double)u[1] * v[0]};
     double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (len > 0)
-        for (int k = 0; k < 3; k++) n[k] /= len;
+        for (int k = 0; k < 3; k++)
+            n[k] /= len;
     float *p = m->positions + 12 * q, *nn = m->normals + 12 * q;
     for (int k = 0; k < 3; k++) {
         p[0 + k] = c[k];
         p[3 + k] = c[k] + u[k];
         p[6 + k] = c[k] + u[k] + v[k];
         p[9 + k] = c[k] + v[k];
-        for (int j = 0; j < 4; j++) nn[3 * j + k] = (float)n[k];
+        for (int j = 0; j < 4; j++)
+            nn[3 * j + k] = (float)n[k];
     }
     uint32_t b = 4 * q, *t = m->indices + 6 * q;
     t[0] = b, t[1] = b + 1, t[2] = b + 2;

@@ -18,7 +18,8 @@ typedef struct {
 static void normal_matrix(const float *M, float out[9]) {
     double a[3][3], cof[3][3], big = 0; // a[row][col]; M is column major
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) a[r][c] = M[c * 4 + r];
+        for (int c = 0; c < 3; c++)
+            a[r][c] = M[c * 4 + r];
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) {
             int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
@@ -28,7 +29,8 @@ static void normal_matrix(const float *M, float out[9]) {
     double det = a[0][0] * cof[0][0] + a[0][1] * cof[0][1] + a[0][2] * cof[0][2];
     double s = (det < 0 ? -1.0 : 1.0) / (big > 0 ? big : 1.0);
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) out[c * 3 + r] = (float)(s * cof[r][c]); // column major
+        for (int c = 0; c < 3; c++)
+            out[c * 3 + r] = (float)(s * cof[r][c]); // column major
 }
 
 bool st_model_type_build(st_model_type *t, const char *name, const st_mesh *meshes, int n,
@@ -121,6 +123,7 @@ void st_model_type_draw(const st_model_type *t, const st_model *models, int n, s
         if (l_ds >= 0) glUniform1i(l_ds, m->double_sided);
         if (l_id >= 0) glUniform1i(l_id, i);
         glDrawElementsBaseVertex(t->primitive, (GLsizei)m->index_count, GL_UNSIGNED_INT,
-                                 (void *)((size_t)m->first_index * sizeof(uint32_t)), m->base_vertex);
+                                 (void *)((size_t)m->first_index * sizeof(uint32_t)),
+                                 m->base_vertex);
     }
 }

@@ -117,13 +117,13 @@ typedef struct st_target_desc {
 
 // What changed since a pass last ran (accumulated while it was skipped or culled).
 enum {
-    ST_CHANGE_FIRST = 1u << 0,    // never ran
+    ST_CHANGE_FIRST = 1u << 0, // never ran
     ST_CHANGE_GEOMETRY = 1u << 1,
     ST_CHANGE_LIGHTS = 1u << 2,
     ST_CHANGE_CAMERA = 1u << 3,
-    ST_CHANGE_PARAMS = 1u << 4,   // this module's parameters
-    ST_CHANGE_SIZE = 1u << 5,     // image size
-    ST_CHANGE_INPUTS = 1u << 6,   // a resource this pass reads was rewritten
+    ST_CHANGE_PARAMS = 1u << 4, // this module's parameters
+    ST_CHANGE_SIZE = 1u << 5,   // image size
+    ST_CHANGE_INPUTS = 1u << 6, // a resource this pass reads was rewritten
     ST_CHANGE_MEDIUM = 1u << 7,
     ST_CHANGE_ALL = 0xffu,
 };
@@ -138,8 +138,8 @@ typedef struct st_frame {
     const float *view, *proj, *view_proj, *inv_view_proj;
     const float *cam_pos; // float[3]
     float fov_y, near_z, far_z;
-    GLuint hdr_in;                   // post passes: the current radiance image
-    GLuint gbuffer, albedo, depth;   // camera targets (valid after the regular pass)
+    GLuint hdr_in;                 // post passes: the current radiance image
+    GLuint gbuffer, albedo, depth; // camera targets (valid after the regular pass)
 } st_frame;
 
 // A uniform: a name and a callback that sets it on every shader that uses it
@@ -180,9 +180,9 @@ typedef struct st_plugin {
     const st_pass_info *(*pass_info)(void *self, int pass);
 
     // Optional hooks (NULL = default).
-    int (*uniforms)(void *self, const st_uniform **out);       // default: none
-    GLuint (*rendertarget)(void *self, int pass);               // default: world's choice
-    bool (*needed)(void *self, int pass, const st_frame *f);    // default: always
+    int (*uniforms)(void *self, const st_uniform **out);     // default: none
+    GLuint (*rendertarget)(void *self, int pass);            // default: world's choice
+    bool (*needed)(void *self, int pass, const st_frame *f); // default: always
     bool (*on_pass)(void *self, int pass, const st_frame *f, st_err *err);
     st_shader *(*shader)(void *self, int pass);
     void (*after_pass)(void *self, int pass, const st_frame *f);
@@ -285,7 +285,8 @@ void st_plugin_dirs(char *out, size_t n);
 // Parameter helpers: index by name (-1 if none); convert a scene value to a
 // parameter value with range/type checks (messages name module.param).
 int st_param_index(const st_plugin *p, const char *name);
-bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out, st_err *err);
+bool st_param_from_value(const st_plugin *p, int index, const st_value *v, double *out,
+                         st_err *err);
 // Formats a value for display ("0.5", "true", "area").
 void st_param_format(const st_param_def *d, double v, char *out, size_t n);
 // An enum's choices ("area|thesis"): how many, and the k-th name (false and

@@ -6,9 +6,13 @@
 
 // ---- Phase functions -------------------------------------------------------
 
-static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > hi ? hi : x; }
+static double clampd(double x, double lo, double hi) {
+    return x < lo ? lo : x > hi ? hi : x;
+}
 
-double st_phase_isotropic(void) { return 1.0 / (4.0 * ST_PI); }
+double st_phase_isotropic(void) {
+    return 1.0 / (4.0 * ST_PI);
+}
 
 double st_phase_rayleigh(double c) {
     c = clampd(c, -1.0, 1.0);
@@ -25,10 +29,13 @@ double st_phase_hg(double c, double g) {
 
 double st_phase_eval(st_phase_kind kind, double c, double g) {
     switch (kind) {
-    case ST_PHASE_RAYLEIGH: return st_phase_rayleigh(c);
-    case ST_PHASE_HG: return st_phase_hg(c, g);
+    case ST_PHASE_RAYLEIGH:
+        return st_phase_rayleigh(c);
+    case ST_PHASE_HG:
+        return st_phase_hg(c, g);
     case ST_PHASE_ISOTROPIC:
-    default: return st_phase_isotropic();
+    default:
+        return st_phase_isotropic();
     }
 }
 
@@ -58,10 +65,13 @@ bool st_integrator_parse(const char *name, st_integrator *out) {
 
 const char *st_integrator_name(st_integrator it) {
     switch (it) {
-    case ST_INTEGRATOR_THESIS: return "thesis";
-    case ST_INTEGRATOR_THESIS_FAR: return "thesis_far";
+    case ST_INTEGRATOR_THESIS:
+        return "thesis";
+    case ST_INTEGRATOR_THESIS_FAR:
+        return "thesis_far";
     case ST_INTEGRATOR_ENERGY:
-    default: return "energy";
+    default:
+        return "energy";
     }
 }
 
@@ -96,23 +106,27 @@ double st_march_constant(st_integrator it, double S, double sigma_t, double leng
     if (steps < 1) steps = 1;
     st_march m = st_march_begin();
     double dt = length / steps;
-    for (int i = 0; i < steps; i++) st_march_step(&m, it, S, sigma_t, dt);
+    for (int i = 0; i < steps; i++)
+        st_march_step(&m, it, S, sigma_t, dt);
     return m.L;
 }
 
 // ---- Adaptive Gauss-Kronrod 7/15 (QUADPACK qk15 nodes) ---------------------
 
-static const double gk_x[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-                               0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-                               0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-                               0.207784955007898467600689403773245, 0.0};
-static const double gk_wk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-                                0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-                                0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-                                0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+static const double gk_x[8] = {
+    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+    0.207784955007898467600689403773245, 0.0};
+static const double gk_wk[8] = {
+    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
 // Gauss weights of the odd Kronrod nodes gk_x[1], [3], [5], [7].
-static const double gk_wg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                                0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+static const double gk_wg[4] = {
+    0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+    0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
 
 static double gk15(st_integrand f, void *ctx, double a, double b, double *err) {
     double c = 0.5 * (a + b), h = 0.5 * (b - a);
@@ -171,32 +185,40 @@ double st_integrate(st_integrand f, void *ctx, double a, double b, double abs_to
 
 // ---- Single scattering -----------------------------------------------------
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 static void sub3(double o[3], const double a[3], const double b[3]) {
-    for (int k = 0; k < 3; k++) o[k] = a[k] - b[k];
+    for (int k = 0; k < 3; k++)
+        o[k] = a[k] - b[k];
 }
 static void cross3(double o[3], const double a[3], const double b[3]) {
     double t[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
     memcpy(o, t, sizeof t);
 }
-static double len3(const double a[3]) { return sqrt(dot3(a, a)); }
+static double len3(const double a[3]) {
+    return sqrt(dot3(a, a));
+}
 
 double st_inscatter_integrand(const st_inscatter_problem *p, double t) {
     double dl = len3(p->dir);
     double x[3], to_light[3];
-    for (int k = 0; k < 3; k++) x[k] = p->origin[k] + p->dir[k] / dl * t;
+    for (int k = 0; k < 3; k++)
+        x[k] = p->origin[k] + p->dir[k] / dl * t;
     sub3(to_light, p->light, x);
     double d2 = dot3(to_light, to_light), d = sqrt(d2);
     if (d2 == 0.0) return INFINITY;
     double c = dot3(to_light, p->dir) / (d * dl);
-    return exp(-p->sigma_t * t) * p->sigma_s * st_phase_eval(p->phase, c, p->g) * p->intensity / d2 *
-           exp(-p->sigma_t * d);
+    return exp(-p->sigma_t * t) * p->sigma_s * st_phase_eval(p->phase, c, p->g) * p->intensity /
+           d2 * exp(-p->sigma_t * d);
 }
 
 double st_inscatter_quadrature(const st_inscatter_problem *p, int steps) {
     int n = steps < 2 ? 2 : steps + (steps & 1);
-    double h = p->length / n, sum = st_inscatter_integrand(p, 0.0) + st_inscatter_integrand(p, p->length);
-    for (int i = 1; i < n; i++) sum += (i & 1 ? 4.0 : 2.0) * st_inscatter_integrand(p, i * h);
+    double h = p->length / n,
+           sum = st_inscatter_integrand(p, 0.0) + st_inscatter_integrand(p, p->length);
+    for (int i = 1; i < n; i++)
+        sum += (i & 1 ? 4.0 : 2.0) * st_inscatter_integrand(p, i * h);
     return sum * h / 3.0;
 }
 
@@ -222,7 +244,9 @@ static double sun_F_range(double u, double v0, double v1) {
     return st_integrate(sun_f, &c, v0, v1, 1e-300, 1e-12);
 }
 
-double st_sun_F(double u, double v) { return sun_F_range(u, 0.0, v); }
+double st_sun_F(double u, double v) {
+    return sun_F_range(u, 0.0, v);
+}
 
 typedef struct {
     double sigma_t, D, cg, sg; // the light at (D cos gamma, D sin gamma) in the ray's frame
@@ -234,7 +258,8 @@ static double sun_direct_f(double t, void *ctx) {
     return exp(-c->sigma_t * (t + d)) / d2;
 }
 
-double st_inscatter_sun(double sigma_s, double sigma_t, double I, double D, double gamma, double s) {
+double st_inscatter_sun(double sigma_s, double sigma_t, double I, double D, double gamma,
+                        double s) {
     double sg = sin(gamma), cg = cos(gamma), h = D * sg;
     if (sg < 1e-3) {
         // The ray passes within D/1000 of the light's line: the closed form
@@ -293,7 +318,8 @@ double st_ff_point_polygon(const double p[3], const double n[3], const double (*
         if (da >= 0.0) memcpy(poly[m++], a, sizeof poly[0]);
         if ((da >= 0.0) != (db >= 0.0)) {
             double t = da / (da - db);
-            for (int k = 0; k < 3; k++) poly[m][k] = a[k] + t * (b[k] - a[k]);
+            for (int k = 0; k < 3; k++)
+                poly[m][k] = a[k] + t * (b[k] - a[k]);
             m++;
         }
     }
@@ -312,7 +338,9 @@ double st_ff_point_polygon(const double p[3], const double n[3], const double (*
     return fabs(sum) / (2.0 * ST_PI);
 }
 
-double st_ff_point_disk(double R, double h) { return R * R / (R * R + h * h); }
+double st_ff_point_disk(double R, double h) {
+    return R * R / (R * R + h * h);
+}
 
 double st_ff_parallel_rects(double a, double b, double c) {
     double X = a / c, Y = b / c, X2 = X * X, Y2 = Y * Y;
@@ -339,7 +367,8 @@ typedef struct {
 static double ff_inner(double t, void *vctx) {
     ff_ctx *c = vctx;
     double p[3];
-    for (int k = 0; k < 3; k++) p[k] = c->ca[k] + c->s * c->ua[k] + t * c->va[k];
+    for (int k = 0; k < 3; k++)
+        p[k] = c->ca[k] + c->s * c->ua[k] + t * c->va[k];
     return st_ff_point_polygon(p, c->n, (const double(*)[3])c->quad, 4);
 }
 
@@ -354,7 +383,8 @@ double st_ff_parallelograms(const double ca[3], const double ua[3], const double
     double n[3];
     cross3(n, ua, va);
     double nl = len3(n);
-    for (int k = 0; k < 3; k++) n[k] /= nl;
+    for (int k = 0; k < 3; k++)
+        n[k] /= nl;
     ff_ctx c = {ca, ua, va, n, {{0}}, 0.0};
     for (int k = 0; k < 3; k++) {
         c.quad[0][k] = cb[k];
@@ -367,7 +397,9 @@ double st_ff_parallelograms(const double ca[3], const double ua[3], const double
     return st_integrate(ff_outer, &c, 0.0, 1.0, 1e-12, 1e-10);
 }
 
-double st_area_kernel(double a, double d2) { return ST_PI * a / (ST_PI * d2 + a); }
+double st_area_kernel(double a, double d2) {
+    return ST_PI * a / (ST_PI * d2 + a);
+}
 
 // ---- Equi-angular quadrature ------------------------------------------------
 
@@ -436,11 +468,13 @@ double st_inscatter_equiangular(const st_inscatter_problem *p, int nodes, double
 }
 
 void st_medium_sigma_t(const st_medium_desc *m, double out[3]) {
-    for (int c = 0; c < 3; c++) out[c] = m->present ? (double)m->sigma_s[c] + (double)m->sigma_a[c] : 0.0;
+    for (int c = 0; c < 3; c++)
+        out[c] = m->present ? (double)m->sigma_s[c] + (double)m->sigma_a[c] : 0.0;
 }
 
 void st_transmittance(const double sigma_t[3], double d, double out[3]) {
-    for (int c = 0; c < 3; c++) out[c] = sigma_t[c] > 0.0 ? exp(-sigma_t[c] * d) : 1.0;
+    for (int c = 0; c < 3; c++)
+        out[c] = sigma_t[c] > 0.0 ? exp(-sigma_t[c] * d) : 1.0;
 }
 
 double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t) {
@@ -468,7 +502,8 @@ double st_directional_entry(const st_scene *scene, const float direction[3]) {
 bool st_light_incident(const st_light_desc *l, double entry, const double x[3], st_incident *out) {
     memset(out, 0, sizeof *out);
     if (l->type == ST_LIGHT_DIRECTIONAL) {
-        for (int k = 0; k < 3; k++) out->to_light[k] = -l->direction[k], out->E[k] = l->intensity[k];
+        for (int k = 0; k < 3; k++)
+            out->to_light[k] = -l->direction[k], out->E[k] = l->intensity[k];
         out->dist = INFINITY;
         double along = x[0] * out->to_light[0] + x[1] * out->to_light[1] + x[2] * out->to_light[2];
         out->path = fmax(0.0, entry - along);
@@ -478,7 +513,8 @@ bool st_light_incident(const st_light_desc *l, double entry, const double x[3], 
     double d2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     if (!(d2 > 0.0)) return false;
     double d = sqrt(d2), f = 1.0;
-    for (int k = 0; k < 3; k++) out->to_light[k] = v[k] / d;
+    for (int k = 0; k < 3; k++)
+        out->to_light[k] = v[k] / d;
     if (l->type == ST_LIGHT_SPOT) {
         double c = -(out->to_light[0] * l->direction[0] + out->to_light[1] * l->direction[1] +
                      out->to_light[2] * l->direction[2]);
@@ -486,6 +522,7 @@ bool st_light_incident(const st_light_desc *l, double entry, const double x[3], 
         if (!(f > 0.0)) return false;
     }
     out->dist = out->path = d;
-    for (int k = 0; k < 3; k++) out->E[k] = l->intensity[k] * f / d2;
+    for (int k = 0; k < 3; k++)
+        out->E[k] = l->intensity[k] * f / d2;
     return true;
 }

@@ -55,14 +55,17 @@ typedef struct st_incident {
 bool st_light_incident(const st_light_desc *l, double entry, const double x[3], st_incident *out);
 
 // Direct light on a Lambertian surface: rho/pi E max(cos, 0) e^(-sigma_t path).
-static inline double st_direct_lambert(double rho, double E, double cos_theta, double path, double sigma_t) {
-    return cos_theta > 0.0 ? rho / ST_PI * E * cos_theta * (sigma_t > 0.0 ? exp(-sigma_t * path) : 1.0) : 0.0;
+static inline double st_direct_lambert(double rho, double E, double cos_theta, double path,
+                                       double sigma_t) {
+    return cos_theta > 0.0
+               ? rho / ST_PI * E * cos_theta * (sigma_t > 0.0 ? exp(-sigma_t * path) : 1.0)
+               : 0.0;
 }
 
 // ---- Phase functions (normalized: integral over the sphere = 1) ----------
-double st_phase_isotropic(void);                        // 1/(4 pi)
-double st_phase_rayleigh(double cos_theta);             // 3/(16 pi) (1 + cos^2)
-double st_phase_hg(double cos_theta, double g);         // |g| clamped to 0.999
+double st_phase_isotropic(void);                // 1/(4 pi)
+double st_phase_rayleigh(double cos_theta);     // 3/(16 pi) (1 + cos^2)
+double st_phase_hg(double cos_theta, double g); // |g| clamped to 0.999
 double st_phase_eval(st_phase_kind kind, double cos_theta, double g);
 
 // The thesis listing A.11, kept to measure how wrong it is (not normalized):
@@ -78,7 +81,11 @@ double st_phase_rayleigh_thesis(double cos_theta);
 //   (constant source, sigma_t 0.5, length 10, 4 steps: 3.480).
 // THESIS_FAR: the other Riemann sum, taken at the far end of each step
 //   (same case: 0.997). The exact answer is 1.986524.
-typedef enum { ST_INTEGRATOR_ENERGY = 0, ST_INTEGRATOR_THESIS, ST_INTEGRATOR_THESIS_FAR } st_integrator;
+typedef enum {
+    ST_INTEGRATOR_ENERGY = 0,
+    ST_INTEGRATOR_THESIS,
+    ST_INTEGRATOR_THESIS_FAR
+} st_integrator;
 
 bool st_integrator_parse(const char *name, st_integrator *out); // "energy", "thesis", "thesis_far"
 const char *st_integrator_name(st_integrator it);
@@ -89,7 +96,9 @@ typedef struct st_march {
     double L, T;
 } st_march;
 
-static inline st_march st_march_begin(void) { return (st_march){0.0, 1.0}; }
+static inline st_march st_march_begin(void) {
+    return (st_march){0.0, 1.0};
+}
 // (1 - e^(-sigma_t dt)) / sigma_t, with the limit dt as sigma_t -> 0.
 double st_step_transfer(double sigma_t, double dt);
 // Adds one step of length dt with source S (radiance per metre).
@@ -102,8 +111,8 @@ typedef struct st_inscatter_problem {
     double origin[3], dir[3]; // dir need not be normalized
     double length;            // s: the ray segment [0, s]
     double light[3];
-    double intensity;         // I [W/sr]
-    double sigma_s, sigma_t;  // 1/m
+    double intensity;        // I [W/sr]
+    double sigma_s, sigma_t; // 1/m
     st_phase_kind phase;
     double g;
 } st_inscatter_problem;

@@ -21,7 +21,8 @@ static bool parse_direction(st_jctx *c, const cJSON *v, float out[3]) {
     if (!st_j_vec3(c, v, "direction", out, NULL)) return false;
     double l = sqrt((double)out[0] * out[0] + (double)out[1] * out[1] + (double)out[2] * out[2]);
     if (!(l > 1e-12) || !isfinite(l)) return st_j_fail(c, "direction", "must be a non-zero vector");
-    for (int k = 0; k < 3; k++) out[k] = (float)(out[k] / l);
+    for (int k = 0; k < 3; k++)
+        out[k] = (float)(out[k] / l);
     return true;
 }
 
@@ -30,11 +31,14 @@ static bool parse_direction(st_jctx *c, const cJSON *v, float out[3]) {
 static bool parse_cone(st_jctx *c, const cJSON *v, st_light_desc *l) {
     double inner = 0, outer = 45;
     bool has;
-    if (!st_j_number(c, v, "inner_angle", &inner, &has) || !st_j_number(c, v, "outer_angle", &outer, &has))
+    if (!st_j_number(c, v, "inner_angle", &inner, &has) ||
+        !st_j_number(c, v, "outer_angle", &outer, &has))
         return false;
-    if (!(outer > 0 && outer <= 90)) return st_j_fail(c, "outer_angle", "%g is out of range (0, 90] degrees", outer);
+    if (!(outer > 0 && outer <= 90))
+        return st_j_fail(c, "outer_angle", "%g is out of range (0, 90] degrees", outer);
     if (!(inner >= 0 && inner < outer))
-        return st_j_fail(c, "inner_angle", "%g must be in [0, outer_angle = %g) degrees", inner, outer);
+        return st_j_fail(c, "inner_angle", "%g must be in [0, outer_angle = %g) degrees", inner,
+                         outer);
     l->inner_angle = (float)(inner * 3.14159265358979323846 / 180.0);
     l->outer_angle = (float)(outer * 3.14159265358979323846 / 180.0);
     return true;
@@ -43,7 +47,7 @@ static bool parse_cone(st_jctx *c, const cJSON *v, st_light_desc *l) {
 static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
     static const char *const point_keys[] = {"type", "position", "intensity", NULL};
     static const char *const dir_keys[] = {"type", "direction", "irradiance", NULL};
-    static const char *const spot_keys[] = {"type",      "position",    "direction", "intensity",
+    static const char *const spot_keys[] = {"type",        "position",    "direction", "intensity",
                                             "inner_angle", "outer_angle", NULL};
     char type[16];
     st_light_desc l = {0};
@@ -52,7 +56,8 @@ static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
     bool ok;
     if (!strcmp(type, "point")) {
         ok = st_j_object(c, v, point_keys) && st_j_vec3(c, v, "position", l.position, NULL) &&
-             st_j_vec3(c, v, "intensity", l.intensity, NULL) && st_j_range3(c, "intensity", l.intensity, 0, INFINITY);
+             st_j_vec3(c, v, "intensity", l.intensity, NULL) &&
+             st_j_range3(c, "intensity", l.intensity, 0, INFINITY);
     } else if (!strcmp(type, "directional")) {
         l.type = ST_LIGHT_DIRECTIONAL;
         ok = st_j_object(c, v, dir_keys) && parse_direction(c, v, l.direction) &&
@@ -61,7 +66,8 @@ static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
     } else if (!strcmp(type, "spot")) {
         l.type = ST_LIGHT_SPOT;
         ok = st_j_object(c, v, spot_keys) && st_j_vec3(c, v, "position", l.position, NULL) &&
-             parse_direction(c, v, l.direction) && st_j_vec3(c, v, "intensity", l.intensity, NULL) &&
+             parse_direction(c, v, l.direction) &&
+             st_j_vec3(c, v, "intensity", l.intensity, NULL) &&
              st_j_range3(c, "intensity", l.intensity, 0, INFINITY) && parse_cone(c, v, &l);
     } else {
         return st_j_fail(c, "type", "'%s': expected \"point\", \"directional\" or \"spot\"", type);
@@ -71,10 +77,14 @@ static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
 
 const char *st_light_type_name(st_light_type type) {
     switch (type) {
-    case ST_LIGHT_POINT: return "point";
-    case ST_LIGHT_DIRECTIONAL: return "directional";
-    case ST_LIGHT_SPOT: return "spot";
-    default: return "unknown";
+    case ST_LIGHT_POINT:
+        return "point";
+    case ST_LIGHT_DIRECTIONAL:
+        return "directional";
+    case ST_LIGHT_SPOT:
+        return "spot";
+    default:
+        return "unknown";
     }
 }
 
@@ -208,12 +218,12 @@ static bool parse_camera(st_jctx *c, const cJSON *v, bool from_gltf, st_camera_d
     if (!v && !from_gltf) return st_j_fail(c, NULL, "required (no glTF file supplies a camera)");
     if (!from_gltf) *cam = (st_camera_desc){.up = {0, 1, 0}, .near_z = 0.05f, .far_z = 100.0f};
     bool has, *req = from_gltf ? &has : NULL;
-    if (v && (!st_j_object(c, v, keys) || !st_j_vec3(c, v, "position", cam->position, req) ||
-              !st_j_vec3(c, v, "target", cam->target, req) ||
-              !st_j_vec3(c, v, "up", cam->up, &has) ||
-              !st_j_float(c, v, "fov_y", &cam->fov_y, req) ||
-              !st_j_float(c, v, "near", &cam->near_z, &has) ||
-              !st_j_float(c, v, "far", &cam->far_z, &has)))
+    if (v &&
+        (!st_j_object(c, v, keys) || !st_j_vec3(c, v, "position", cam->position, req) ||
+         !st_j_vec3(c, v, "target", cam->target, req) || !st_j_vec3(c, v, "up", cam->up, &has) ||
+         !st_j_float(c, v, "fov_y", &cam->fov_y, req) ||
+         !st_j_float(c, v, "near", &cam->near_z, &has) ||
+         !st_j_float(c, v, "far", &cam->far_z, &has)))
         return false;
     if (!(cam->fov_y > 0 && cam->fov_y < 180))
         return st_j_fail(c, "fov_y", "%g is out of range (0, 180) degrees", cam->fov_y);
@@ -293,7 +303,8 @@ bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *ou
     cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, false);
     size_t at = end && end >= json && end <= json + len ? (size_t)(end - json) : 0;
     if (root) // only whitespace may follow the value
-        while (at < len && (json[at] == ' ' || json[at] == '\t' || json[at] == '\n' || json[at] == '\r'))
+        while (at < len &&
+               (json[at] == ' ' || json[at] == '\t' || json[at] == '\n' || json[at] == '\r'))
             at++;
     if (!root || at < len) {
         int line, col;

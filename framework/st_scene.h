@@ -25,13 +25,20 @@ typedef struct st_camera_desc {
 } st_camera_desc;
 
 // Light types. Zero-initialised descriptors are point lights.
-typedef enum { ST_LIGHT_POINT = 0, ST_LIGHT_DIRECTIONAL, ST_LIGHT_SPOT, ST_LIGHT_TYPE_COUNT } st_light_type;
+typedef enum {
+    ST_LIGHT_POINT = 0,
+    ST_LIGHT_DIRECTIONAL,
+    ST_LIGHT_SPOT,
+    ST_LIGHT_TYPE_COUNT
+} st_light_type;
 // Bit (1u << type) per type, for what a technique supports.
 #define ST_LIGHT_BIT(type) (1u << (unsigned)(type))
-#define ST_LIGHT_BITS_ALL (ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_DIRECTIONAL) | ST_LIGHT_BIT(ST_LIGHT_SPOT))
+#define ST_LIGHT_BITS_ALL                                                                          \
+    (ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_DIRECTIONAL) |                           \
+     ST_LIGHT_BIT(ST_LIGHT_SPOT))
 
 typedef struct st_light_desc {
-    float position[3];  // point, spot
+    float position[3]; // point, spot
     // Point: radiant intensity, W/sr per channel. Spot: the same on its axis.
     // Directional: irradiance on a surface facing the light, W/m^2.
     float intensity[3];
@@ -55,9 +62,9 @@ typedef struct st_medium_desc {
 // major, as cglm/GL) places it in the world. Normals are per vertex.
 typedef struct st_mesh {
     char name[ST_NAME_MAX];
-    float *positions; // 3 * num_vertices
-    float *normals;   // 3 * num_vertices
-    float *uv1;       // 2 * num_vertices (lightmap UVs, TEXCOORD_1) or NULL
+    float *positions;  // 3 * num_vertices
+    float *normals;    // 3 * num_vertices
+    float *uv1;        // 2 * num_vertices (lightmap UVs, TEXCOORD_1) or NULL
     uint32_t *indices; // 3 * num_triangles
     uint32_t num_vertices, num_triangles;
     float model[16];

@@ -16,15 +16,17 @@ typedef struct material {
 static bool budget(st_jctx *c, const st_scene *s, uint64_t more) {
     uint64_t have = st_scene_triangle_count(s);
     if (have + more > ST_SCENE_MAX_TRIANGLES)
-        return st_j_fail(c, NULL, "the scene would have %llu triangles, more than the limit of %llu",
-                         (unsigned long long)(have + more), (unsigned long long)ST_SCENE_MAX_TRIANGLES);
+        return st_j_fail(
+            c, NULL, "the scene would have %llu triangles, more than the limit of %llu",
+            (unsigned long long)(have + more), (unsigned long long)ST_SCENE_MAX_TRIANGLES);
     return true;
 }
 
 // Applies the entry's material and appends a freshly built procedural mesh.
 static bool add_shape(st_jctx *c, st_scene *s, st_mesh *m, const char *kind, int index,
                       const material *mat) {
-    if (!m->positions) return st_fail(c->err, ST_ERR_RUNTIME, "%s: %s: out of memory", c->file, c->path);
+    if (!m->positions)
+        return st_fail(c->err, ST_ERR_RUNTIME, "%s: %s: out of memory", c->file, c->path);
     // Huge but finite inputs can still overflow float when added up.
     for (size_t i = 0; i < 3 * (size_t)m->num_vertices; i++) {
         if (!isfinite(m->positions[i]) || !isfinite(m->normals[i])) {
@@ -43,7 +45,9 @@ static bool add_shape(st_jctx *c, st_scene *s, st_mesh *m, const char *kind, int
     return true;
 }
 
-static double len3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+static double len3(const double v[3]) {
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 static bool parse_box(st_jctx *c, const cJSON *v, bool inward, st_scene *s, int index,
                       const material *mat) {
@@ -54,8 +58,8 @@ static bool parse_box(st_jctx *c, const cJSON *v, bool inward, st_scene *s, int 
         return false;
     for (int k = 0; k < 3; k++)
         if (!(mx[k] > mn[k]))
-            return st_j_fail(c, NULL, "zero or negative volume: max.%c must exceed min.%c", "xyz"[k],
-                             "xyz"[k]);
+            return st_j_fail(c, NULL, "zero or negative volume: max.%c must exceed min.%c",
+                             "xyz"[k], "xyz"[k]);
     if (!budget(c, s, 12)) return false;
     st_mesh m;
     st_mesh_box(&m, mn, mx, inward);

@@ -70,7 +70,8 @@ bool st_j_object(st_jctx *c, const cJSON *v, const char *const *allowed) {
     for (const cJSON *it = v->child; it; it = it->next) {
         const char *k = it->string ? it->string : "";
         bool ok = !allowed;
-        for (int i = 0; allowed && allowed[i]; i++) ok = ok || !strcmp(allowed[i], k);
+        for (int i = 0; allowed && allowed[i]; i++)
+            ok = ok || !strcmp(allowed[i], k);
         if (!ok) {
             char list[256] = "";
             for (int i = 0; allowed[i]; i++) {
@@ -179,8 +180,10 @@ bool st_j_vec3(st_jctx *c, const cJSON *obj, const char *key, float out[3], bool
 bool st_j_range3(st_jctx *c, const char *key, const float v[3], float lo, float hi) {
     for (int i = 0; i < 3; i++) {
         if (v[i] < lo || v[i] > hi) {
-            if (hi == INFINITY) return st_j_fail(c, key, "element %d is %g, expected >= %g", i, v[i], lo);
-            return st_j_fail(c, key, "element %d is %g, expected a value in [%g, %g]", i, v[i], lo, hi);
+            if (hi == INFINITY)
+                return st_j_fail(c, key, "element %d is %g, expected >= %g", i, v[i], lo);
+            return st_j_fail(c, key, "element %d is %g, expected a value in [%g, %g]", i, v[i], lo,
+                             hi);
         }
     }
     return true;

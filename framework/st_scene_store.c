@@ -50,8 +50,9 @@ st_module_setting *st_scene_module(st_scene *scene, const char *name) {
 bool st_module_setting_put(st_module_setting *m, const char *param, const st_value *value,
                            st_err *err) {
     if (!st_j_identifier(param, ST_NAME_MAX))
-        return st_fail(err, ST_ERR_INPUT, "%s.%.64s: parameter names are identifiers of 1..%d characters",
-                       m->name, param, ST_NAME_MAX - 1);
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s.%.64s: parameter names are identifiers of 1..%d characters", m->name,
+                       param, ST_NAME_MAX - 1);
     for (int i = 0; i < m->num_params; i++) {
         if (!strcmp(m->params[i].name, param)) {
             m->params[i].value = *value;
@@ -79,7 +80,8 @@ static bool parse_value(const char *text, st_value *v, const char *what, st_err 
     char *end = NULL;
     double d = strtod(text, &end);
     if (end != text && *end == 0) {
-        if (!isfinite(d)) return st_fail(err, ST_ERR_INPUT, "--set %s: value is not a finite number", what);
+        if (!isfinite(d))
+            return st_fail(err, ST_ERR_INPUT, "--set %s: value is not a finite number", what);
         v->type = ST_VALUE_NUMBER;
         v->number = d;
         return true;
@@ -95,13 +97,15 @@ static bool parse_value(const char *text, st_value *v, const char *what, st_err 
 }
 
 bool st_scene_set(st_scene *scene, const char *assignment, st_err *err) {
-    if (!scene || !assignment) return st_fail(err, ST_ERR_INPUT, "--set: missing MODULE.PARAM=VALUE");
+    if (!scene || !assignment)
+        return st_fail(err, ST_ERR_INPUT, "--set: missing MODULE.PARAM=VALUE");
     // Shown in messages; long input is cut rather than overflowing err.
     char what[256];
     snprintf(what, sizeof what, "%s", assignment);
     const char *eq = strchr(assignment, '=');
     const char *dot = eq ? memchr(assignment, '.', (size_t)(eq - assignment)) : NULL;
-    if (!eq || !dot) return st_fail(err, ST_ERR_INPUT, "--set %s: expected MODULE.PARAM=VALUE", what);
+    if (!eq || !dot)
+        return st_fail(err, ST_ERR_INPUT, "--set %s: expected MODULE.PARAM=VALUE", what);
     char module[ST_NAME_MAX], param[ST_NAME_MAX];
     size_t mlen = (size_t)(dot - assignment), plen = (size_t)(eq - dot - 1);
     if (mlen >= ST_NAME_MAX || plen >= ST_NAME_MAX)
@@ -120,8 +124,9 @@ bool st_scene_set(st_scene *scene, const char *assignment, st_err *err) {
             size_t n = strlen(list);
             snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", scene->modules[i].name);
         }
-        return st_fail(err, ST_ERR_INPUT, "--set %s: module '%s' is not in the scene (it loads: %s)",
-                       what, module, list[0] ? list : "no modules");
+        return st_fail(err, ST_ERR_INPUT,
+                       "--set %s: module '%s' is not in the scene (it loads: %s)", what, module,
+                       list[0] ? list : "no modules");
     }
     st_value v;
     if (!parse_value(eq + 1, &v, what, err)) return false;
@@ -130,20 +135,23 @@ bool st_scene_set(st_scene *scene, const char *assignment, st_err *err) {
 
 uint64_t st_scene_triangle_count(const st_scene *scene) {
     uint64_t n = 0;
-    for (int i = 0; scene && i < scene->num_meshes; i++) n += scene->meshes[i].num_triangles;
+    for (int i = 0; scene && i < scene->num_meshes; i++)
+        n += scene->meshes[i].num_triangles;
     return n;
 }
 
 bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]) {
     bool any = false;
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int k = 0; k < 3; k++)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
     for (int i = 0; scene && i < scene->num_meshes; i++) {
         const st_mesh *m = &scene->meshes[i];
         const float *M = m->model; // column major
         for (uint32_t v = 0; v < m->num_vertices; v++) {
             const float *p = m->positions + 3 * (size_t)v;
             for (int k = 0; k < 3; k++) {
-                double w = (double)M[k] * p[0] + (double)M[4 + k] * p[1] + (double)M[8 + k] * p[2] + M[12 + k];
+                double w = (double)M[k] * p[0] + (double)M[4 + k] * p[1] + (double)M[8 + k] * p[2] +
+                           M[12 + k];
                 lo[k] = fmin(lo[k], w), hi[k] = fmax(hi[k], w);
             }
             any = true;
@@ -154,10 +162,12 @@ bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]) {
 
 void st_scene_free(st_scene *scene) {
     if (!scene) return;
-    for (int i = 0; i < scene->num_meshes; i++) st_mesh_free(&scene->meshes[i]);
+    for (int i = 0; i < scene->num_meshes; i++)
+        st_mesh_free(&scene->meshes[i]);
     free(scene->meshes);
     free(scene->lights);
-    for (int i = 0; i < scene->num_modules; i++) free(scene->modules[i].params);
+    for (int i = 0; i < scene->num_modules; i++)
+        free(scene->modules[i].params);
     free(scene->modules);
     memset(scene, 0, sizeof *scene);
 }

@@ -72,7 +72,8 @@ typedef struct {
 static bool sb_put(sbuf *b, const char *s, size_t n) {
     if (b->len + n + 1 > b->cap) {
         size_t cap = b->cap ? b->cap : 4096;
-        while (b->len + n + 1 > cap) cap *= 2;
+        while (b->len + n + 1 > cap)
+            cap *= 2;
         char *nb = realloc(b->buf, cap);
         if (!nb) return false;
         b->buf = nb;
@@ -119,7 +120,8 @@ static bool include_file(sbuf *out, const char *path, char names[][128], int *nu
         char *eol = strchr(p, '\n');
         size_t n = eol ? (size_t)(eol - p) : strlen(p);
         const char *q = p;
-        while (q < p + n && isspace((unsigned char)*q)) q++;
+        while (q < p + n && isspace((unsigned char)*q))
+            q++;
         if (!strncmp(q, "#version", 8) && depth == 0) {
             // Kept by the caller as the first line; skipped here.
         } else if (!strncmp(q, "#include", 8)) {
@@ -171,7 +173,8 @@ char *st_shader_preprocess_stage(const char *path, const char *defines, GLenum s
             if (n > 8 && !strncmp(p, "#include", 8)) {
                 // Module includes go into fragment and compute stages only.
                 if (stage != GL_VERTEX_SHADER) {
-                    const char *a = memchr(p, '"', n), *b = a ? memchr(a + 1, '"', n - (size_t)(a + 1 - p)) : NULL;
+                    const char *a = memchr(p, '"', n),
+                               *b = a ? memchr(a + 1, '"', n - (size_t)(a + 1 - p)) : NULL;
                     if (!a || !b) {
                         free(out.buf);
                         st_fail(err, ST_ERR_INPUT, "malformed include in defines: %.*s", (int)n, p);
@@ -184,7 +187,8 @@ char *st_shader_preprocess_stage(const char *path, const char *defines, GLenum s
                         return NULL;
                     }
                 }
-            } else if (n && (!sb_put(&out, "#define ", 8) || !sb_put(&out, p, n) || !sb_put(&out, "\n", 1))) {
+            } else if (n && (!sb_put(&out, "#define ", 8) || !sb_put(&out, p, n) ||
+                             !sb_put(&out, "\n", 1))) {
                 goto oom;
             }
             p = eol ? eol + 1 : p + n;
@@ -218,10 +222,12 @@ static void format_log(char *dst, size_t n, const char *log, char names[][128], 
             line = strtol(end + 1, &e2, 10);
             if (e2 != end + 1) {
                 rest = e2;
-                while (*rest == ')' || *rest == '(' || isdigit((unsigned char)*rest) || *rest == ' ')
+                while (*rest == ')' || *rest == '(' || isdigit((unsigned char)*rest) ||
+                       *rest == ' ')
                     rest++;
                 if (*rest == ':') rest++;
-                while (*rest == ' ') rest++;
+                while (*rest == ' ')
+                    rest++;
             } else {
                 line = -1;
             }
@@ -237,13 +243,14 @@ static void format_log(char *dst, size_t n, const char *log, char names[][128], 
         p = eol ? eol + 1 : p + len;
     }
     // Drop the trailing newline so the message is one block without a blank end.
-    while (w > 0 && dst[w - 1] == '\n') dst[--w] = 0;
+    while (w > 0 && dst[w - 1] == '\n')
+        dst[--w] = 0;
 }
 
 // Compiles one stage from source; `names` maps #line file ids to files for
 // the error message (none for sources that are not files).
-static GLuint compile_source(GLenum type, const char *src, char names[][128], int num, const char *what,
-                             st_err *err) {
+static GLuint compile_source(GLenum type, const char *src, char names[][128], int num,
+                             const char *what, st_err *err) {
     GLuint s = glCreateShader(type);
     const char *srcs[] = {src};
     glShaderSource(s, 1, srcs, NULL);
@@ -255,7 +262,8 @@ static GLuint compile_source(GLenum type, const char *src, char names[][128], in
         glGetShaderInfoLog(s, sizeof log, NULL, log);
         format_log(msg, sizeof msg, log, names, num);
         glDeleteShader(s);
-        st_fail(err, ST_ERR_INPUT, "shader compile failed%s%s: %s", what ? " in " : "", what ? what : "", msg);
+        st_fail(err, ST_ERR_INPUT, "shader compile failed%s%s: %s", what ? " in " : "",
+                what ? what : "", msg);
         return 0;
     }
     return s;
@@ -273,9 +281,11 @@ static GLuint compile(GLenum type, const char *path, const char *defines, st_err
 
 static GLuint link_program(GLuint *shaders, int n, const char *what, st_err *err) {
     GLuint p = glCreateProgram();
-    for (int i = 0; i < n; i++) glAttachShader(p, shaders[i]);
+    for (int i = 0; i < n; i++)
+        glAttachShader(p, shaders[i]);
     glLinkProgram(p);
-    for (int i = 0; i < n; i++) glDeleteShader(shaders[i]);
+    for (int i = 0; i < n; i++)
+        glDeleteShader(shaders[i]);
     GLint ok = 0;
     glGetProgramiv(p, GL_LINK_STATUS, &ok);
     if (!ok) {

@@ -43,7 +43,7 @@ typedef struct st_slot {
     int pass;
     st_pass_info info;
     st_resset reads, writes; // info.reads/writes as ids
-    unsigned pending; // changes since the pass last ran
+    unsigned pending;        // changes since the pass last ran
     bool needed, live;
     GLuint query[2]; // GL_TIMESTAMP before and after
     int stats;
@@ -70,7 +70,7 @@ struct st_world {
     float light_dir[ST_MAX_LIGHTS][3], light_shape[ST_MAX_LIGHTS][3]; // see common/uniforms.glsl
     int light_type[ST_MAX_LIGHTS];
     int num_lights;
-    char regular_reads[512]; // what the regular pass consumes
+    char regular_reads[512];              // what the regular pass consumes
     char res[MAX_RESOURCES][ST_NAME_MAX]; // resource names, interned per pass list; 0 is "hdr"
     int num_res;
     struct {
@@ -84,17 +84,39 @@ struct st_world {
 // ---- builtin uniforms (thesis: Camera and Light are uniform providers) ----
 
 #define W(self) ((st_world *)(self))
-static void u_view(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->view); }
-static void u_proj(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->proj); }
-static void u_vp(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->view_proj); }
-static void u_ivp(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniformMatrix4fv(l, 1, 0, f->inv_view_proj); }
-static void u_cam(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->cam_pos); }
-static void u_near(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, f->near_z); }
-static void u_far(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, f->far_z); }
-static void u_fov(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, glm_rad(f->fov_y)); }
-static void u_res(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform2f(l, (float)f->width, (float)f->height); }
-static void u_frame(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, (int)(f->index & 0x7fffffff)); }
-static void u_nl(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, W(s)->num_lights); }
+static void u_view(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->view);
+}
+static void u_proj(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->proj);
+}
+static void u_vp(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->view_proj);
+}
+static void u_ivp(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->inv_view_proj);
+}
+static void u_cam(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform3fv(l, 1, f->cam_pos);
+}
+static void u_near(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, f->near_z);
+}
+static void u_far(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, f->far_z);
+}
+static void u_fov(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, glm_rad(f->fov_y));
+}
+static void u_res(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform2f(l, (float)f->width, (float)f->height);
+}
+static void u_frame(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, (int)(f->index & 0x7fffffff));
+}
+static void u_nl(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, W(s)->num_lights);
+}
 static void u_lp(void *s, st_shader *sh, GLint l, const st_frame *f) {
     if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_pos[0][0]);
 }
@@ -110,20 +132,44 @@ static void u_ld(void *s, st_shader *sh, GLint l, const st_frame *f) {
 static void u_lshape(void *s, st_shader *sh, GLint l, const st_frame *f) {
     if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_shape[0][0]);
 }
-static void u_hasmed(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, f->scene->medium.present); }
-static void u_ss(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->scene->medium.sigma_s); }
-static void u_sa(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform3fv(l, 1, f->scene->medium.sigma_a); }
-static void u_pk(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, (int)f->scene->medium.phase); }
-static void u_pg(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1f(l, f->scene->medium.g); }
+static void u_hasmed(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, f->scene->medium.present);
+}
+static void u_ss(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform3fv(l, 1, f->scene->medium.sigma_s);
+}
+static void u_sa(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform3fv(l, 1, f->scene->medium.sigma_a);
+}
+static void u_pk(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, (int)f->scene->medium.phase);
+}
+static void u_pg(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, f->scene->medium.g);
+}
 
 static const st_uniform builtin_uniforms[] = {
-    {"st_view", u_view},           {"st_proj", u_proj},         {"st_view_proj", u_vp},
-    {"st_inv_view_proj", u_ivp},   {"st_cam_pos", u_cam},       {"st_near", u_near},
-    {"st_far", u_far},             {"st_fov_y", u_fov},         {"st_resolution", u_res},
-    {"st_frame_index", u_frame},   {"st_num_lights", u_nl},     {"st_light_pos", u_lp},
-    {"st_light_intensity", u_li},  {"st_has_medium", u_hasmed}, {"st_sigma_s", u_ss},
-    {"st_sigma_a", u_sa},          {"st_phase_kind", u_pk},     {"st_phase_g", u_pg},
-    {"st_light_type", u_lt},       {"st_light_dir", u_ld},      {"st_light_shape", u_lshape},
+    {"st_view", u_view},
+    {"st_proj", u_proj},
+    {"st_view_proj", u_vp},
+    {"st_inv_view_proj", u_ivp},
+    {"st_cam_pos", u_cam},
+    {"st_near", u_near},
+    {"st_far", u_far},
+    {"st_fov_y", u_fov},
+    {"st_resolution", u_res},
+    {"st_frame_index", u_frame},
+    {"st_num_lights", u_nl},
+    {"st_light_pos", u_lp},
+    {"st_light_intensity", u_li},
+    {"st_has_medium", u_hasmed},
+    {"st_sigma_s", u_ss},
+    {"st_sigma_a", u_sa},
+    {"st_phase_kind", u_pk},
+    {"st_phase_g", u_pg},
+    {"st_light_type", u_lt},
+    {"st_light_dir", u_ld},
+    {"st_light_shape", u_lshape},
 };
 
 void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
@@ -211,7 +257,8 @@ enum { RES_HDR = 0 }; // interned first by build_slots
 
 static st_pass_stats *stats_for(st_world *w, const char *module, const char *pass) {
     for (int i = 0; i < w->num_stats; i++)
-        if (!strcmp(w->stats[i].module, module) && !strcmp(w->stats[i].pass, pass)) return &w->stats[i];
+        if (!strcmp(w->stats[i].module, module) && !strcmp(w->stats[i].pass, pass))
+            return &w->stats[i];
     if (w->num_stats == w->cap_stats) {
         int cap = w->cap_stats ? w->cap_stats * 2 : 16;
         st_pass_stats *n = realloc(w->stats, (size_t)cap * sizeof *n);
@@ -230,7 +277,8 @@ static st_pass_stats *stats_for(st_world *w, const char *module, const char *pas
 
 static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_info *info,
                      st_err *err) {
-    if (w->num_slots >= MAX_SLOTS) return st_fail(err, ST_ERR_RUNTIME, "too many passes (max %d)", MAX_SLOTS);
+    if (w->num_slots >= MAX_SLOTS)
+        return st_fail(err, ST_ERR_RUNTIME, "too many passes (max %d)", MAX_SLOTS);
     st_slot *s = &w->slots[w->num_slots];
     memset(s, 0, sizeof *s);
     s->mod = mi;
@@ -294,12 +342,14 @@ static bool build_slots(st_world *w, st_err *err) {
         const st_plugin *p = w->mods[m]->p;
         if (p->regular_include && p->provides) {
             size_t l = strlen(w->regular_reads);
-            snprintf(w->regular_reads + l, sizeof w->regular_reads - l, "%s%s", l ? "," : "", p->provides);
+            snprintf(w->regular_reads + l, sizeof w->regular_reads - l, "%s%s", l ? "," : "",
+                     p->provides);
         }
     }
     for (int stage = 0; stage < 3; stage++) {
         if (stage == 1) {
-            st_pass_info reg = {"regular", ST_STAGE_PRE, w->regular_reads, "hdr,gbuffer,albedo,depth", 0};
+            st_pass_info reg = {"regular", ST_STAGE_PRE, w->regular_reads,
+                                "hdr,gbuffer,albedo,depth", 0};
             if (!add_slot(w, NULL, 0, &reg, err)) return false;
             continue;
         }
@@ -308,7 +358,9 @@ static bool build_slots(st_world *w, st_err *err) {
             int n = mi->p->num_passes(mi->self);
             for (int k = 0; k < n; k++) {
                 const st_pass_info *info = mi->p->pass_info(mi->self, k);
-                if (!info) return st_fail(err, ST_ERR_RUNTIME, "module '%s': no info for pass %d", mi->p->name, k);
+                if (!info)
+                    return st_fail(err, ST_ERR_RUNTIME, "module '%s': no info for pass %d",
+                                   mi->p->name, k);
                 if ((stage == 0) != (info->stage == ST_STAGE_PRE)) continue;
                 if (!add_slot(w, mi, k, info, err)) return false;
             }
@@ -578,7 +630,8 @@ bool st_world_read(st_world *w, st_image *out, st_err *err) {
     if (ok) ok = st_image_alloc(out, W_, H, 3, err);
     if (ok) {
         for (size_t k = 0; k < (size_t)W_ * H; k++)
-            for (int c = 0; c < 3; c++) out->data[3 * k + c] = rgba[4 * k + c];
+            for (int c = 0; c < 3; c++)
+                out->data[3 * k + c] = rgba[4 * k + c];
     }
     free(rgba);
     return ok;
@@ -599,7 +652,8 @@ static int find_module(const st_world *w, const char *name) {
 // Applies the scene's parameter settings for `name` onto defaults.
 static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
     const st_plugin *p = mi->p;
-    for (int i = 0; i < p->num_params; i++) mi->params[i] = p->params[i].def;
+    for (int i = 0; i < p->num_params; i++)
+        mi->params[i] = p->params[i].def;
     const st_module_setting *ms = NULL;
     int idx = -1;
     for (int i = 0; i < w->scene->num_modules; i++)
@@ -613,12 +667,15 @@ static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
                 size_t l = strlen(names);
                 snprintf(names + l, sizeof names - l, "%s%s", i ? ", " : "", p->params[i].name);
             }
-            return st_fail(err, ST_ERR_INPUT, "%s: modules[%d].params.%s: module '%s' has no parameter '%s' (it has: %s)",
-                           w->scene->path, idx, ms->params[k].name, p->name, ms->params[k].name,
-                           p->num_params ? names : "none");
+            return st_fail(
+                err, ST_ERR_INPUT,
+                "%s: modules[%d].params.%s: module '%s' has no parameter '%s' (it has: %s)",
+                w->scene->path, idx, ms->params[k].name, p->name, ms->params[k].name,
+                p->num_params ? names : "none");
         }
         if (!st_param_from_value(p, pi, &ms->params[k].value, &mi->params[pi], err)) {
-            st_err_prefix(err, "%s: modules[%d].params.%s: ", w->scene->path, idx, ms->params[k].name);
+            st_err_prefix(err, "%s: modules[%d].params.%s: ", w->scene->path, idx,
+                          ms->params[k].name);
             return false;
         }
     }
@@ -647,9 +704,10 @@ static bool check_lights(const st_world *w, const st_plugin *p, st_err *err) {
         char list[64] = "";
         for (int k = 0; k < ST_LIGHT_TYPE_COUNT; k++)
             if (ok & ST_LIGHT_BIT(k))
-                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", list[0] ? ", " : "",
-                         st_light_type_name((st_light_type)k));
-        return st_fail(err, ST_ERR_INPUT, "%s: lights[%d]: module '%s' does not support %s lights (it supports: %s)",
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                         list[0] ? ", " : "", st_light_type_name((st_light_type)k));
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: lights[%d]: module '%s' does not support %s lights (it supports: %s)",
                        w->scene->path, i, p->name, st_light_type_name(t), list);
     }
     return true;
@@ -657,7 +715,8 @@ static bool check_lights(const st_world *w, const st_plugin *p, st_err *err) {
 
 // Loads module `name` with its parameters; `order` check happens in resolve.
 static bool load(st_world *w, const char *name, st_err *err) {
-    if (w->num_mods >= MAX_MODULES) return st_fail(err, ST_ERR_INPUT, "too many modules (max %d)", MAX_MODULES);
+    if (w->num_mods >= MAX_MODULES)
+        return st_fail(err, ST_ERR_INPUT, "too many modules (max %d)", MAX_MODULES);
     st_module_inst *mi = calloc(1, sizeof *mi);
     if (!mi) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     mi->lib = st_plugin_open(name, err);
@@ -711,7 +770,9 @@ static bool resolve(st_world *w, st_err *err) {
             placed[i] = true;
             progress = true;
         }
-        if (!progress) return st_fail(err, ST_ERR_INPUT, "%s: modules require each other in a cycle", w->scene->path);
+        if (!progress)
+            return st_fail(err, ST_ERR_INPUT, "%s: modules require each other in a cycle",
+                           w->scene->path);
     }
     memcpy(w->mods, sorted, (size_t)n * sizeof sorted[0]);
     return true;
@@ -814,12 +875,14 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
     w->num_models = scene->num_meshes;
     w->models = calloc(w->num_models ? (size_t)w->num_models : 1, sizeof *w->models);
     bool ok = w->models && st_model_type_build(&w->type, "lit", scene->meshes, scene->num_meshes,
-                                                NULL, w->models, err);
+                                               NULL, w->models, err);
     if (!w->models) st_fail(err, ST_ERR_RUNTIME, "out of memory");
     ok = ok && create_targets(w, err);
-    for (int i = 0; ok && i < scene->num_modules; i++) ok = load(w, scene->modules[i].name, err);
+    for (int i = 0; ok && i < scene->num_modules; i++)
+        ok = load(w, scene->modules[i].name, err);
     ok = ok && resolve(w, err);
-    for (int m = 0; ok && m < w->num_mods; m++) ok = instantiate(w, m, err);
+    for (int m = 0; ok && m < w->num_mods; m++)
+        ok = instantiate(w, m, err);
     ok = ok && build_regular(w, err) && build_slots(w, err);
     if (!ok) {
         st_world_destroy(w);
@@ -834,7 +897,8 @@ void st_world_destroy(st_world *w) {
     // Teardown order: instances, then each plugin's cleanup, then dlclose.
     for (int m = 0; m < w->num_mods; m++)
         if (w->mods[m]->self) w->mods[m]->p->destroy(w->mods[m]->self), w->mods[m]->self = NULL;
-    while (w->num_mods) unload(w, w->num_mods - 1);
+    while (w->num_mods)
+        unload(w, w->num_mods - 1);
     free_targets(w, NULL);
     free_slots(w);
     st_shader_destroy(w->regular);
@@ -849,14 +913,19 @@ void st_world_destroy(st_world *w) {
 
 // ---- accessors and interactive changes ----------------------------------
 
-const st_scene *st_world_scene(const st_world *w) { return w->scene; }
+const st_scene *st_world_scene(const st_world *w) {
+    return w->scene;
+}
 st_camera *st_world_camera(st_world *w) {
     return &w->cam;
 }
 
-void st_world_invalidate(st_world *w, unsigned changes) { w->changes |= changes; }
+void st_world_invalidate(st_world *w, unsigned changes) {
+    w->changes |= changes;
+}
 
-void st_world_set_camera(st_world *w, const float pos[3], const float target[3], const float up[3]) {
+void st_world_set_camera(st_world *w, const float pos[3], const float target[3],
+                         const float up[3]) {
     memcpy(w->cam.position, pos, sizeof w->cam.position);
     memcpy(w->cam.target, target, sizeof w->cam.target);
     memcpy(w->cam.up, up, sizeof w->cam.up);
@@ -876,7 +945,9 @@ bool st_world_resize(st_world *w, int width, int height, st_err *err) {
     return true;
 }
 
-bool st_world_has_module(const st_world *w, const char *module) { return find_module(w, module) >= 0; }
+bool st_world_has_module(const st_world *w, const char *module) {
+    return find_module(w, module) >= 0;
+}
 
 bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
     int m = find_module(w, module);
@@ -915,7 +986,8 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
         unload(w, m);
     }
     bool ok = resolve(w, err);
-    for (int i = 0; ok && i < w->num_mods; i++) ok = instantiate(w, i, err);
+    for (int i = 0; ok && i < w->num_mods; i++)
+        ok = instantiate(w, i, err);
     ok = ok && build_regular(w, err);
     if (!ok && on) {
         // A module (or its regular include) failed: unload what this call
@@ -931,24 +1003,29 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
     return ok;
 }
 
-bool st_world_set_param(st_world *w, const char *module, const char *param, double value, st_err *err) {
+bool st_world_set_param(st_world *w, const char *module, const char *param, double value,
+                        st_err *err) {
     int m = find_module(w, module);
     if (m < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' is not loaded", module);
     st_module_inst *mi = w->mods[m];
     int k = st_param_index(mi->p, param);
-    if (k < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s'", module, param);
+    if (k < 0)
+        return st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s'", module, param);
     const st_param_def *d = &mi->p->params[k];
-    if (!isfinite(value)) return st_fail(err, ST_ERR_INPUT, "%s.%s: not a finite number", module, param);
+    if (!isfinite(value))
+        return st_fail(err, ST_ERR_INPUT, "%s.%s: not a finite number", module, param);
     if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT) {
         if (value < d->min || value > d->max)
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", module, param, value, d->min, d->max);
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", module, param,
+                           value, d->min, d->max);
         if (d->type == ST_PARAM_INT) value = floor(value + 0.5);
     } else if (d->type == ST_PARAM_BOOL) {
         value = value != 0;
     } else {
         int nchoices = st_param_num_choices(d);
         if (value < 0 || value >= nchoices || value != floor(value))
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %g out of range", module, param, value);
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %g out of range", module, param,
+                           value);
     }
     if (mi->params[k] == value) return true;
     mi->params[k] = value;
@@ -1017,14 +1094,20 @@ bool st_world_reload_shaders(st_world *w, st_err *err) {
     return true;
 }
 
-int st_world_num_modules(const st_world *w) { return w->num_mods; }
+int st_world_num_modules(const st_world *w) {
+    return w->num_mods;
+}
 st_module_info st_world_module(const st_world *w, int i) {
     st_module_info mi = {w->mods[i]->p, (double *)w->mods[i]->params};
     return mi;
 }
 
-int st_world_num_pass_stats(const st_world *w) { return w->num_stats; }
-const st_pass_stats *st_world_pass_stats(const st_world *w, int i) { return &w->stats[i]; }
+int st_world_num_pass_stats(const st_world *w) {
+    return w->num_stats;
+}
+const st_pass_stats *st_world_pass_stats(const st_world *w, int i) {
+    return &w->stats[i];
+}
 void st_world_reset_stats(st_world *w) {
     for (int i = 0; i < w->num_stats; i++) {
         st_pass_stats *s = &w->stats[i];
@@ -1034,7 +1117,8 @@ void st_world_reset_stats(st_world *w) {
 }
 
 void st_world_reset_samples(st_world *w) {
-    for (int i = 0; i < w->num_stats; i++) w->stats[i].num_samples = 0;
+    for (int i = 0; i < w->num_stats; i++)
+        w->stats[i].num_samples = 0;
 }
 
 static int cmp_f(const void *a, const void *b) {

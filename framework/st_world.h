@@ -15,8 +15,8 @@ extern "C" {
 typedef struct st_vertex_attr {
     const char *name; // shader variable, e.g. "st_position"
     GLuint location;
-    int components;   // floats
-    size_t offset;    // bytes into the vertex
+    int components; // floats
+    size_t offset;  // bytes into the vertex
 } st_vertex_attr;
 
 // Per-instance attribute (thesis: InstanceAttribute), divisor 1.
@@ -119,7 +119,8 @@ bool st_world_resize(st_world *w, int width, int height, st_err *err);
 bool st_world_enable(st_world *w, const char *module, bool on, st_err *err);
 bool st_world_has_module(const st_world *w, const char *module);
 // Sets a parameter of a loaded module (range-checked).
-bool st_world_set_param(st_world *w, const char *module, const char *param, double value, st_err *err);
+bool st_world_set_param(st_world *w, const char *module, const char *param, double value,
+                        st_err *err);
 bool st_world_get_param(const st_world *w, const char *module, const char *param, double *value);
 // Convergence over every module with a progress hook: converged when all
 // are, the largest frame count and error, their info lines joined. False

@@ -32,7 +32,7 @@ static int st_t_pass, st_t_fail;
 #define CHECK_REL(a, b, rel, abs_tol)                                                              \
     do {                                                                                           \
         double _a = (a), _b = (b);                                                                 \
-        CHECK(fabs(_a - _b) <= (rel) * fabs(_b) + (abs_tol), "%s = %.9g, expected %.9g (rel %g)", \
+        CHECK(fabs(_a - _b) <= (rel)*fabs(_b) + (abs_tol), "%s = %.9g, expected %.9g (rel %g)",    \
               #a, _a, _b, (double)(rel));                                                          \
     } while (0)
 

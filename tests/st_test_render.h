@@ -51,10 +51,11 @@ static inline void st_v_cross(const double *a, const double *b, double *o) {
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static inline st_test_cam st_test_camera(const double pos[3], const double target[3], const double up[3],
-                                         double fov_y, int w, int h) {
+static inline st_test_cam st_test_camera(const double pos[3], const double target[3],
+                                         const double up[3], double fov_y, int w, int h) {
     st_test_cam c;
-    for (int k = 0; k < 3; k++) c.pos[k] = pos[k], c.f[k] = target[k] - pos[k];
+    for (int k = 0; k < 3; k++)
+        c.pos[k] = pos[k], c.f[k] = target[k] - pos[k];
     st_v_norm(c.f);
     st_v_cross(c.f, up, c.r);
     st_v_norm(c.r);
@@ -69,12 +70,14 @@ static inline st_test_cam st_test_camera(const double pos[3], const double targe
 static inline void st_test_ray(const st_test_cam *c, int i, int j, double d[3]) {
     double x = (2.0 * (i + 0.5) / c->w - 1.0) * c->tan_half * c->aspect;
     double y = (1.0 - 2.0 * (j + 0.5) / c->h) * c->tan_half;
-    for (int k = 0; k < 3; k++) d[k] = c->f[k] + x * c->r[k] + y * c->u[k];
+    for (int k = 0; k < 3; k++)
+        d[k] = c->f[k] + x * c->r[k] + y * c->u[k];
     st_v_norm(d);
 }
 
 // Ray / axis-aligned box: entry distance, or -1.
-static inline double st_test_ray_box(const double o[3], const double d[3], const double mn[3], const double mx[3]) {
+static inline double st_test_ray_box(const double o[3], const double d[3], const double mn[3],
+                                     const double mx[3]) {
     double t0 = -1e30, t1 = 1e30;
     for (int k = 0; k < 3; k++) {
         if (fabs(d[k]) < 1e-15) {
@@ -82,13 +85,19 @@ static inline double st_test_ray_box(const double o[3], const double d[3], const
             continue;
         }
         double a = (mn[k] - o[k]) / d[k], b = (mx[k] - o[k]) / d[k];
-        if (a > b) { double t = a; a = b; b = t; }
+        if (a > b) {
+            double t = a;
+            a = b;
+            b = t;
+        }
         if (a > t0) t0 = a;
         if (b < t1) t1 = b;
     }
     return t0 <= t1 && t1 > 0 ? (t0 > 0 ? t0 : 0) : -1;
 }
 
-static inline int st_test_all_finite(const st_image *img) { return st_image_count_nonfinite(img) == 0; }
+static inline int st_test_all_finite(const st_image *img) {
+    return st_image_count_nonfinite(img) == 0;
+}
 
 #endif

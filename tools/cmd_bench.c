@@ -42,7 +42,8 @@ typedef struct {
 } row;
 
 static const char help_text[] =
-    "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [options]\n"
+    "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv "
+    "OUT.csv [options]\n"
     "Time against error: every combination of the swept values renders in a fresh world;\n"
     "one CSV row per setting, the Pareto front on stdout, optionally a log-log plot.\n"
     "When REF has standard-error channels (strahl reference), the error column has the\n"
@@ -72,7 +73,8 @@ static const char help_text[] =
     "  -h, --help                 this text\n"
     "example:\n"
     "  strahl bench scenes/godrays_window.json --reference ref.exr --size 128x128 \\\n"
-    "      --sweep toth.samples=16,64,256 --sweep toth.interleave=1,2 --csv toth.csv --plot toth.png\n";
+    "      --sweep toth.samples=16,64,256 --sweep toth.interleave=1,2 --csv toth.csv --plot "
+    "toth.png\n";
 
 static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     memset(sw, 0, sizeof *sw);
@@ -85,7 +87,8 @@ static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
         const char *c = strchr(p, ',');
         size_t n = c ? (size_t)(c - p) : strlen(p);
         if (!n || n >= ST_NAME_MAX || sw->num_values == MAX_VALUES)
-            return st_fail(err, ST_ERR_INPUT, "--sweep %s: empty or too many values (max %d)", s, MAX_VALUES);
+            return st_fail(err, ST_ERR_INPUT, "--sweep %s: empty or too many values (max %d)", s,
+                           MAX_VALUES);
         snprintf(sw->values[sw->num_values++], ST_NAME_MAX, "%.*s", (int)n, p);
         p = c ? c + 1 : p + n;
     }
@@ -96,14 +99,16 @@ static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
 // when the reference has no standard-error channels; max_abs has no such form).
 static double error_of(const st_metrics *m, const char *metric, bool debiased) {
     if (!strcmp(metric, "relmse")) return debiased ? m->relmse_debiased[3] : m->relmse[3];
-    if (!strcmp(metric, "scaled_rmse")) return debiased ? m->scaled_rmse_debiased[3] : m->scaled_rmse[3];
+    if (!strcmp(metric, "scaled_rmse"))
+        return debiased ? m->scaled_rmse_debiased[3] : m->scaled_rmse[3];
     if (!strcmp(metric, "max_abs")) return m->max_abs[3];
     return debiased ? m->rmse_debiased[3] : m->rmse[3];
 }
 
 // Renders one setting; fills r. The scene has the setting applied already.
-static bool run_one(const st_scene *scene, const st_image *ref, const st_image *ref_se, int frames, int warmup, bool recompute,
-                    const char *metric, const sweep *sweeps, int nsweeps, row *r, st_err *err) {
+static bool run_one(const st_scene *scene, const st_image *ref, const st_image *ref_se, int frames,
+                    int warmup, bool recompute, const char *metric, const sweep *sweeps,
+                    int nsweeps, row *r, st_err *err) {
     st_world_opts opts = {.timing = true};
     st_world *w = st_world_create(scene, &opts, err);
     if (!w) return false;
@@ -145,7 +150,8 @@ static bool run_one(const st_scene *scene, const st_image *ref, const st_image *
         for (int i = 0; i < st_world_num_pass_stats(w); i++) {
             const st_pass_stats *s = st_world_pass_stats(w, i);
             bool swept = false;
-            for (int k = 0; k < nsweeps; k++) swept |= !strcmp(s->module, sweeps[k].module);
+            for (int k = 0; k < nsweeps; k++)
+                swept |= !strcmp(s->module, sweeps[k].module);
             if (!swept || s->num_samples == 0) continue;
             double g = st_median_f(s->gpu_ms, s->num_samples);
             r->module_gpu_ms += g;
@@ -157,7 +163,8 @@ static bool run_one(const st_scene *scene, const st_image *ref, const st_image *
         getrusage(RUSAGE_SELF, &ru);
         r->peak_rss_kb = ru.ru_maxrss;
         r->gpu_bytes = st_gpu_bytes();
-        if (st_image_count_nonfinite(&img)) ok = st_fail(err, ST_ERR_RUNTIME, "%s: non-finite output", r->setting);
+        if (st_image_count_nonfinite(&img))
+            ok = st_fail(err, ST_ERR_RUNTIME, "%s: non-finite output", r->setting);
     }
     st_image_free(&img);
     free(ft);
@@ -171,7 +178,8 @@ static int cmp_time(const void *a, const void *b) {
 }
 
 int st_cmd_bench(int argc, char **argv) {
-    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse", *baseline = NULL;
+    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse",
+               *baseline = NULL;
     char *sets[MAX_SETS];
     sweep sweeps[MAX_SWEEPS];
     int nsets = 0, nsweeps = 0, width = 0, height = 0;
@@ -186,72 +194,90 @@ int st_cmd_bench(int argc, char **argv) {
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(help_text, stdout);
             return ST_EXIT_OK;
-        } else if (!strcmp(a, "--reference") && nx) ref_path = argv[++i];
-        else if (!strcmp(a, "--csv") && nx) csv = argv[++i];
-        else if (!strcmp(a, "--plot") && nx) plot = argv[++i];
-        else if (!strcmp(a, "--baseline") && nx) baseline = argv[++i];
-        else if (!strcmp(a, "--append")) append = true;
+        } else if (!strcmp(a, "--reference") && nx)
+            ref_path = argv[++i];
+        else if (!strcmp(a, "--csv") && nx)
+            csv = argv[++i];
+        else if (!strcmp(a, "--plot") && nx)
+            plot = argv[++i];
+        else if (!strcmp(a, "--baseline") && nx)
+            baseline = argv[++i];
+        else if (!strcmp(a, "--append"))
+            append = true;
         else if (!strcmp(a, "--mode") && nx) {
             const char *m = argv[++i];
             if (strcmp(m, "recompute") && strcmp(m, "steady"))
-                return st_fail(&err, ST_ERR_INPUT, "--mode %s: expected recompute or steady", m), st_report("bench", &err);
+                return st_fail(&err, ST_ERR_INPUT, "--mode %s: expected recompute or steady", m),
+                       st_report("bench", &err);
             recompute = !strcmp(m, "recompute");
-        }
-        else if (!strcmp(a, "--metric") && nx) {
+        } else if (!strcmp(a, "--metric") && nx) {
             metric = argv[++i];
-            if (strcmp(metric, "rmse") && strcmp(metric, "relmse") && strcmp(metric, "scaled_rmse") &&
-                strcmp(metric, "max_abs"))
-                return st_fail(&err, ST_ERR_INPUT, "--metric %s: expected rmse, relmse, scaled_rmse or max_abs", metric),
+            if (strcmp(metric, "rmse") && strcmp(metric, "relmse") &&
+                strcmp(metric, "scaled_rmse") && strcmp(metric, "max_abs"))
+                return st_fail(&err, ST_ERR_INPUT,
+                               "--metric %s: expected rmse, relmse, scaled_rmse or max_abs",
+                               metric),
                        st_report("bench", &err);
         } else if (!strcmp(a, "--sweep") && nx) {
             if (nsweeps == MAX_SWEEPS)
-                return st_fail(&err, ST_ERR_INPUT, "at most %d --sweep", MAX_SWEEPS), st_report("bench", &err);
+                return st_fail(&err, ST_ERR_INPUT, "at most %d --sweep", MAX_SWEEPS),
+                       st_report("bench", &err);
             if (!parse_sweep(argv[++i], &sweeps[nsweeps++], &err)) return st_report("bench", &err);
         } else if (!strcmp(a, "--set") && nx) {
-            if (nsets == MAX_SETS) return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("bench", &err);
+            if (nsets == MAX_SETS)
+                return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("bench", &err);
             sets[nsets++] = argv[++i];
         } else if (!strcmp(a, "--size") && nx) {
             if (!st_parse_size(argv[++i], &width, &height))
-                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH", argv[i]), st_report("bench", &err);
+                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH", argv[i]),
+                       st_report("bench", &err);
         } else if (!strcmp(a, "--frames") && nx) {
             if (!st_parse_int(argv[++i], 1, 10000, &frames))
-                return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..10000", argv[i]), st_report("bench", &err);
+                return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..10000", argv[i]),
+                       st_report("bench", &err);
         } else if (!strcmp(a, "--warmup") && nx) {
             if (!st_parse_int(argv[++i], 0, 10000, &warmup))
-                return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", argv[i]), st_report("bench", &err);
+                return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", argv[i]),
+                       st_report("bench", &err);
         } else if (!strcmp(a, "--shard") && nx) {
             const char *v = argv[++i], *slash = strchr(v, '/');
             char num[32];
             snprintf(num, sizeof num, "%.*s", slash ? (int)(slash - v) : 0, v);
-            if (!slash || !st_parse_int(slash + 1, 1, 100000, &shard_n) || !st_parse_int(num, 1, shard_n, &shard_i))
+            if (!slash || !st_parse_int(slash + 1, 1, 100000, &shard_n) ||
+                !st_parse_int(num, 1, shard_n, &shard_i))
                 return st_fail(&err, ST_ERR_INPUT, "--shard %s: expected I/N with 1 <= I <= N", v),
                        st_report("bench", &err);
         } else if (!strcmp(a, "--budget-error") && nx) {
             char *e;
             budget = strtod(argv[++i], &e);
             if (*e || !isfinite(budget) || budget < 0)
-                return st_fail(&err, ST_ERR_INPUT, "--budget-error %s: expected a non-negative number", argv[i]),
+                return st_fail(&err, ST_ERR_INPUT,
+                               "--budget-error %s: expected a non-negative number", argv[i]),
                        st_report("bench", &err);
         } else if (a[0] == '-' || scene_path) {
-            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a), st_report("bench", &err);
+            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a),
+                   st_report("bench", &err);
         } else {
             scene_path = a;
         }
     }
     if (!scene_path || !ref_path || !csv || !nsweeps)
         return st_fail(&err, ST_ERR_INPUT,
-                       "usage: strahl bench SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... "
+                       "usage: strahl bench SCENE.json --reference REF.exr --sweep "
+                       "MODULE.PARAM=v1,v2,... "
                        "--csv OUT.csv [--plot OUT.png|svg] [--frames F] [--warmup W] [--metric M] "
                        "[--budget-error X] [--append] [--mode recompute|steady]"),
                st_report("bench", &err);
     if (plot) {
         const char *dot = strrchr(plot, '.');
         if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg")))
-            return st_fail(&err, ST_ERR_INPUT, "--plot %s: expected .png or .svg", plot), st_report("bench", &err);
+            return st_fail(&err, ST_ERR_INPUT, "--plot %s: expected .png or .svg", plot),
+                   st_report("bench", &err);
     }
     st_image ref = {0}, ref_se = {0};
     st_exr_meta ref_meta = {0};
-    if (!st_image_read_exr(ref_path, &ref, &err) || !st_image_read_exr_stderr(ref_path, &ref_se, &err) ||
+    if (!st_image_read_exr(ref_path, &ref, &err) ||
+        !st_image_read_exr_stderr(ref_path, &ref_se, &err) ||
         !st_image_read_exr_meta(ref_path, &ref_meta, &err)) {
         err.kind = ST_ERR_INPUT;
         st_image_free(&ref);
@@ -259,17 +285,20 @@ int st_cmd_bench(int argc, char **argv) {
     }
     // Validate the scene and every swept value before any rendering.
     int total = 1;
-    for (int k = 0; k < nsweeps; k++) total *= sweeps[k].num_values;
+    for (int k = 0; k < nsweeps; k++)
+        total *= sweeps[k].num_values;
     if (total > MAX_ROWS) {
         st_image_free(&ref);
-        return st_fail(&err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS), st_report("bench", &err);
+        return st_fail(&err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS),
+               st_report("bench", &err);
     }
     row *rows = calloc((size_t)total, sizeof *rows);
     st_context *ctx = NULL;
     int rc = 0, done = 0;
     st_progress_bar bar;
     // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
-    st_progress_begin(&bar, "bench", "settings", shard_n > 1 ? (int)((total - shard_i + shard_n) / shard_n) : total);
+    st_progress_begin(&bar, "bench", "settings",
+                      shard_n > 1 ? (int)((total - shard_i + shard_n) / shard_n) : total);
     if (!rows) {
         st_fail(&err, ST_ERR_RUNTIME, "out of memory");
         goto fail;
@@ -279,7 +308,8 @@ int st_cmd_bench(int argc, char **argv) {
         char *all[MAX_SETS + MAX_SWEEPS];
         char assign[MAX_SWEEPS][256];
         int n = 0, rest = idx;
-        for (int s = 0; s < nsets; s++) all[n++] = sets[s];
+        for (int s = 0; s < nsets; s++)
+            all[n++] = sets[s];
         // --shard I/N: settings I-1, I-1+N, ... (round robin, so shards of a
         // sweep ordered by cost get similar work).
         if (shard_n > 1 && idx % shard_n != shard_i - 1) continue;
@@ -287,7 +317,8 @@ int st_cmd_bench(int argc, char **argv) {
         for (int k = 0; k < nsweeps; k++) {
             int v = rest % sweeps[k].num_values;
             rest /= sweeps[k].num_values;
-            snprintf(assign[k], sizeof assign[k], "%.63s.%.63s=%.63s", sweeps[k].module, sweeps[k].param, sweeps[k].values[v]);
+            snprintf(assign[k], sizeof assign[k], "%.63s.%.63s=%.63s", sweeps[k].module,
+                     sweeps[k].param, sweeps[k].values[v]);
             all[n++] = assign[k];
             size_t l = strlen(r->setting);
             snprintf(r->setting + l, sizeof r->setting - l, "%s%s", l ? " " : "", assign[k]);
@@ -305,8 +336,8 @@ int st_cmd_bench(int argc, char **argv) {
         memcpy(r->curve, curve, sizeof curve);
         if (!st_load_scene_with(scene_path, all, n, width, height, &scene, &err)) goto fail;
         if (scene.width != ref.width || scene.height != ref.height) {
-            st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)", ref_path, ref.width,
-                    ref.height, scene.width, scene.height);
+            st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)", ref_path,
+                    ref.width, ref.height, scene.width, scene.height);
             st_scene_free(&scene);
             goto fail;
         }
@@ -315,7 +346,8 @@ int st_cmd_bench(int argc, char **argv) {
             goto fail;
         }
         st_progress_update(&bar, done, r->setting);
-        bool ok = run_one(&scene, &ref, &ref_se, (int)frames, (int)warmup, recompute, metric, sweeps, nsweeps, r, &err);
+        bool ok = run_one(&scene, &ref, &ref_se, (int)frames, (int)warmup, recompute, metric,
+                          sweeps, nsweeps, r, &err);
         st_scene_free(&scene);
         if (!ok) goto fail;
         r->noisy_ref = st_warn_reference_noise("bench", ref_path, &r->m, ref_meta.spp);
@@ -340,20 +372,27 @@ int st_cmd_bench(int argc, char **argv) {
         FILE *old = append ? fopen(csv, "r") : NULL;
         if (old) {
             char line[4096];
-            while (fgets(line, sizeof line, old)) fputs(line, f);
+            while (fgets(line, sizeof line, old))
+                fputs(line, f);
             fclose(old);
         } else if (shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
-            fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_median,"
-                       "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,pass_gpu_ms,"
-                       "error_raw,ref_noise_rms,ref_noise_warning\n", metric);
+            fprintf(f,
+                    "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_"
+                    "ms_median,"
+                    "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,"
+                    "pass_gpu_ms,"
+                    "error_raw,ref_noise_rms,ref_noise_warning\n",
+                    metric);
         }
         for (int i = 0; i < done; i++) {
             row *r = &rows[i];
-            fprintf(f, "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%.9g,%.9g,%d\n",
-                    scene_path,
-                    r->setting, r->curve, r->x, frames, r->frame_ms, r->module_gpu_ms, r->module_cpu_ms, r->error,
-                    r->m.rmse[3], r->m.relmse[3], isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3],
-                    r->m.scale, r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
+            fprintf(f,
+                    "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%"
+                    ".9g,%.9g,%d\n",
+                    scene_path, r->setting, r->curve, r->x, frames, r->frame_ms, r->module_gpu_ms,
+                    r->module_cpu_ms, r->error, r->m.rmse[3], r->m.relmse[3],
+                    isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3], r->m.scale,
+                    r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
                     r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
         }
         if (fclose(f) != 0 || rename(tmp, csv) != 0) {
@@ -365,9 +404,11 @@ int st_cmd_bench(int argc, char **argv) {
     {
         // Pareto front: settings no faster setting beats in error.
         row *sorted[MAX_ROWS];
-        for (int i = 0; i < done; i++) sorted[i] = &rows[i];
+        for (int i = 0; i < done; i++)
+            sorted[i] = &rows[i];
         qsort(sorted, (size_t)done, sizeof sorted[0], cmp_time);
-        printf("%-48s %12s %14s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric, "raw");
+        printf("%-48s %12s %14s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric,
+               "raw");
         for (int i = 0; i < done; i++)
             printf("%-48s %12.3f %14.3f %14.6g %14.6g%s\n", sorted[i]->setting, sorted[i]->frame_ms,
                    sorted[i]->module_gpu_ms, sorted[i]->error, sorted[i]->error_raw,
@@ -377,15 +418,16 @@ int st_cmd_bench(int argc, char **argv) {
         for (int i = 0; i < done; i++) {
             if (sorted[i]->error >= best) continue;
             best = sorted[i]->error;
-            printf("  %s: %.3f ms, %s %.6g\n", sorted[i]->setting, sorted[i]->frame_ms, metric, sorted[i]->error);
+            printf("  %s: %.3f ms, %s %.6g\n", sorted[i]->setting, sorted[i]->frame_ms, metric,
+                   sorted[i]->error);
         }
         if (budget >= 0) {
             const row *pick = NULL;
             for (int i = 0; i < done && !pick; i++)
                 if (sorted[i]->error <= budget) pick = sorted[i];
             if (pick)
-                printf("cheapest setting with %s <= %g: %s (%.3f ms, %s %.6g)\n", metric, budget, pick->setting,
-                       pick->frame_ms, metric, pick->error);
+                printf("cheapest setting with %s <= %g: %s (%.3f ms, %s %.6g)\n", metric, budget,
+                       pick->setting, pick->frame_ms, metric, pick->error);
             else
                 printf("no setting reaches %s <= %g\n", metric, budget);
         }

@@ -51,13 +51,15 @@ int st_report(const char *cmd, const st_err *err) {
     return st_err_exit_code(err);
 }
 
-bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp) {
+bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m,
+                             int ref_spp) {
     if (!st_metrics_noise_dominates(m)) return false;
     double noise = m->ref_noise_rms[3], err = m->rmse_debiased[3];
-    fprintf(stderr,
-            "strahl %s: warning: %s: the reference's noise (rms standard error %.3g) is more than a "
-            "third of the error it measures (debiased rmse %.3g, raw %.3g)",
-            cmd, ref_path, noise, err, m->rmse[3]);
+    fprintf(
+        stderr,
+        "strahl %s: warning: %s: the reference's noise (rms standard error %.3g) is more than a "
+        "third of the error it measures (debiased rmse %.3g, raw %.3g)",
+        cmd, ref_path, noise, err, m->rmse[3]);
     // The standard error falls as 1/sqrt(spp): a third of err needs spp (3 noise / err)^2.
     if (ref_spp > 0 && err > 0) {
         double want = ceil(ref_spp * (3 * noise / err) * (3 * noise / err));
@@ -68,7 +70,8 @@ bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_met
 }
 
 void st_progress_begin(st_progress_bar *p, const char *label, const char *unit, int total) {
-    *p = (st_progress_bar){.label = label, .unit = unit, .total = total, .tty = isatty(STDERR_FILENO) == 1};
+    *p = (st_progress_bar){
+        .label = label, .unit = unit, .total = total, .tty = isatty(STDERR_FILENO) == 1};
     p->t0 = p->last = st_now_ms();
 }
 
@@ -77,7 +80,8 @@ static void progress_draw(st_progress_bar *p, int done, const char *item, bool f
     double frac = p->total > 0 ? (double)done / p->total : 1.0;
     char bar[31];
     int fill = (int)(frac * 30);
-    for (int k = 0; k < 30; k++) bar[k] = k < fill ? '#' : '.';
+    for (int k = 0; k < 30; k++)
+        bar[k] = k < fill ? '#' : '.';
     bar[30] = 0;
     // \r and clear to the end of the line: the item text changes length.
     fprintf(stderr, "\r\033[K%s [%s] %d/%d %s, %.1f s", p->label, bar, done, p->total, p->unit, el);
@@ -104,6 +108,6 @@ void st_progress_end(st_progress_bar *p, int done, const char *extra) {
         if (p->drawn) progress_draw(p, done, NULL, true);
         return;
     }
-    fprintf(stderr, "strahl %s: %d %s in %.1f s%s%s\n", p->label, done, p->unit, (st_now_ms() - p->t0) / 1000.0,
-            extra && extra[0] ? ", " : "", extra ? extra : "");
+    fprintf(stderr, "strahl %s: %d %s in %.1f s%s%s\n", p->label, done, p->unit,
+            (st_now_ms() - p->t0) / 1000.0, extra && extra[0] ? ", " : "", extra ? extra : "");
 }

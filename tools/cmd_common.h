@@ -15,7 +15,8 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
 // Prints a warning to stderr when the reference's noise is more than a third
 // of the error it measures (st_metrics_noise_dominates), with the spp that
 // would bring it to a third (ref_spp 0: unknown). Returns whether it warned.
-bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m, int ref_spp);
+bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m,
+                             int ref_spp);
 // Progress of a long command on stderr: on a terminal a bar with the
 // elapsed time and an ETA (redrawn at most 4 times a second, from 1 s on);
 // otherwise nothing until st_progress_end's one summary line.
@@ -34,8 +35,8 @@ void st_progress_end(st_progress_bar *p, int done, const char *extra);
 // The time-against-error plot of bench CSVs (tools/cmd_plot.c); metric names
 // the error column when the CSVs have no header (NULL: from the header);
 // baseline "M.P=V,..." marks that setting (NULL: none).
-bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric, const char *baseline,
-                 const char *title, st_err *err);
+bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric,
+                 const char *baseline, const char *title, st_err *err);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

@@ -138,7 +138,8 @@ int st_cmd_compare(int argc, char **argv) {
     st_metrics m;
     int rc = ST_EXIT_OK;
     if (!st_image_read_exr(files[0], &a, &err) || !st_image_read_exr(files[1], &b, &err) ||
-        !st_image_read_exr_stderr(files[1], &bs, &err) || !st_image_read_exr_meta(files[1], &meta, &err)) {
+        !st_image_read_exr_stderr(files[1], &bs, &err) ||
+        !st_image_read_exr_meta(files[1], &meta, &err)) {
         rc = fail(&err);
     } else if (!st_image_compare_noisy(&a, &b, &bs, &m, &err)) {
         // Name both files: the message itself only knows "image"/"reference".

@@ -9,18 +9,24 @@ static void json_str(const char *s) {
     putchar('"');
     for (; s && *s; s++) {
         if (*s == '"' || *s == '\\') putchar('\\');
-        if ((unsigned char)*s < 0x20) printf("\\u%04x", *s);
-        else putchar(*s);
+        if ((unsigned char)*s < 0x20)
+            printf("\\u%04x", *s);
+        else
+            putchar(*s);
     }
     putchar('"');
 }
 
 static const char *type_name(st_param_type t) {
     switch (t) {
-    case ST_PARAM_FLOAT: return "float";
-    case ST_PARAM_INT: return "int";
-    case ST_PARAM_BOOL: return "bool";
-    case ST_PARAM_ENUM: return "enum";
+    case ST_PARAM_FLOAT:
+        return "float";
+    case ST_PARAM_INT:
+        return "int";
+    case ST_PARAM_BOOL:
+        return "bool";
+    case ST_PARAM_ENUM:
+        return "enum";
     }
     return "?";
 }
@@ -36,7 +42,9 @@ static const char help_text[] =
     "  strahl modules --json\n";
 
 // The light types a plugin handles (0 in the descriptor: point lights only).
-static unsigned light_types(const st_plugin *p) { return p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT); }
+static unsigned light_types(const st_plugin *p) {
+    return p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT);
+}
 
 int st_cmd_modules(int argc, char **argv) {
     bool json = false;
@@ -45,7 +53,8 @@ int st_cmd_modules(int argc, char **argv) {
             fputs(help_text, stdout);
             return 0;
         }
-        if (!strcmp(argv[i], "--json")) json = true;
+        if (!strcmp(argv[i], "--json"))
+            json = true;
         else {
             fprintf(stderr, "strahl modules: unexpected argument '%s'\n", argv[i]);
             return 2;
@@ -75,7 +84,8 @@ int st_cmd_modules(int argc, char **argv) {
             json_str(p->provides);
             printf(", \"lights\": [");
             for (int t = 0, n = 0; t < ST_LIGHT_TYPE_COUNT; t++)
-                if (light_types(p) & ST_LIGHT_BIT(t)) printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
+                if (light_types(p) & ST_LIGHT_BIT(t))
+                    printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
             printf("]");
             printf(", \"params\": [");
             for (int k = 0; k < p->num_params; k++) {
@@ -85,9 +95,12 @@ int st_cmd_modules(int argc, char **argv) {
                 printf("%s\n   {\"name\": ", k ? "," : "");
                 json_str(d->name);
                 printf(", \"type\": \"%s\", \"default\": ", type_name(d->type));
-                if (d->type == ST_PARAM_ENUM) json_str(def);
-                else if (d->type == ST_PARAM_BOOL) printf("%s", def);
-                else printf("%.9g", d->def);
+                if (d->type == ST_PARAM_ENUM)
+                    json_str(def);
+                else if (d->type == ST_PARAM_BOOL)
+                    printf("%s", def);
+                else
+                    printf("%.9g", d->def);
                 if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
                     printf(", \"min\": %.9g, \"max\": %.9g", d->min, d->max);
                 if (d->type == ST_PARAM_ENUM) {
@@ -112,7 +125,8 @@ int st_cmd_modules(int argc, char **argv) {
                 char def[64];
                 st_param_format(d, d->def, def, sizeof def);
                 printf("  %-16s %-5s default %-8s", d->name, type_name(d->type), def);
-                if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT) printf(" [%g, %g]", d->min, d->max);
+                if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
+                    printf(" [%g, %g]", d->min, d->max);
                 if (d->type == ST_PARAM_ENUM) printf(" {%s}", d->choices);
                 printf("  %s\n", d->help ? d->help : "");
             }

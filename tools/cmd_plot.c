@@ -358,7 +358,8 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
         }
         unlink(log);
         unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s (is gnuplot-nox installed?)%s%s", out,
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "gnuplot failed drawing %s (is gnuplot-nox installed?)%s%s", out,
                        msg[0] ? ": " : "", msg);
     }
     unlink(log);

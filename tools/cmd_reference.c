@@ -34,7 +34,8 @@ static const char usage_text[] =
     "  -h, --help                this text\n"
     "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"
     "example:\n"
-    "  strahl reference scenes/godrays_window.json -o ref.exr --size 128x128 --spp 64 --bounces 0\n";
+    "  strahl reference scenes/godrays_window.json -o ref.exr --size 128x128 --spp 64 --bounces "
+    "0\n";
 
 static bool parse_choice(const char *s, const char *const *names, int n, int *out) {
     for (int i = 0; i < n; i++)
@@ -89,7 +90,8 @@ int st_cmd_reference(int argc, char **argv) {
         if (!strcmp(a, "-o")) {
             out_path = v;
         } else if (!strcmp(a, "--spp")) {
-            if (!st_parse_int(v, 1, 10000000, &n)) return bad(&err, "--spp %s: expected 1..10000000", v);
+            if (!st_parse_int(v, 1, 10000000, &n))
+                return bad(&err, "--spp %s: expected 1..10000000", v);
             o.spp = (int)n;
         } else if (!strcmp(a, "--aov")) {
             static const char *const names[] = {"combined", "direct", "indirect", "inscatter"};
@@ -97,22 +99,27 @@ int st_cmd_reference(int argc, char **argv) {
                 return bad(&err, "--aov %s: expected combined, direct, indirect or inscatter", v);
             o.aov = (st_ref_aov)choice;
         } else if (!strcmp(a, "--seed")) {
-            if (!parse_u64(v, &o.seed)) return bad(&err, "--seed %s: expected an unsigned integer", v);
+            if (!parse_u64(v, &o.seed))
+                return bad(&err, "--seed %s: expected an unsigned integer", v);
         } else if (!strcmp(a, "--size")) {
-            if (!st_parse_size(v, &width, &height)) return bad(&err, "--size %s: expected WxH, 1..16384 each", v);
+            if (!st_parse_size(v, &width, &height))
+                return bad(&err, "--size %s: expected WxH, 1..16384 each", v);
         } else if (!strcmp(a, "--bounces")) {
             if (!st_parse_int(v, 0, 16, &n)) return bad(&err, "--bounces %s: expected 0..16", v);
             o.bounces = (int)n;
         } else if (!strcmp(a, "--bounce-visibility")) {
             static const char *const names[] = {"on", "off"};
-            if (!parse_choice(v, names, 2, &choice)) return bad(&err, "--bounce-visibility %s: expected on or off", v);
+            if (!parse_choice(v, names, 2, &choice))
+                return bad(&err, "--bounce-visibility %s: expected on or off", v);
             o.no_visibility = choice == 1;
         } else if (!strcmp(a, "--estimator")) {
             static const char *const names[] = {"area", "thesis"};
-            if (!parse_choice(v, names, 2, &choice)) return bad(&err, "--estimator %s: expected area or thesis", v);
+            if (!parse_choice(v, names, 2, &choice))
+                return bad(&err, "--estimator %s: expected area or thesis", v);
             o.estimator = (st_ref_estimator)choice;
         } else if (!strcmp(a, "--steps")) {
-            if (!st_parse_int(v, 1, 1000000, &n)) return bad(&err, "--steps %s: expected 1..1000000", v);
+            if (!st_parse_int(v, 1, 1000000, &n))
+                return bad(&err, "--steps %s: expected 1..1000000", v);
             o.march_steps = (int)n;
         } else if (!strcmp(a, "--threads")) {
             if (!st_parse_int(v, 1, 256, &n)) return bad(&err, "--threads %s: expected 1..256", v);
@@ -127,7 +134,8 @@ int st_cmd_reference(int argc, char **argv) {
     if (!scene_path) return bad(&err, "%s", "missing SCENE.json");
     if (!out_path) return bad(&err, "%s", "missing -o OUT.exr");
     const char *dot = strrchr(out_path, '.');
-    if (!dot || strcasecmp(dot, ".exr")) return bad(&err, "-o %s: the reference writes .exr only", out_path);
+    if (!dot || strcasecmp(dot, ".exr"))
+        return bad(&err, "-o %s: the reference writes .exr only", out_path);
 
     st_scene scene;
     // --set is checked against the scene's modules like `render` does, so the
@@ -151,7 +159,8 @@ int st_cmd_reference(int argc, char **argv) {
     size_t bad_px = st_image_count_nonfinite(&img);
     if (bad_px) {
         st_image_free(&img);
-        st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the result; nothing written", bad_px);
+        st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the result; nothing written",
+                bad_px);
         return st_report("reference", &err);
     }
     st_exr_meta meta = {.spp = o.spp};
@@ -159,9 +168,11 @@ int st_cmd_reference(int argc, char **argv) {
     // What the pixels depend on besides spp and seed (--set is not: the
     // reference reads no module): shards merge only if this matches.
     static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
-    snprintf(meta.config, sizeof meta.config, "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d",
-                       scene_path, w0, h0, aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
-                       o.estimator == ST_REF_EST_THESIS ? "thesis" : "area", o.march_steps > 0 ? o.march_steps : 256);
+    snprintf(meta.config, sizeof meta.config,
+             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d", scene_path, w0, h0,
+             aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
+             o.estimator == ST_REF_EST_THESIS ? "thesis" : "area",
+             o.march_steps > 0 ? o.march_steps : 256);
     ok = st_image_write_exr_meta(out_path, &img, names, &meta, &err);
     int w = img.width, h = img.height;
     st_image_free(&img);

@@ -77,7 +77,8 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
     for (int i = 0; i < st_world_num_pass_stats(w); i++) {
         const st_pass_stats *s = st_world_pass_stats(w, i);
         printf("%-12s %-14s %6u %8u %7u %12.3f %12.3f\n", s->module, s->pass, s->runs, s->skipped,
-               s->culled, st_median_f(s->gpu_ms, s->num_samples), st_median_f(s->cpu_ms, s->num_samples));
+               s->culled, st_median_f(s->gpu_ms, s->num_samples),
+               st_median_f(s->cpu_ms, s->num_samples));
     }
 }
 
@@ -99,11 +100,13 @@ int st_cmd_render(int argc, char **argv) {
         } else if (!strcmp(a, "-o") && has_next) {
             out = argv[++i];
         } else if (!strcmp(a, "--set") && has_next) {
-            if (num_sets == MAX_SETS) return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("render", &err);
+            if (num_sets == MAX_SETS)
+                return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("render", &err);
             sets[num_sets++] = argv[++i];
         } else if (!strcmp(a, "--size") && has_next) {
             if (!st_parse_size(argv[++i], &width, &height))
-                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH, 1..16384 each", argv[i]),
+                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH, 1..16384 each",
+                               argv[i]),
                        st_report("render", &err);
         } else if (!strcmp(a, "--frames") && has_next) {
             if (!st_parse_int(argv[++i], 1, 100000, &frames))
@@ -129,20 +132,23 @@ int st_cmd_render(int argc, char **argv) {
             char *e;
             exposure = strtod(argv[++i], &e);
             if (*e || !isfinite(exposure) || fabs(exposure) > 64)
-                return st_fail(&err, ST_ERR_INPUT, "--exposure %s: expected a number of stops in [-64, 64]", argv[i]),
+                return st_fail(&err, ST_ERR_INPUT,
+                               "--exposure %s: expected a number of stops in [-64, 64]", argv[i]),
                        st_report("render", &err);
         } else if (!strcmp(a, "--stats")) {
             stats = 1;
         } else if (!strcmp(a, "--stats=json")) {
             stats = 2;
         } else if (a[0] == '-' || scene_path) {
-            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a), st_report("render", &err);
+            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a),
+                   st_report("render", &err);
         } else {
             scene_path = a;
         }
     }
     if (!scene_path || !out)
-        return st_fail(&err, ST_ERR_INPUT, "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)"),
+        return st_fail(&err, ST_ERR_INPUT,
+                       "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)"),
                st_report("render", &err);
     if (!out_ext_ok(out))
         return st_fail(&err, ST_ERR_INPUT, "-o %s: the output must end in .exr or .png", out),
@@ -187,7 +193,8 @@ int st_cmd_render(int argc, char **argv) {
     if (!st_world_read(w, &img, &err)) goto fail;
     size_t bad = st_image_count_nonfinite(&img);
     if (bad) {
-        st_fail(&err, ST_ERR_RUNTIME, "%zu non-finite values in the rendered image; nothing written", bad);
+        st_fail(&err, ST_ERR_RUNTIME,
+                "%zu non-finite values in the rendered image; nothing written", bad);
         goto fail;
     }
     if (!st_image_write(out, &img, (float)exposure, &err)) goto fail;

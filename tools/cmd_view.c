@@ -74,33 +74,41 @@ int st_cmd_view(int argc, char **argv) {
             if (num_sets == MAX_SETS) return usage_error("too many --set (max 64)%s", "");
             sets[num_sets++] = argv[++i];
         } else if (!strcmp(a, "--size") && has_next) {
-            if (!st_parse_size(argv[++i], &width, &height)) return usage_error("--size %s: expected WxH, 1..16384 each", argv[i]);
+            if (!st_parse_size(argv[++i], &width, &height))
+                return usage_error("--size %s: expected WxH, 1..16384 each", argv[i]);
         } else if (!strcmp(a, "--window") && has_next) {
-            if (!st_parse_size(argv[++i], &win_w, &win_h)) return usage_error("--window %s: expected WxH, 1..16384 each", argv[i]);
+            if (!st_parse_size(argv[++i], &win_w, &win_h))
+                return usage_error("--window %s: expected WxH, 1..16384 each", argv[i]);
         } else if (!strcmp(a, "--exposure") && has_next) {
             exposure = strtod(argv[++i], &e);
             if (*e || !isfinite(exposure) || fabs(exposure) > 64)
-                return usage_error("--exposure %s: expected a number of stops in [-64, 64]", argv[i]);
+                return usage_error("--exposure %s: expected a number of stops in [-64, 64]",
+                                   argv[i]);
         } else if (!strcmp(a, "--ui-scale") && has_next) {
             ui_scale = strtod(argv[++i], &e);
-            if (*e || !(ui_scale >= 0.5 && ui_scale <= 8)) return usage_error("--ui-scale %s: expected 0.5..8", argv[i]);
+            if (*e || !(ui_scale >= 0.5 && ui_scale <= 8))
+                return usage_error("--ui-scale %s: expected 0.5..8", argv[i]);
         } else if (!strcmp(a, "--shots") && has_next) {
             shots = argv[++i];
         } else if (!strcmp(a, "--hide-panel")) {
             hide_panel = true;
         } else if (a[0] == '-' || scene_path) {
-            return usage_error("unexpected argument '%s' (usage: strahl view SCENE.json [--script FILE] [--size WxH] "
-                               "[--window WxH] [--set MODULE.PARAM=VALUE]... [--exposure EV] [--ui-scale S] [--shots DIR] [--hide-panel])",
+            return usage_error("unexpected argument '%s' (usage: strahl view SCENE.json [--script "
+                               "FILE] [--size WxH] "
+                               "[--window WxH] [--set MODULE.PARAM=VALUE]... [--exposure EV] "
+                               "[--ui-scale S] [--shots DIR] [--hide-panel])",
                                a);
         } else {
             scene_path = a;
         }
     }
-    if (!scene_path) return usage_error("usage: strahl view SCENE.json [--script FILE] [options]%s", "");
+    if (!scene_path)
+        return usage_error("usage: strahl view SCENE.json [--script FILE] [options]%s", "");
 
     st_err err = {0};
     st_scene scene = {0};
-    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err)) return st_report("view", &err);
+    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
+        return st_report("view", &err);
     int rc = ST_EXIT_OK;
     view *v = calloc(1, sizeof *v);
     if (!v) {
@@ -111,8 +119,10 @@ int st_cmd_view(int argc, char **argv) {
     // Scripts (tests) keep a window of the render size, so window pixels and
     // screenshots correspond; an interactive session opens a usable window.
     if (!win_w) {
-        if (v->script) win_w = scene.width, win_h = scene.height;
-        else usable_window(scene.width, scene.height, &win_w, &win_h);
+        if (v->script)
+            win_w = scene.width, win_h = scene.height;
+        else
+            usable_window(scene.width, scene.height, &win_w, &win_h);
     }
     v->render_w = scene.width, v->render_h = scene.height;
     // --size fixes the render size in an interactive window (screenshots at
@@ -141,7 +151,8 @@ int st_cmd_view(int argc, char **argv) {
     snprintf(v->shot_dir, sizeof v->shot_dir, "%s", shots);
     view_refresh_modules(v);
     view_install_callbacks(v);
-    printf("strahl view: %s, window %dx%d, rendering %dx%d on %s; %d module(s) installed; press H for help\n",
+    printf("strahl view: %s, window %dx%d, rendering %dx%d on %s; %d module(s) installed; press H "
+           "for help\n",
            scene_path, fw, fh, opts.width, opts.height, st_context_renderer(), v->num_mods);
     fflush(stdout);
 

@@ -27,7 +27,8 @@ typedef struct {
 
 static int usage(FILE *f, const st_command *cmds, int n) {
     fprintf(f, "usage: strahl COMMAND ...   (strahl COMMAND --help for its options)\n");
-    for (int i = 0; i < n; i++) fprintf(f, "  strahl %s %s\n", cmds[i].name, cmds[i].usage);
+    for (int i = 0; i < n; i++)
+        fprintf(f, "  strahl %s %s\n", cmds[i].name, cmds[i].usage);
     fprintf(f, "  strahl --version\n");
     return 2;
 }
@@ -45,7 +46,8 @@ int main(int argc, char **argv) {
         {"merge", st_cmd_merge, "SHARD.exr SHARD.exr... -o OUT.exr"},
         {"plot", st_cmd_plot, "BENCH.csv... -o OUT.png|OUT.svg [--baseline MODULE.PARAM=V,...]"},
         {"bench", st_cmd_bench,
-         "SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [--plot OUT.png]"},
+         "SCENE.json --reference REF.exr --sweep MODULE.PARAM=v1,v2,... --csv OUT.csv [--plot "
+         "OUT.png]"},
     };
     const int n = (int)(sizeof cmds / sizeof cmds[0]);
     if (argc < 2) return usage(stderr, cmds, n);

@@ -43,7 +43,9 @@ typedef struct builder {
     bool *single; // triangles forced into charts of their own (their chart folded)
 } builder;
 
-static inline double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static inline double dot3(const double *a, const double *b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 static inline void cross3(const double *a, const double *b, double *o) {
     o[0] = a[1] * b[2] - a[2] * b[1];
     o[1] = a[2] * b[0] - a[0] * b[2];
@@ -52,7 +54,8 @@ static inline void cross3(const double *a, const double *b, double *o) {
 static inline double norm3(double *v) {
     double l = sqrt(dot3(v, v));
     if (l > 0)
-        for (int k = 0; k < 3; k++) v[k] /= l;
+        for (int k = 0; k < 3; k++)
+            v[k] /= l;
     return l;
 }
 
@@ -77,10 +80,14 @@ static bool gather_triangles(builder *B, st_err *err) {
         nsides += s;
         total += (uint64_t)s * B->meshes[m].num_triangles;
     }
-    if (total > UINT32_MAX / 4) return st_fail(err, ST_ERR_INPUT, "atlas: too many triangles (%llu)", (unsigned long long)total);
+    if (total > UINT32_MAX / 4)
+        return st_fail(err, ST_ERR_INPUT, "atlas: too many triangles (%llu)",
+                       (unsigned long long)total);
     B->sides = calloc(nsides ? (size_t)nsides : 1, sizeof *B->sides);
     B->tris = malloc((total ? total : 1) * sizeof *B->tris);
-    if (!B->sides || !B->tris) return st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory for %llu triangles", (unsigned long long)total);
+    if (!B->sides || !B->tris)
+        return st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory for %llu triangles",
+                       (unsigned long long)total);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     uint32_t t = 0;
     for (int m = 0; m < B->num_meshes; m++) {
@@ -91,7 +98,8 @@ static bool gather_triangles(builder *B, st_err *err) {
         glm_mat4_inv(model, inv);
         double nm[3][3]; // inverse transpose, nm[row][col]
         for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++) nm[r][c] = inv[r][c]; // inv[col][row] transposed
+            for (int c = 0; c < 3; c++)
+                nm[r][c] = inv[r][c]; // inv[col][row] transposed
         // TEXCOORD_1 has one texel set per triangle: its back side gets none.
         for (int back = 0; back < (me->double_sided && !B->o->use_uv1 ? 2 : 1); back++) {
             side *sd = &B->sides[B->num_sides++];
@@ -107,24 +115,29 @@ static bool gather_triangles(builder *B, st_err *err) {
                     uint32_t v = me->indices[3 * k + cc];
                     const float *p = me->positions + 3 * v, *n = me->normals + 3 * v;
                     for (int r = 0; r < 3; r++) {
-                        w->p[c][r] = model[0][r] * p[0] + model[1][r] * p[1] + model[2][r] * p[2] + model[3][r];
-                        w->nv[c][r] = (nm[r][0] * n[0] + nm[r][1] * n[1] + nm[r][2] * n[2]) * (back ? -1 : 1);
+                        w->p[c][r] = model[0][r] * p[0] + model[1][r] * p[1] + model[2][r] * p[2] +
+                                     model[3][r];
+                        w->nv[c][r] =
+                            (nm[r][0] * n[0] + nm[r][1] * n[1] + nm[r][2] * n[2]) * (back ? -1 : 1);
                         if (w->p[c][r] < lo[r]) lo[r] = w->p[c][r];
                         if (w->p[c][r] > hi[r]) hi[r] = w->p[c][r];
                     }
                     norm3(w->nv[c]);
                 }
                 double e1[3], e2[3];
-                for (int r = 0; r < 3; r++) e1[r] = w->p[1][r] - w->p[0][r], e2[r] = w->p[2][r] - w->p[0][r];
+                for (int r = 0; r < 3; r++)
+                    e1[r] = w->p[1][r] - w->p[0][r], e2[r] = w->p[2][r] - w->p[0][r];
                 cross3(e1, e2, w->n);
                 w->area = 0.5 * norm3(w->n);
-                if (!isfinite(w->area)) return st_fail(err, ST_ERR_INPUT, "atlas: mesh %d has non-finite vertices", m);
+                if (!isfinite(w->area))
+                    return st_fail(err, ST_ERR_INPUT, "atlas: mesh %d has non-finite vertices", m);
             }
         }
     }
     B->num_tris = t;
     B->extent = 0;
-    for (int r = 0; r < 3 && t; r++) B->extent = fmax(B->extent, hi[r] - lo[r]);
+    for (int r = 0; r < 3 && t; r++)
+        B->extent = fmax(B->extent, hi[r] - lo[r]);
     return true;
 }
 
@@ -150,7 +163,8 @@ typedef struct weld_slot {
 // shading still connect their triangles) and returns per-corner ids.
 static uint32_t *weld_side(const builder *B, const side *sd, double step) {
     size_t nc = (size_t)sd->count * 3, cap = 16;
-    while (cap < 2 * nc) cap *= 2;
+    while (cap < 2 * nc)
+        cap *= 2;
     weld_slot *h = calloc(cap, sizeof *h);
     uint32_t *ids = malloc(nc * sizeof *ids);
     if (!h || !ids) {
@@ -168,7 +182,8 @@ static uint32_t *weld_side(const builder *B, const side *sd, double step) {
             hash = (hash ^ (uint64_t)q[r]) * 1099511628211ull;
         }
         size_t i = hash & (cap - 1);
-        while (h[i].used && memcmp(h[i].q, q, sizeof q)) i = (i + 1) & (cap - 1);
+        while (h[i].used && memcmp(h[i].q, q, sizeof q))
+            i = (i + 1) & (cap - 1);
         if (!h[i].used) {
             h[i].used = true;
             memcpy(h[i].q, q, sizeof q);
@@ -214,21 +229,24 @@ static int hull2(double (*p)[2], int n, double (*out)[2]) {
 // rectangle (one side lies on a hull edge), landscape, with its minimum at 0.
 static bool orient_chart(builder *B, const uint32_t *tris, int n, chart *ch) {
     int np = 3 * n;
-    double (*pts)[2] = malloc((size_t)np * sizeof *pts), (*hull)[2] = malloc((size_t)(np + 1) * sizeof *hull);
+    double(*pts)[2] = malloc((size_t)np * sizeof *pts),
+    (*hull)[2] = malloc((size_t)(np + 1) * sizeof *hull);
     if (!pts || !hull) {
         free(pts);
         free(hull);
         return false;
     }
     for (int i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++) memcpy(pts[3 * i + c], B->c2[tris[i]][c], sizeof pts[0]);
+        for (int c = 0; c < 3; c++)
+            memcpy(pts[3 * i + c], B->c2[tris[i]][c], sizeof pts[0]);
     int h = hull2(pts, np, hull);
     double best = INFINITY, bc = 1, bs = 0;
     for (int e = 0; e < h; e++) {
         double dx = hull[(e + 1) % h][0] - hull[e][0], dy = hull[(e + 1) % h][1] - hull[e][1];
         double l = sqrt(dx * dx + dy * dy);
         if (l <= 0) continue;
-        double c = dx / l, s = dy / l, mnx = INFINITY, mxx = -INFINITY, mny = INFINITY, mxy = -INFINITY;
+        double c = dx / l, s = dy / l, mnx = INFINITY, mxx = -INFINITY, mny = INFINITY,
+               mxy = -INFINITY;
         for (int i = 0; i < h; i++) {
             double x = c * hull[i][0] + s * hull[i][1], y = -s * hull[i][0] + c * hull[i][1];
             mnx = fmin(mnx, x), mxx = fmax(mxx, x), mny = fmin(mny, y), mxy = fmax(mxy, y);
@@ -249,8 +267,10 @@ static bool orient_chart(builder *B, const uint32_t *tris, int n, chart *ch) {
     for (int i = 0; i < n; i++)
         for (int c = 0; c < 3; c++) {
             double *q = B->c2[tris[i]][c], x = q[0] - mnx, y = q[1] - mny;
-            if (turn) q[0] = (mxy - mny) - y, q[1] = x;
-            else q[0] = x, q[1] = y;
+            if (turn)
+                q[0] = (mxy - mny) - y, q[1] = x;
+            else
+                q[0] = x, q[1] = y;
         }
     ch->w = turn ? mxy - mny : mxx - mnx;
     ch->h = turn ? mxx - mnx : mxy - mny;
@@ -261,10 +281,12 @@ static const wtri *g_sort_tris; // qsort has no context argument in C11
 static int cmp_tri_area(const void *a, const void *b) {
     double x = g_sort_tris[*(const uint32_t *)a].area, y = g_sort_tris[*(const uint32_t *)b].area;
     if (x != y) return x > y ? -1 : 1;
-    return (*(const uint32_t *)a > *(const uint32_t *)b) - (*(const uint32_t *)a < *(const uint32_t *)b);
+    return (*(const uint32_t *)a > *(const uint32_t *)b) -
+           (*(const uint32_t *)a < *(const uint32_t *)b);
 }
 
-static bool add_chart(builder *B, int side_i, const uint32_t *members, int n, const double *normal, st_err *err) {
+static bool add_chart(builder *B, int side_i, const uint32_t *members, int n, const double *normal,
+                      st_err *err) {
     chart *nc = realloc(B->charts, (size_t)(B->num_charts + 1) * sizeof *nc);
     if (!nc) return st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory");
     B->charts = nc;
@@ -286,7 +308,8 @@ static bool add_chart(builder *B, int side_i, const uint32_t *members, int n, co
             B->c2[k][c][1] = dot3(B->tris[k].p[c], b);
         }
     }
-    if (!orient_chart(B, members, n, ch)) return st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory");
+    if (!orient_chart(B, members, n, ch))
+        return st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory");
     B->num_charts++;
     return true;
 }
@@ -314,7 +337,8 @@ static bool chart_side(builder *B, int si, st_err *err) {
     size_t ne = (size_t)n * 3, nadj = 0;
     for (int pass = 0; pass < 2; pass++) {
         if (pass == 1) {
-            for (uint32_t k = 0; k < n; k++) adj_start[k + 1] += adj_start[k];
+            for (uint32_t k = 0; k < n; k++)
+                adj_start[k + 1] += adj_start[k];
             adj = malloc((adj_start[n] ? adj_start[n] : 1) * sizeof *adj);
             if (!adj) {
                 ok = false;
@@ -329,20 +353,24 @@ static bool chart_side(builder *B, int si, st_err *err) {
         }
         for (size_t i = 0; i < ne;) {
             size_t j = i;
-            while (j < ne && edges[j].key == edges[i].key) j++;
+            while (j < ne && edges[j].key == edges[i].key)
+                j++;
             if (edges[i].key >> 32 != (edges[i].key & 0xffffffffu)) // not a collapsed edge
                 for (size_t x = i; x < j; x++)
                     for (size_t y = i; y < j; y++) {
                         if (edges[x].tri == edges[y].tri) continue;
                         uint32_t tx = edges[x].tri;
-                        if (!pass) adj_start[tx + 1]++;
-                        else adj[adj_start[tx] + fill[tx]++] = edges[y].tri, nadj++;
+                        if (!pass)
+                            adj_start[tx + 1]++;
+                        else
+                            adj[adj_start[tx] + fill[tx]++] = edges[y].tri, nadj++;
                     }
             i = j;
         }
         free(fill);
     }
-    for (uint32_t k = 0; k < n; k++) order[k] = sd->first + k;
+    for (uint32_t k = 0; k < n; k++)
+        order[k] = sd->first + k;
     g_sort_tris = B->tris;
     qsort(order, n, sizeof *order, cmp_tri_area);
     double cos_max = cos(B->o->chart_angle_deg * 3.14159265358979323846 / 180.0);
@@ -372,7 +400,8 @@ static bool chart_side(builder *B, int si, st_err *err) {
     }
     (void)nadj;
 done:
-    if (!ok && err->kind == ST_ERR_NONE) st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory charting %u triangles", n);
+    if (!ok && err->kind == ST_ERR_NONE)
+        st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory charting %u triangles", n);
     free(ids);
     free(edges);
     free(order);
@@ -423,7 +452,8 @@ static bool layout(builder *B, atlas *A, st_err *err) {
     int *order = malloc((B->num_charts ? (size_t)B->num_charts : 1) * sizeof *order);
     if (!order) return st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory");
     double proj_area = 0;
-    for (int i = 0; i < B->num_charts; i++) proj_area += B->charts[i].w * B->charts[i].h;
+    for (int i = 0; i < B->num_charts; i++)
+        proj_area += B->charts[i].w * B->charts[i].h;
     bool ok = false;
     double s = 0;
     int W = B->o->size, H = B->o->size;
@@ -435,20 +465,27 @@ static bool layout(builder *B, atlas *A, st_err *err) {
             if (ok) break;
         }
         if (!ok)
-            st_fail(err, ST_ERR_INPUT, "atlas: %g texels per metre does not fit %d charts into %dx%d; lower texels_per_meter",
+            st_fail(err, ST_ERR_INPUT,
+                    "atlas: %g texels per metre does not fit %d charts into %dx%d; lower "
+                    "texels_per_meter",
                     s, B->num_charts, B->o->max_size, B->o->max_size);
     } else if (!pack(B, 0, W, H, order)) {
-        st_fail(err, ST_ERR_INPUT, "atlas: %d charts do not fit into %dx%d even at the smallest density; raise atlas_size",
-                B->num_charts, W, H);
+        st_fail(
+            err, ST_ERR_INPUT,
+            "atlas: %d charts do not fit into %dx%d even at the smallest density; raise atlas_size",
+            B->num_charts, W, H);
     } else {
         // The largest density that still packs (bisection; packing is monotone
         // in practice, the last fitting value is kept).
         double lo = 0, hi = proj_area > 0 ? sqrt((double)W * H / proj_area) * 1.01 : 1.0;
-        for (int it = 0; it < 64 && pack(B, hi, W, H, order); it++) lo = hi, hi *= 2;
+        for (int it = 0; it < 64 && pack(B, hi, W, H, order); it++)
+            lo = hi, hi *= 2;
         for (int it = 0; it < 40; it++) {
             double mid = 0.5 * (lo + hi);
-            if (pack(B, mid, W, H, order)) lo = mid;
-            else hi = mid;
+            if (pack(B, mid, W, H, order))
+                lo = mid;
+            else
+                hi = mid;
         }
         s = lo;
         ok = pack(B, s, W, H, order);
@@ -471,7 +508,9 @@ static bool layout(builder *B, atlas *A, st_err *err) {
 
 // ---- exact coverage ---------------------------------------------------------
 
-typedef struct { double x, y; } v2;
+typedef struct {
+    double x, y;
+} v2;
 
 // Keeps the part of polygon `in` with coordinate `axis` >= v (keep_ge) or <= v.
 static int clip_half(const v2 *in, int n, int axis, double v, bool keep_ge, v2 *out) {
@@ -506,7 +545,8 @@ typedef void (*piece_fn)(void *ctx, uint32_t tri, int x, int y, double atlas_are
 // with a texel square.
 static void raster_tri(const builder *B, const atlas *A, uint32_t k, piece_fn fn, void *ctx) {
     v2 t[3];
-    for (int c = 0; c < 3; c++) t[c] = (v2){B->uv[k][c][0], B->uv[k][c][1]};
+    for (int c = 0; c < 3; c++)
+        t[c] = (v2){B->uv[k][c][0], B->uv[k][c][1]};
     double ymin = fmin(t[0].y, fmin(t[1].y, t[2].y)), ymax = fmax(t[0].y, fmax(t[1].y, t[2].y));
     int y0 = (int)floor(ymin), y1 = (int)ceil(ymax);
     if (y1 == y0) y1 = y0 + 1;
@@ -525,7 +565,8 @@ static void raster_tri(const builder *B, const atlas *A, uint32_t k, piece_fn fn
             continue;
         }
         double xmin = INFINITY, xmax = -INFINITY;
-        for (int i = 0; i < n; i++) xmin = fmin(xmin, row[i].x), xmax = fmax(xmax, row[i].x);
+        for (int i = 0; i < n; i++)
+            xmin = fmin(xmin, row[i].x), xmax = fmax(xmax, row[i].x);
         int x0 = (int)floor(xmin), x1 = (int)ceil(xmax);
         if (x1 == x0) x1 = x0 + 1;
         if (x0 < 0) x0 = 0;
@@ -543,8 +584,9 @@ static void raster_tri(const builder *B, const atlas *A, uint32_t k, piece_fn fn
 
 // Is p inside triangle k's atlas footprint by at least `margin` texels?
 static bool inside_tri(const builder *B, uint32_t k, double px, double py, double margin) {
-    const double (*t)[2] = B->uv[k];
-    double area2 = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
+    const double(*t)[2] = B->uv[k];
+    double area2 =
+        (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
     if (area2 == 0) return false;
     double sg = area2 > 0 ? 1 : -1;
     for (int e = 0; e < 3; e++) {
@@ -566,13 +608,14 @@ typedef struct cover_ctx {
     bool *tri_hit;
     // pass 2
     int32_t *pidx;
-    double (*acc)[8];  // per point: weight, position, normal, heaviest piece
+    double (*acc)[8]; // per point: weight, position, normal, heaviest piece
     int32_t *amesh_of_tri;
 } cover_ctx;
 
 static void bary(const builder *B, uint32_t k, v2 p, double *w) {
-    const double (*t)[2] = B->uv[k];
-    double d = (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
+    const double(*t)[2] = B->uv[k];
+    double d =
+        (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]);
     if (d == 0) {
         w[0] = 1, w[1] = w[2] = 0;
         return;
@@ -596,8 +639,10 @@ static void cover_piece(void *vctx, uint32_t k, int x, int y, double a, v2 cen) 
     }
     if (w->area > 0 && a > 0) c->tri_hit[k] = true;
     int ch = c->B->tri_chart[k];
-    if (c->chart[i] < 0) c->chart[i] = ch;
-    else if (c->chart[i] != ch) c->conflict[i] = 1;
+    if (c->chart[i] < 0)
+        c->chart[i] = ch;
+    else if (c->chart[i] != ch)
+        c->conflict[i] = 1;
     if (!c->inside[i] && inside_tri(c->B, k, x + 0.5, y + 0.5, 1e-3)) c->inside[i] = 1;
     (void)cen;
 }
@@ -616,7 +661,8 @@ static void point_piece(void *vctx, uint32_t k, int x, int y, double a, v2 cen) 
     if (wt <= 0) wt = 1e-30; // degenerate pieces only matter when nothing else covers the texel
     double b[3];
     bary(c->B, k, cen, b);
-    for (int r = 0; r < 3; r++) b[r] = fmin(fmax(b[r], 0), 1);
+    for (int r = 0; r < 3; r++)
+        b[r] = fmin(fmax(b[r], 0), 1);
     double s = b[0] + b[1] + b[2];
     double *acc = c->acc[p];
     acc[0] += wt;
@@ -669,7 +715,8 @@ static bool build_side_mesh(const builder *B, const atlas *A, int si, atlas_mesh
     for (size_t c = 0; c < nc; c++) {
         uint32_t k = (uint32_t)(c / 3), cc = (uint32_t)(c % 3);
         uint32_t srcc = sd->back && cc ? 3 - cc : cc;
-        cr[c] = (corner_rec){src->indices[3 * k + srcc], B->o->use_uv1 ? 0 : B->tri_chart[sd->first + k], (uint32_t)c};
+        cr[c] = (corner_rec){src->indices[3 * k + srcc],
+                             B->o->use_uv1 ? 0 : B->tri_chart[sd->first + k], (uint32_t)c};
     }
     qsort(cr, nc, sizeof *cr, cmp_corner);
     uint32_t nv = 0;
@@ -677,7 +724,8 @@ static bool build_side_mesh(const builder *B, const atlas *A, int si, atlas_mesh
         if (!i || cr[i].v != cr[i - 1].v || cr[i].chart != cr[i - 1].chart) {
             const float *p = src->positions + 3 * cr[i].v, *n = src->normals + 3 * cr[i].v;
             uint32_t k = cr[i].corner / 3, cc = cr[i].corner % 3;
-            for (int r = 0; r < 3; r++) m->positions[3 * nv + r] = p[r], m->normals[3 * nv + r] = sd->back ? -n[r] : n[r];
+            for (int r = 0; r < 3; r++)
+                m->positions[3 * nv + r] = p[r], m->normals[3 * nv + r] = sd->back ? -n[r] : n[r];
             m->uv1[2 * nv] = (float)(B->uv[sd->first + k][cc][0] / A->width);
             m->uv1[2 * nv + 1] = (float)(B->uv[sd->first + k][cc][1] / A->height);
             nv++;
@@ -696,7 +744,8 @@ static bool build_side_mesh(const builder *B, const atlas *A, int si, atlas_mesh
 // ---- build ------------------------------------------------------------------
 
 void atlas_free(atlas *a) {
-    for (int i = 0; i < a->num_meshes; i++) st_mesh_free(&a->meshes[i].mesh);
+    for (int i = 0; i < a->num_meshes; i++)
+        st_mesh_free(&a->meshes[i].mesh);
     free(a->meshes);
     free(a->area);
     free(a->chart);
@@ -742,13 +791,15 @@ static bool make_layout(builder *B, atlas *A, st_err *err) {
         B->num_charts = B->num_sides;
         return true;
     }
-    for (uint32_t k = 0; k < B->num_tris; k++) B->tri_chart[k] = -1;
+    for (uint32_t k = 0; k < B->num_tris; k++)
+        B->tri_chart[k] = -1;
     for (int si = 0; si < B->num_sides; si++)
         if (!chart_side(B, si, err)) return false;
     return layout(B, A, err);
 }
 
-bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_opts *o, st_err *err) {
+bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_opts *o,
+                 st_err *err) {
     memset(A, 0, sizeof *A);
     builder B = {.meshes = meshes, .num_meshes = num_meshes, .o = o};
     cover_ctx C = {0};
@@ -774,7 +825,8 @@ bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_op
         goto done;
     }
     for (int si = 0; si < B.num_sides; si++)
-        for (uint32_t k = 0; k < B.sides[si].count; k++) C.amesh_of_tri[B.sides[si].first + k] = si;
+        for (uint32_t k = 0; k < B.sides[si].count; k++)
+            C.amesh_of_tri[B.sides[si].first + k] = si;
     C.B = &B;
     C.A = A;
     // A chart that folds over itself in the plane (coverage > 1 somewhere) is
@@ -793,12 +845,15 @@ bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_op
         C.chart = malloc(ntex * sizeof *C.chart);
         C.conflict = calloc(ntex, 1);
         if (!A->area || !C.cover || !C.inside || !C.chart || !C.conflict) {
-            st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory for a %dx%d atlas", A->width, A->height);
+            st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory for a %dx%d atlas", A->width,
+                    A->height);
             goto done;
         }
-        for (size_t i = 0; i < ntex; i++) C.chart[i] = -1;
+        for (size_t i = 0; i < ntex; i++)
+            C.chart[i] = -1;
         memset(C.tri_hit, 0, nt * sizeof *C.tri_hit);
-        for (uint32_t k = 0; k < B.num_tris; k++) raster_tri(&B, A, k, cover_piece, &C);
+        for (uint32_t k = 0; k < B.num_tris; k++)
+            raster_tri(&B, A, k, cover_piece, &C);
         bool folded = false;
         if (!o->use_uv1) {
             bool *bad = calloc(B.num_charts ? (size_t)B.num_charts : 1, sizeof *bad);
@@ -807,7 +862,8 @@ bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_op
                 goto done;
             }
             for (size_t i = 0; i < ntex; i++)
-                if (C.cover[i] > 1.0f + 1e-4f && C.chart[i] >= 0 && !C.conflict[i]) bad[C.chart[i]] = true;
+                if (C.cover[i] > 1.0f + 1e-4f && C.chart[i] >= 0 && !C.conflict[i])
+                    bad[C.chart[i]] = true;
             for (uint32_t k = 0; k < B.num_tris; k++)
                 if (bad[B.tri_chart[k]] && !B.single[k]) B.single[k] = folded = true;
             free(bad);
@@ -848,12 +904,14 @@ bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_op
             p->x = (int)(i % A->width), p->y = (int)(i / A->width), p->amesh = -1;
         }
     A->num_points = np;
-    for (uint32_t k = 0; k < B.num_tris; k++) raster_tri(&B, A, k, point_piece, &C);
+    for (uint32_t k = 0; k < B.num_tris; k++)
+        raster_tri(&B, A, k, point_piece, &C);
     for (int i = 0; i < np; i++) {
         atlas_point *p = &A->points[i];
         double *acc = C.acc[i], n[3] = {acc[4], acc[5], acc[6]};
         norm3(n);
-        for (int r = 0; r < 3; r++) p->pos[r] = (float)(acc[1 + r] / acc[0]), p->nrm[r] = (float)n[r];
+        for (int r = 0; r < 3; r++)
+            p->pos[r] = (float)(acc[1 + r] / acc[0]), p->nrm[r] = (float)n[r];
         if (p->amesh < 0) p->amesh = 0;
     }
     // Split meshes, the triangle table and per-mesh bases.
@@ -866,7 +924,8 @@ bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_op
         st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory");
         goto done;
     }
-    for (int m = 0; m < 2 * num_meshes; m++) A->mesh_base[m] = -1;
+    for (int m = 0; m < 2 * num_meshes; m++)
+        A->mesh_base[m] = -1;
     for (int si = 0; si < B.num_sides; si++) {
         if (!build_side_mesh(&B, A, si, &A->meshes[si])) {
             st_fail(err, ST_ERR_RUNTIME, "atlas: out of memory");
@@ -894,17 +953,23 @@ bool atlas_build(atlas *A, const st_mesh *meshes, int num_meshes, const atlas_op
         // Gradients of u and v in the triangle's plane: g = a e1 + b e2 with
         // g . e1 = du1, g . e2 = du2.
         double e1[3], e2[3];
-        for (int r = 0; r < 3; r++) e1[r] = w->p[1][r] - w->p[0][r], e2[r] = w->p[2][r] - w->p[0][r];
-        double a11 = dot3(e1, e1), a12 = dot3(e1, e2), a22 = dot3(e2, e2), det = a11 * a22 - a12 * a12;
+        for (int r = 0; r < 3; r++)
+            e1[r] = w->p[1][r] - w->p[0][r], e2[r] = w->p[2][r] - w->p[0][r];
+        double a11 = dot3(e1, e1), a12 = dot3(e1, e2), a22 = dot3(e2, e2),
+               det = a11 * a22 - a12 * a12;
         float *L = A->lookup + 12 * (size_t)k;
         for (int c = 0; c < 2; c++) {
             double scale = c ? A->height : A->width;
-            double d1 = (B.uv[k][1][c] - B.uv[k][0][c]) / scale, d2 = (B.uv[k][2][c] - B.uv[k][0][c]) / scale;
+            double d1 = (B.uv[k][1][c] - B.uv[k][0][c]) / scale,
+                   d2 = (B.uv[k][2][c] - B.uv[k][0][c]) / scale;
             double ca = 0, cb = 0;
-            if (det > 1e-30 * a11 * a22) ca = (a22 * d1 - a12 * d2) / det, cb = (a11 * d2 - a12 * d1) / det;
-            for (int r = 0; r < 3; r++) L[4 * (c + 1) + r] = (float)(ca * e1[r] + cb * e2[r]);
+            if (det > 1e-30 * a11 * a22)
+                ca = (a22 * d1 - a12 * d2) / det, cb = (a11 * d2 - a12 * d1) / det;
+            for (int r = 0; r < 3; r++)
+                L[4 * (c + 1) + r] = (float)(ca * e1[r] + cb * e2[r]);
         }
-        for (int r = 0; r < 3; r++) L[r] = (float)w->p[0][r];
+        for (int r = 0; r < 3; r++)
+            L[r] = (float)w->p[0][r];
         L[3] = (float)(B.uv[k][0][0] / A->width);
         L[7] = (float)(B.uv[k][0][1] / A->height);
         L[11] = 0;

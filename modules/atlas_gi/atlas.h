@@ -15,20 +15,22 @@
 
 typedef struct atlas_opts {
     int size;                // W = H when fitting to a size (texels_per_meter == 0)
-    double texels_per_meter; // > 0: fixed density, the atlas is the smallest power of two that holds it
+    double texels_per_meter; // > 0: fixed density, the atlas is the smallest power of two that
+                             // holds it
     int max_size;            // the largest atlas allowed
-    int gutter;              // empty texels on each side of a chart (>= 2: one dilated ring + one free)
-    double chart_angle_deg;  // largest angle between a triangle's normal and its chart's plane normal
-    bool use_uv1;            // the atlas is the meshes' TEXCOORD_1 (every mesh must have it)
-    bool keep_chart_map;     // keep per-texel chart ids (tests)
+    int gutter; // empty texels on each side of a chart (>= 2: one dilated ring + one free)
+    double
+        chart_angle_deg; // largest angle between a triangle's normal and its chart's plane normal
+    bool use_uv1;        // the atlas is the meshes' TEXCOORD_1 (every mesh must have it)
+    bool keep_chart_map; // keep per-texel chart ids (tests)
 } atlas_opts;
 
 // One side of one scene mesh with its vertices split along chart borders,
 // uv1 = the atlas position in [0,1]^2. Triangle order is the scene mesh's.
 typedef struct atlas_mesh {
     int scene_mesh;
-    bool back;       // the back side of a double-sided mesh (normals and winding flipped)
-    st_mesh mesh;    // object space, the scene mesh's model matrix and material
+    bool back;          // the back side of a double-sided mesh (normals and winding flipped)
+    st_mesh mesh;       // object space, the scene mesh's model matrix and material
     uint32_t first_tri; // into atlas.tris
 } atlas_mesh;
 
@@ -47,11 +49,12 @@ typedef struct atlas {
     atlas_mesh *meshes;
     int num_meshes;
     // Per texel, row 0 = GL's bottom row.
-    float *area;     // world area in m^2 the texel stands for (0: gutter)
-    int32_t *chart;  // chart id or -1 (only with keep_chart_map)
+    float *area;         // world area in m^2 the texel stands for (0: gutter)
+    int32_t *chart;      // chart id or -1 (only with keep_chart_map)
     int32_t *chart_mesh; // scene mesh of each chart (only with keep_chart_map)
     // Per atlas-mesh triangle, for the regular pass' uv lookup: world v0, e1,
-    // e2 and the three atlas uvs, 16 floats (v0.xyz uv0.x, e1.xyz uv0.y, e2.xyz uv1.x, uv1.y uv2.xy 0).
+    // e2 and the three atlas uvs, 16 floats (v0.xyz uv0.x, e1.xyz uv0.y, e2.xyz uv1.x, uv1.y uv2.xy
+    // 0).
     float *tris;
     uint32_t num_tris;
     // The same triangles as the regular pass reads them, 12 floats each:

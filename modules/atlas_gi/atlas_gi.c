@@ -43,42 +43,67 @@ enum {
 
 static const st_param_def params[P_COUNT] = {
     {"atlas_size", ST_PARAM_INT, 512, 64, 4096, NULL,
-     "atlas width and height in texels; a generated atlas gets the largest texel density that fits"},
+     "atlas width and height in texels; a generated atlas gets the largest texel density that "
+     "fits"},
     {"texels_per_meter", ST_PARAM_FLOAT, 0, 0, 100000, NULL,
-     "fixed density of a generated atlas (0: fit atlas_size); the atlas becomes the smallest power of two >= 64 that holds it"},
-    {"samples", ST_PARAM_INT, 100, 1, 4096, NULL, "Hammersley samples over the atlas per texel and frame (the thesis' N)"},
+     "fixed density of a generated atlas (0: fit atlas_size); the atlas becomes the smallest power "
+     "of two >= 64 that holds it"},
+    {"samples", ST_PARAM_INT, 100, 1, 4096, NULL,
+     "Hammersley samples over the atlas per texel and frame (the thesis' N)"},
     {"estimator", ST_PARAM_ENUM, 0, 0, 1, "area|thesis",
-     "area: the design's area-sampling estimator with disk-bounded 1/d^2; thesis: 2 pi/N sum L0 cos (Merz 2010, eq. 9)"},
+     "area: the design's area-sampling estimator with disk-bounded 1/d^2; thesis: 2 pi/N sum L0 "
+     "cos (Merz 2010, eq. 9)"},
     {"sampling", ST_PARAM_ENUM, 1, 0, 1, "uniform|power",
-     "area estimator: uniform picks over the atlas (the design), or picks in proportion to each texel's flux a_j L0_j "
-     "(25% in proportion to a_j), weighted by 1/(N p_j): same expectation, far less variance from small bright spots"},
+     "area estimator: uniform picks over the atlas (the design), or picks in proportion to each "
+     "texel's flux a_j L0_j "
+     "(25% in proportion to a_j), weighted by 1/(N p_j): same expectation, far less variance from "
+     "small bright spots"},
     {"visibility", ST_PARAM_BOOL, 1, 0, 1, NULL,
-     "trace each sample's segment against a BVH of the scene (off: the thesis, light leaks through walls)"},
-    {"bounces", ST_PARAM_INT, 1, 1, 8, NULL, "diffuse bounces; each repeats the gather with L0 = direct + previous bounce"},
+     "trace each sample's segment against a BVH of the scene (off: the thesis, light leaks through "
+     "walls)"},
+    {"bounces", ST_PARAM_INT, 1, 1, 8, NULL,
+     "diffuse bounces; each repeats the gather with L0 = direct + previous bounce"},
     {"progressive", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "while nothing changes, accumulate frames with a rotated sample set until the mean converges"},
     {"max_frames", ST_PARAM_INT, 256, 1, 65536, NULL, "accumulate at most this many frames"},
     {"tolerance", ST_PARAM_FLOAT, 0.05, 0, 1, NULL,
-     "stop accumulating once the RMS over texels of the standard error of the mean, relative to the mean indirect "
+     "stop accumulating once the RMS over texels of the standard error of the mean, relative to "
+     "the mean indirect "
      "radiance, is below this (0: run max_frames)"},
     {"display", ST_PARAM_ENUM, 0, 0, 3, "combined|direct|indirect|atlas",
-     "combined: direct + emission + indirect; direct; indirect only; atlas: the combined atlas textured back (the thesis' display)"},
+     "combined: direct + emission + indirect; direct; indirect only; atlas: the combined atlas "
+     "textured back (the thesis' display)"},
     {"chart_angle", ST_PARAM_FLOAT, 30, 1, 89, NULL,
      "generated atlas: largest angle (degrees) between a triangle and its chart's plane"},
     {"mode", ST_PARAM_ENUM, 0, 0, 1, "transfer|gather",
-     "transfer: links between texel clusters with form factors and visibility, precomputed once per atlas on the CPU "
-     "(Embree, all cores); a relight is GPU passes without noise, the first frame is converged. gather: the thesis' "
+     "transfer: links between texel clusters with form factors and visibility, precomputed once "
+     "per atlas on the CPU "
+     "(Embree, all cores); a relight is GPU passes without noise, the first frame is converged. "
+     "gather: the thesis' "
      "per-frame Hammersley gather, accumulated over frames"},
     {"transfer_leaves", ST_PARAM_INT, 32768, 256, 1048576, NULL,
-     "transfer: at most this many leaves in the cluster tree; on larger atlases a leaf groups neighbouring texels "
+     "transfer: at most this many leaves in the cluster tree; on larger atlases a leaf groups "
+     "neighbouring texels "
      "(bounds precompute time and memory; a texel still gets its own first-order value)"},
     {"transfer_eps", ST_PARAM_FLOAT, 0.02, 0.002, 0.5, NULL,
-     "transfer: a link's sender node may subtend at most this A/(pi d^2) (receivers a quarter of it); smaller is more "
+     "transfer: a link's sender node may subtend at most this A/(pi d^2) (receivers a quarter of "
+     "it); smaller is more "
      "accurate, with more links and a longer precompute"},
 };
 
 enum {
-    T_POS, T_NORMAL, T_ALBEDO, T_L0, T_AREA, T_BOUNCE0, T_BOUNCE1, T_ACCUM, T_INDIRECT, T_COMBINED, T_STATS, T_COUNT
+    T_POS,
+    T_NORMAL,
+    T_ALBEDO,
+    T_L0,
+    T_AREA,
+    T_BOUNCE0,
+    T_BOUNCE1,
+    T_ACCUM,
+    T_INDIRECT,
+    T_COMBINED,
+    T_STATS,
+    T_COUNT
 };
 
 typedef struct agi {
@@ -97,7 +122,7 @@ typedef struct agi {
     GLuint fbo_gb, fbo_gather[2], fbo_resolve;
     GLuint ham_tex;
     int ham_n;
-    float *ham;             // the Hammersley points on the CPU (power sampling)
+    float *ham; // the Hammersley points on the CPU (power sampling)
     // Power sampling: the per-texel probabilities and their CDFs (rows, then
     // columns within a row), built from the G-buffer's L0 and the areas.
     float *pmf;
@@ -126,7 +151,9 @@ typedef struct agi {
     st_pass_info info[2];
 } agi;
 
-static int ip(const agi *g, int k) { return (int)g->p[k]; }
+static int ip(const agi *g, int k) {
+    return (int)g->p[k];
+}
 
 // ---- resources ----------------------------------------------------------------
 
@@ -150,7 +177,8 @@ static void release_atlas_gpu(agi *g) {
     glDeleteBuffers(5, bufs);
     GLuint texs[2] = {g->tri_tex, g->base_tex};
     glDeleteTextures(2, texs);
-    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->nodes_ssbo = g->tris_ssbo = g->tri_tex = g->base_tex = 0;
+    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->nodes_ssbo = g->tris_ssbo = g->tri_tex =
+        g->base_tex = 0;
     if (g->type.vao) st_model_type_destroy(&g->type);
     free(g->models);
     free(g->gmeshes);
@@ -205,7 +233,8 @@ static bool build_atlas(agi *g, st_err *err) {
     // The transfer's CPU side holds ~70 bytes per texel.
     if (ip(g, P_MODE) == 0 && (long)W * H > 2048L * 2048L)
         return st_fail(err, ST_ERR_INPUT,
-                       "atlas_gi.atlas_size: a %dx%d atlas is too large for mode=transfer (at most 2048x2048; use "
+                       "atlas_gi.atlas_size: a %dx%d atlas is too large for mode=transfer (at most "
+                       "2048x2048; use "
                        "mode=gather or a smaller atlas)",
                        W, H);
     g->lookup = o.use_uv1 ? 0 : 1;
@@ -215,21 +244,26 @@ static bool build_atlas(agi *g, st_err *err) {
         for (int r = 0; r < 3; r++) {
             const float *t = A->tris + 16 * (size_t)k;
             float v[3] = {t[r], t[r] + t[4 + r], t[r] + t[8 + r]};
-            for (int c = 0; c < 3; c++) lo[r] = fminf(lo[r], v[c]), hi[r] = fmaxf(hi[r], v[c]);
+            for (int c = 0; c < 3; c++)
+                lo[r] = fminf(lo[r], v[c]), hi[r] = fmaxf(hi[r], v[c]);
         }
     g->extent = 0;
-    for (int r = 0; r < 3 && A->num_tris; r++) g->extent = fmax(g->extent, hi[r] - lo[r]);
+    for (int r = 0; r < 3 && A->num_tris; r++)
+        g->extent = fmax(g->extent, hi[r] - lo[r]);
 
     // The G-buffer pass draws the split meshes as a model type of their own.
     g->num_models = A->num_meshes;
     g->gmeshes = calloc(A->num_meshes ? (size_t)A->num_meshes : 1, sizeof *g->gmeshes);
     g->models = calloc(A->num_meshes ? (size_t)A->num_meshes : 1, sizeof *g->models);
     if (!g->gmeshes || !g->models) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
-    for (int i = 0; i < A->num_meshes; i++) g->gmeshes[i] = A->meshes[i].mesh;
-    if (!st_model_type_build(&g->type, "atlas_gi", g->gmeshes, A->num_meshes, NULL, g->models, err)) return false;
+    for (int i = 0; i < A->num_meshes; i++)
+        g->gmeshes[i] = A->meshes[i].mesh;
+    if (!st_model_type_build(&g->type, "atlas_gi", g->gmeshes, A->num_meshes, NULL, g->models, err))
+        return false;
 
     g->stats_top = 0;
-    while ((W > H ? W : H) >> (g->stats_top + 1)) g->stats_top++;
+    while ((W > H ? W : H) >> (g->stats_top + 1))
+        g->stats_top++;
     g->tex[T_POS] = make_tex(W, H, GL_RGBA32F, 1, false);
     g->tex[T_NORMAL] = make_tex(W, H, GL_RGBA32F, 1, false);
     g->tex[T_ALBEDO] = make_tex(W, H, GL_RGBA16F, 1, false);
@@ -265,14 +299,16 @@ static bool build_atlas(agi *g, st_err *err) {
         memcpy(v + 11, m->emission, 12);
     }
     glCreateBuffers(1, &g->pts_vbo);
-    glNamedBufferStorage(g->pts_vbo, (GLsizeiptr)((A->num_points ? A->num_points : 1) * 14 * sizeof(float)), pv, 0);
+    glNamedBufferStorage(
+        g->pts_vbo, (GLsizeiptr)((A->num_points ? A->num_points : 1) * 14 * sizeof(float)), pv, 0);
     free(pv);
     glCreateVertexArrays(1, &g->pts_vao);
     glVertexArrayVertexBuffer(g->pts_vao, 0, g->pts_vbo, 0, 14 * sizeof(float));
     const int comps[5] = {2, 3, 3, 3, 3}, offs[5] = {0, 2, 5, 8, 11};
     for (GLuint a = 0; a < 5; a++) {
         glEnableVertexArrayAttrib(g->pts_vao, a);
-        glVertexArrayAttribFormat(g->pts_vao, a, comps[a], GL_FLOAT, GL_FALSE, (GLuint)(offs[a] * sizeof(float)));
+        glVertexArrayAttribFormat(g->pts_vao, a, comps[a], GL_FLOAT, GL_FALSE,
+                                  (GLuint)(offs[a] * sizeof(float)));
         glVertexArrayAttribBinding(g->pts_vao, a, 0);
     }
 
@@ -280,16 +316,20 @@ static bool build_atlas(agi *g, st_err *err) {
     GLint max_tbo = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
     if ((uint64_t)A->num_tris * 3 > (uint64_t)max_tbo)
-        return st_fail(err, ST_ERR_RUNTIME, "%u triangles exceed the GPU's texture buffer limit (%d texels)", A->num_tris,
-                       max_tbo);
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "%u triangles exceed the GPU's texture buffer limit (%d texels)",
+                       A->num_tris, max_tbo);
     glCreateBuffers(1, &g->tri_buf);
-    glNamedBufferStorage(g->tri_buf, (GLsizeiptr)((A->num_tris ? A->num_tris : 1) * 12 * sizeof(float)), A->lookup, 0);
+    glNamedBufferStorage(g->tri_buf,
+                         (GLsizeiptr)((A->num_tris ? A->num_tris : 1) * 12 * sizeof(float)),
+                         A->lookup, 0);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->tri_tex);
     glTextureBuffer(g->tri_tex, GL_RGBA32F, g->tri_buf);
     int nm = sc->num_meshes ? sc->num_meshes : 1;
     int32_t *base = malloc((size_t)nm * 2 * sizeof *base);
     if (!base) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
-    for (int i = 0; i < 2 * nm; i++) base[i] = sc->num_meshes ? A->mesh_base[i] : -1;
+    for (int i = 0; i < 2 * nm; i++)
+        base[i] = sc->num_meshes ? A->mesh_base[i] : -1;
     glCreateBuffers(1, &g->base_buf);
     glNamedBufferStorage(g->base_buf, (GLsizeiptr)(nm * 2 * sizeof *base), base, 0);
     free(base);
@@ -337,9 +377,11 @@ static bool ensure_bvh(agi *g, st_err *err) {
     free(c);
     if (!ok) return false;
     glCreateBuffers(1, &g->nodes_ssbo);
-    glNamedBufferStorage(g->nodes_ssbo, (GLsizeiptr)(g->B.num_nodes * 8 * sizeof(float)), g->B.nodes, 0);
+    glNamedBufferStorage(g->nodes_ssbo, (GLsizeiptr)(g->B.num_nodes * 8 * sizeof(float)),
+                         g->B.nodes, 0);
     glCreateBuffers(1, &g->tris_ssbo);
-    glNamedBufferStorage(g->tris_ssbo, (GLsizeiptr)((n ? n : 1) * 12 * sizeof(float)), g->B.tris, 0);
+    glNamedBufferStorage(g->tris_ssbo, (GLsizeiptr)((n ? n : 1) * 12 * sizeof(float)), g->B.tris,
+                         0);
     g->have_bvh = true;
     return st_gl_check("atlas_gi bvh", err);
 }
@@ -359,7 +401,8 @@ static bool ensure_transfer(agi *g, st_err *err) {
         return pos && nrm ? false : st_fail(err, ST_ERR_RUNTIME, "out of memory");
     }
     glGetTextureImage(g->tex[T_POS], 0, GL_RGBA, GL_FLOAT, (GLsizei)(cells * 4 * sizeof *pos), pos);
-    glGetTextureImage(g->tex[T_NORMAL], 0, GL_RGBA, GL_FLOAT, (GLsizei)(cells * 4 * sizeof *nrm), nrm);
+    glGetTextureImage(g->tex[T_NORMAL], 0, GL_RGBA, GL_FLOAT, (GLsizei)(cells * 4 * sizeof *nrm),
+                      nrm);
     tr_opts o = {
         .eps = g->p[P_TRANSFER_EPS],
         .recv = 0.25,
@@ -404,10 +447,14 @@ static bool ensure_transfer(agi *g, st_err *err) {
     glNamedBufferStorage(g->tr_buf[0], (GLsizeiptr)(nn * 12 * sizeof(float)), nodes, 0);
     glNamedBufferStorage(g->tr_buf[1], (GLsizeiptr)(nn * 4 * sizeof(float)), NULL, 0);
     glNamedBufferStorage(g->tr_buf[2], (GLsizeiptr)(nn * 16 * sizeof(float)), NULL, 0);
-    glNamedBufferStorage(g->tr_buf[3], (GLsizeiptr)((nn + 1) * sizeof(uint32_t)), T->link_off ? T->link_off : zero_off, 0);
-    glNamedBufferStorage(g->tr_buf[4], (GLsizeiptr)((T->num_links ? T->num_links : 1) * 2 * sizeof(uint32_t)), links, 0);
+    glNamedBufferStorage(g->tr_buf[3], (GLsizeiptr)((nn + 1) * sizeof(uint32_t)),
+                         T->link_off ? T->link_off : zero_off, 0);
+    glNamedBufferStorage(g->tr_buf[4],
+                         (GLsizeiptr)((T->num_links ? T->num_links : 1) * 2 * sizeof(uint32_t)),
+                         links, 0);
     uint32_t nperm = T->num_nodes ? T->nodes[0].end : 0;
-    glNamedBufferStorage(g->tr_buf[5], (GLsizeiptr)((nperm ? nperm : 1) * sizeof(uint32_t)), nperm ? T->perm : zero_off, 0);
+    glNamedBufferStorage(g->tr_buf[5], (GLsizeiptr)((nperm ? nperm : 1) * sizeof(uint32_t)),
+                         nperm ? T->perm : zero_off, 0);
     free(nodes);
     free(links);
     glCreateTextures(GL_TEXTURE_2D, 1, &g->leaf_tex);
@@ -449,7 +496,8 @@ static bool build_cdf(agi *g, st_err *err) {
     glGetTextureImage(g->tex[T_L0], 0, GL_RGBA, GL_FLOAT, (GLsizei)(n * 4 * sizeof *l0), l0);
     double sf = 0, sa = 0;
     for (size_t j = 0; j < n; j++) {
-        double a = g->A.area[j], y = 0.2126 * l0[4 * j] + 0.7152 * l0[4 * j + 1] + 0.0722 * l0[4 * j + 2];
+        double a = g->A.area[j],
+               y = 0.2126 * l0[4 * j] + 0.7152 * l0[4 * j + 1] + 0.0722 * l0[4 * j + 2];
         sf += a * fmax(y, 0);
         sa += a;
     }
@@ -458,8 +506,10 @@ static bool build_cdf(agi *g, st_err *err) {
         double acc = 0;
         for (int x = 0; x < g->W; x++) {
             size_t j = (size_t)y * g->W + x;
-            double a = g->A.area[j], lum = 0.2126 * l0[4 * j] + 0.7152 * l0[4 * j + 1] + 0.0722 * l0[4 * j + 2];
-            double w = sa > 0 ? (sf > 0 ? 0.75 * a * fmax(lum, 0) / sf + 0.25 * a / sa : a / sa) : 0;
+            double a = g->A.area[j],
+                   lum = 0.2126 * l0[4 * j] + 0.7152 * l0[4 * j + 1] + 0.0722 * l0[4 * j + 2];
+            double w =
+                sa > 0 ? (sf > 0 ? 0.75 * a * fmax(lum, 0) / sf + 0.25 * a / sa : a / sa) : 0;
             pmf[j] = (float)w;
             acc += pmf[j];
             cdf[j] = acc;
@@ -476,8 +526,10 @@ static int upper(const double *v, int n, double t) {
     int lo = 0, hi = n - 1;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (v[mid] > t) hi = mid;
-        else lo = mid + 1;
+        if (v[mid] > t)
+            hi = mid;
+        else
+            lo = mid + 1;
     }
     return lo;
 }
@@ -513,12 +565,14 @@ static bool upload_picks(agi *g, const float *rot, st_err *err) {
 
 static bool compile_gbuffer(agi *g, bool shadow, st_err *err) {
     char defs[256];
-    snprintf(defs, sizeof defs, "ST_MAX_LIGHTS %d\n%s", ST_MAX_LIGHTS, shadow ? "AG_SHADOW 1\n" : "");
+    snprintf(defs, sizeof defs, "ST_MAX_LIGHTS %d\n%s", ST_MAX_LIGHTS,
+             shadow ? "AG_SHADOW 1\n" : "");
     st_shader *a = st_shader_load("atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag", defs, err);
     if (!a) return false;
     size_t l = strlen(defs);
     snprintf(defs + l, sizeof defs - l, "AG_POINTS 1\n");
-    st_shader *b = st_shader_load("atlas_gi/gbuffer_points.vert", "atlas_gi/gbuffer.frag", defs, err);
+    st_shader *b =
+        st_shader_load("atlas_gi/gbuffer_points.vert", "atlas_gi/gbuffer.frag", defs, err);
     if (!b) {
         st_shader_destroy(a);
         return false;
@@ -534,10 +588,14 @@ static bool compile_gbuffer(agi *g, bool shadow, st_err *err) {
 // ---- convergence ------------------------------------------------------------
 
 static void update_converged(agi *g) {
-    if (ip(g, P_MODE) == 0) g->converged = g->frames >= 1; // transfer: deterministic
-    else if (!ip(g, P_PROGRESSIVE)) g->converged = g->frames >= 1;
-    else if (g->frames >= ip(g, P_MAX_FRAMES)) g->converged = true;
-    else g->converged = g->frames >= 4 && g->rel_err <= g->p[P_TOLERANCE];
+    if (ip(g, P_MODE) == 0)
+        g->converged = g->frames >= 1; // transfer: deterministic
+    else if (!ip(g, P_PROGRESSIVE))
+        g->converged = g->frames >= 1;
+    else if (g->frames >= ip(g, P_MAX_FRAMES))
+        g->converged = true;
+    else
+        g->converged = g->frames >= 4 && g->rel_err <= g->p[P_TOLERANCE];
 }
 
 // ---- hooks ------------------------------------------------------------------
@@ -572,14 +630,19 @@ static void *create(st_world *w, const double *p, st_err *err) {
     g->w = w;
     g->p = p;
     g->rel_err = INFINITY;
-    bool ok = compile_gbuffer(g, st_world_has_module(w, "shadow_map"), err) &&
-              (g->sh_gather = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", NULL, err)) &&
-              (g->sh_gather_vis = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", "AG_VISIBILITY 1\n", err)) &&
-              (g->sh_resolve = st_shader_load("common/fullscreen.vert", "atlas_gi/resolve.frag", NULL, err)) &&
-              (g->sh_tr_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", NULL, err)) &&
-              (g->sh_tr_gather = st_shader_load_compute("atlas_gi/transfer_gather.comp", NULL, err)) &&
-              (g->sh_tr_push = st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", NULL, err)) &&
-              build_atlas(g, err);
+    bool ok =
+        compile_gbuffer(g, st_world_has_module(w, "shadow_map"), err) &&
+        (g->sh_gather =
+             st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", NULL, err)) &&
+        (g->sh_gather_vis = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag",
+                                           "AG_VISIBILITY 1\n", err)) &&
+        (g->sh_resolve =
+             st_shader_load("common/fullscreen.vert", "atlas_gi/resolve.frag", NULL, err)) &&
+        (g->sh_tr_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", NULL, err)) &&
+        (g->sh_tr_gather = st_shader_load_compute("atlas_gi/transfer_gather.comp", NULL, err)) &&
+        (g->sh_tr_push =
+             st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", NULL, err)) &&
+        build_atlas(g, err);
     if (!ok) {
         destroy(g);
         return NULL;
@@ -587,7 +650,9 @@ static void *create(st_world *w, const double *p, st_err *err) {
     return g;
 }
 
-static int num_passes(void *self) { return 2; }
+static int num_passes(void *self) {
+    return 2;
+}
 
 static const st_pass_info *pass_info(void *self, int pass) {
     agi *g = self;
@@ -603,7 +668,8 @@ static bool needed(void *self, int pass, const st_frame *f) {
     if (pass == 0) {
         if (st_world_has_module(g->w, "shadow_map") != g->shadow) g->gb_dirty = true;
         return g->atlas_dirty || g->gb_dirty ||
-               (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM));
+               (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
+                              ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM));
     }
     return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS)) || !g->converged;
 }
@@ -616,7 +682,8 @@ static bool gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_gb);
     glViewport(0, 0, g->W, g->H);
     const float zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 4; i++) glClearBufferfv(GL_COLOR, i, zero);
+    for (int i = 0; i < 4; i++)
+        glClearBufferfv(GL_COLOR, i, zero);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     // Points first: triangles overwrite wherever their rasterizer reaches.
@@ -661,7 +728,8 @@ static void resolve(agi *g) {
 static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
     if (!ensure_transfer(g, err)) return false;
     const transfer *T = &g->T;
-    for (int i = 0; i < 6; i++) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, g->tr_buf[i]);
+    for (int i = 0; i < 6; i++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, g->tr_buf[i]);
     const float zero[4] = {0, 0, 0, 0};
     glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
     glViewport(0, 0, g->W, g->H);
@@ -794,7 +862,9 @@ static void param_changed(void *self, int k) {
     switch (k) {
     case P_ATLAS_SIZE:
     case P_TEXELS_PER_METER:
-    case P_CHART_ANGLE: g->atlas_dirty = true; break;
+    case P_CHART_ANGLE:
+        g->atlas_dirty = true;
+        break;
     case P_VISIBILITY:
     case P_TRANSFER_EPS:
     case P_TRANSFER_LEAVES:
@@ -806,11 +876,17 @@ static void param_changed(void *self, int k) {
     case P_SAMPLING:
     case P_ESTIMATOR:
     case P_MODE:
-    case P_BOUNCES: g->restart = true; g->converged = false; break;
+    case P_BOUNCES:
+        g->restart = true;
+        g->converged = false;
+        break;
     case P_PROGRESSIVE:
     case P_MAX_FRAMES:
-    case P_TOLERANCE: update_converged(g); break;
-    default: break; // display: the regular pass only
+    case P_TOLERANCE:
+        update_converged(g);
+        break;
+    default:
+        break; // display: the regular pass only
     }
 }
 
@@ -858,8 +934,12 @@ static void u_tri(void *s, st_shader *sh, GLint l, const st_frame *f) {
 static void u_base(void *s, st_shader *sh, GLint l, const st_frame *f) {
     st_shader_texture(sh, "ag_base_tex", GL_TEXTURE_BUFFER, G(s)->base_tex);
 }
-static void u_lookup(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, G(s)->lookup); }
-static void u_display(void *s, st_shader *sh, GLint l, const st_frame *f) { glUniform1i(l, ip(G(s), P_DISPLAY)); }
+static void u_lookup(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, G(s)->lookup);
+}
+static void u_display(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, ip(G(s), P_DISPLAY));
+}
 
 static const st_uniform uniforms_table[] = {
     {"ag_indirect_tex", u_ind}, {"ag_combined_tex", u_comb}, {"ag_tri_tex", u_tri},
@@ -879,5 +959,6 @@ ST_PLUGIN(.name = "atlas_gi",
           ST_PARAMS(params), .requires = "shadow_map?", .provides = "atlas_gi",
           .regular_include = "atlas_gi/regular.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .param_changed = param_changed, .reload = reload, .progress = progress,
+          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
+          .progress = progress,
           .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

@@ -22,14 +22,17 @@ typedef struct build {
 } build;
 
 static void box_empty(box *b) {
-    for (int k = 0; k < 3; k++) b->lo[k] = INFINITY, b->hi[k] = -INFINITY;
+    for (int k = 0; k < 3; k++)
+        b->lo[k] = INFINITY, b->hi[k] = -INFINITY;
 }
 static void box_grow(box *b, const box *o) {
-    for (int k = 0; k < 3; k++) b->lo[k] = fminf(b->lo[k], o->lo[k]), b->hi[k] = fmaxf(b->hi[k], o->hi[k]);
+    for (int k = 0; k < 3; k++)
+        b->lo[k] = fminf(b->lo[k], o->lo[k]), b->hi[k] = fmaxf(b->hi[k], o->hi[k]);
 }
 static float box_area(const box *b) {
     float d[3];
-    for (int k = 0; k < 3; k++) d[k] = fmaxf(b->hi[k] - b->lo[k], 0);
+    for (int k = 0; k < 3; k++)
+        d[k] = fmaxf(b->hi[k] - b->lo[k], 0);
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
@@ -66,7 +69,8 @@ static void split(build *B, uint32_t ni, uint32_t lo, uint32_t hi, int depth) {
         if (!(ext > 0)) continue;
         box bins[BINS];
         uint32_t cnt[BINS] = {0};
-        for (int k = 0; k < BINS; k++) box_empty(&bins[k]);
+        for (int k = 0; k < BINS; k++)
+            box_empty(&bins[k]);
         for (uint32_t i = lo; i < hi; i++) {
             int k = (int)((B->cen[B->idx[i]][ax] - cb.lo[ax]) / ext * BINS);
             k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
@@ -140,10 +144,12 @@ bool bvh_build(bvh *out, const float *corners, uint32_t n, st_err *err) {
         B.idx[i] = i;
         box_empty(&B.tbox[i]);
         for (int v = 0; v < 3; v++) {
-            box p = {{c[3 * v], c[3 * v + 1], c[3 * v + 2]}, {c[3 * v], c[3 * v + 1], c[3 * v + 2]}};
+            box p = {{c[3 * v], c[3 * v + 1], c[3 * v + 2]},
+                     {c[3 * v], c[3 * v + 1], c[3 * v + 2]}};
             box_grow(&B.tbox[i], &p);
         }
-        for (int k = 0; k < 3; k++) B.cen[i][k] = (c[k] + c[3 + k] + c[6 + k]) / 3;
+        for (int k = 0; k < 3; k++)
+            B.cen[i][k] = (c[k] + c[3 + k] + c[6 + k]) / 3;
     }
     B.num_nodes = 1;
     if (n) {
@@ -154,7 +160,8 @@ bool bvh_build(bvh *out, const float *corners, uint32_t n, st_err *err) {
         box_empty(&e);
         put_node(&B, 0, &e, 0, 0);
         float big = 1e30f;
-        for (int k = 0; k < 3; k++) B.nodes[k] = big, B.nodes[4 + k] = -big;
+        for (int k = 0; k < 3; k++)
+            B.nodes[k] = big, B.nodes[4 + k] = -big;
         int32_t one = 1;
         memcpy(B.nodes + 7, &one, 4);
     }

@@ -13,7 +13,7 @@
 typedef struct bvh {
     float *nodes; // 8 floats per node
     uint32_t num_nodes;
-    float *tris;  // 12 floats per triangle
+    float *tris; // 12 floats per triangle
     uint32_t num_tris;
     int depth;
 } bvh;

@@ -16,25 +16,43 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_N, P_DENSITY, P_DECAY, P_WEIGHT, P_EXPOSURE, P_RESOLUTION, P_LIGHT_RADIUS, P_SKY, P_FADE_MARGIN, P_COUNT };
+enum {
+    P_N,
+    P_DENSITY,
+    P_DECAY,
+    P_WEIGHT,
+    P_EXPOSURE,
+    P_RESOLUTION,
+    P_LIGHT_RADIUS,
+    P_SKY,
+    P_FADE_MARGIN,
+    P_COUNT
+};
 
 // Defaults: thesis figure 3.6 (n 100, exposure 0.01921, density 1.4, decay
 // 1.0); weight is GPU Gems 3's, absent from the thesis listing A.4 (= 1);
 // resolution 1/4 per axis as in figure 3.14; ranges of density and decay
 // from thesis 3.1.
 static const st_param_def params[P_COUNT] = {
-    {"n", ST_PARAM_INT, 100, 1, 512, NULL, "blur taps per pixel toward the light (thesis NUM_SAMPLES)"},
+    {"n", ST_PARAM_INT, 100, 1, 512, NULL,
+     "blur taps per pixel toward the light (thesis NUM_SAMPLES)"},
     {"density", ST_PARAM_FLOAT, 1.4, 1, 1000, NULL,
      "step = (pixel - light) / (n density): 1 reaches the light, larger gives shorter shafts"},
-    {"decay", ST_PARAM_FLOAT, 1.0, 0, 1, NULL, "tap i is weighted decay^i (exponential fall-off of the shafts)"},
-    {"weight", ST_PARAM_FLOAT, 1.0, 0, 100, NULL, "weight of every tap but the pixel's own (GPU Gems 3)"},
-    {"exposure", ST_PARAM_FLOAT, 0.01921, 0, 100, NULL, "scale of the blurred sum added to the image"},
+    {"decay", ST_PARAM_FLOAT, 1.0, 0, 1, NULL,
+     "tap i is weighted decay^i (exponential fall-off of the shafts)"},
+    {"weight", ST_PARAM_FLOAT, 1.0, 0, 100, NULL,
+     "weight of every tap but the pixel's own (GPU Gems 3)"},
+    {"exposure", ST_PARAM_FLOAT, 0.01921, 0, 100, NULL,
+     "scale of the blurred sum added to the image"},
     {"resolution", ST_PARAM_FLOAT, 0.25, 0.0625, 1, NULL,
-     "occlusion image size as a fraction of the screen, per axis (bilinear filtering smooths the taps)"},
+     "occlusion image size as a fraction of the screen, per axis (bilinear filtering smooths the "
+     "taps)"},
     {"light_radius", ST_PARAM_FLOAT, 0.1, 0.001, 100, NULL,
-     "radius in metres of the sphere around each point light that emits (drawn as a screen-facing disc)"},
+     "radius in metres of the sphere around each point light that emits (drawn as a screen-facing "
+     "disc)"},
     {"sky", ST_PARAM_FLOAT, 0, 0, 1000, NULL,
-     "radiance scale of the background as an emitter, colour (0.2, 0.3, 0.6) as in the thesis; 0 = off"},
+     "radiance scale of the background as an emitter, colour (0.2, 0.3, 0.6) as in the thesis; 0 = "
+     "off"},
     {"fade_margin", ST_PARAM_FLOAT, 0.5, 0.01, 10, NULL,
      "distance outside the screen, in screen heights, over which a light's shafts fade to zero"},
 };
@@ -83,8 +101,10 @@ static void *create(st_world *w, const double *p, st_err *err) {
     m->num_lights = st_world_scene(w)->num_lights;
     if (m->num_lights > ST_MAX_LIGHTS) m->num_lights = ST_MAX_LIGHTS;
     m->occ_sh = st_shader_load("mitchell/occlusion.vert", "mitchell/occlusion.frag", NULL, err);
-    if (m->occ_sh) m->disc_sh = st_shader_load("mitchell/disc.vert", "mitchell/disc.frag", NULL, err);
-    if (m->disc_sh) m->blur_sh = st_shader_load("common/fullscreen.vert", "mitchell/blur.frag", NULL, err);
+    if (m->occ_sh)
+        m->disc_sh = st_shader_load("mitchell/disc.vert", "mitchell/disc.frag", NULL, err);
+    if (m->disc_sh)
+        m->blur_sh = st_shader_load("common/fullscreen.vert", "mitchell/blur.frag", NULL, err);
     if (!m->blur_sh) {
         destroy(m);
         return NULL;
@@ -105,8 +125,12 @@ static void *create(st_world *w, const double *p, st_err *err) {
 }
 
 // Passes 0..L-1: occlusion pre-pass of light k; L..2L-1: its blur.
-static int num_passes(void *self) { return 2 * ((mitchell *)self)->num_lights; }
-static const st_pass_info *pass_info(void *self, int pass) { return &((mitchell *)self)->info[pass]; }
+static int num_passes(void *self) {
+    return 2 * ((mitchell *)self)->num_lights;
+}
+static const st_pass_info *pass_info(void *self, int pass) {
+    return &((mitchell *)self)->info[pass];
+}
 
 static bool needed(void *self, int pass, const st_frame *f) {
     mitchell *m = self;
@@ -115,8 +139,8 @@ static bool needed(void *self, int pass, const st_frame *f) {
                godray_light_active(f, pass - m->num_lights, m->p[P_FADE_MARGIN]);
     // The occlusion image depends on the view, the scene and our parameters;
     // it is only drawn when its blur is live (the world culls it otherwise).
-    return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_CAMERA |
-                         ST_CHANGE_PARAMS | ST_CHANGE_SIZE);
+    return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
+                         ST_CHANGE_CAMERA | ST_CHANGE_PARAMS | ST_CHANGE_SIZE);
 }
 
 // The light's emitting region: a sphere of light_radius seen as a
@@ -129,18 +153,20 @@ typedef struct disc_geom {
     float center_px[2], radius_px, scale;
 } disc_geom;
 
-static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3], int ow, int oh, disc_geom *d) {
+static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3], int ow, int oh,
+                          disc_geom *d) {
     const float *vp = f->view_proj, *P = f->proj;
     double c[4], r = m->p[P_LIGHT_RADIUS];
     for (int i = 0; i < 4; i++)
-        c[i] = (double)vp[i] * lp[0] + (double)vp[4 + i] * lp[1] + (double)vp[8 + i] * lp[2] + vp[12 + i];
+        c[i] = (double)vp[i] * lp[0] + (double)vp[4 + i] * lp[1] + (double)vp[8 + i] * lp[2] +
+               vp[12 + i];
     double dx = lp[0] - f->cam_pos[0], dy = lp[1] - f->cam_pos[1], dz = lp[2] - f->cam_pos[2];
     double D = sqrt(dx * dx + dy * dy + dz * dz), w = c[3], near_ = f->near_z;
     if (D <= r) { // the camera is inside the light: everything it sees emits
         *d = (disc_geom){{0, 0}, {2, 2}, -1 + 1e-6f, {0, 0}, 1e7f, 1};
         return true;
     }
-    if (!(w > near_)) return false; // behind: the blur is not needed anyway
+    if (!(w > near_)) return false;              // behind: the blur is not needed anyway
     double rx = r * P[0] / w, ry = r * P[5] / w; // NDC radii
     double r_px = ry * oh / 2, r_draw = r_px > 1 ? r_px : 1;
     double grow = r_draw / r_px; // >= 1
@@ -150,7 +176,8 @@ static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3
     d->center[0] = (float)(c[0] / w), d->center[1] = (float)(c[1] / w);
     d->extent[0] = (float)(rx * grow + 2.0 / ow), d->extent[1] = (float)(ry * grow + 2.0 / oh);
     d->depth = (float)(z < 1 - 1e-6 ? z : 1 - 1e-6);
-    d->center_px[0] = (float)((c[0] / w + 1) * 0.5 * ow), d->center_px[1] = (float)((c[1] / w + 1) * 0.5 * oh);
+    d->center_px[0] = (float)((c[0] / w + 1) * 0.5 * ow),
+    d->center_px[1] = (float)((c[1] / w + 1) * 0.5 * oh);
     d->radius_px = (float)r_draw;
     d->scale = (float)(1 / (grow * grow));
     return true;
@@ -172,7 +199,8 @@ static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
     if (disc_geometry(m, f, f->scene->lights[k].position, t->width, t->height, &d)) {
         float tint[3];
         godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
-        for (int c = 0; c < 3; c++) tint[c] *= d.scale;
+        for (int c = 0; c < 3; c++)
+            tint[c] *= d.scale;
         st_shader *sh = m->disc_sh;
         st_shader_use(sh);
         st_shader_set_vec2(sh, "u_disc_center", d.center[0], d.center[1]);
@@ -213,7 +241,8 @@ static bool blur_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     mitchell *m = self;
-    return pass < m->num_lights ? occlusion_pass(m, pass, f, err) : blur_pass(m, pass - m->num_lights, f, err);
+    return pass < m->num_lights ? occlusion_pass(m, pass, f, err)
+                                : blur_pass(m, pass - m->num_lights, f, err);
 }
 
 static st_shader *shader(void *self, int pass) {
@@ -223,7 +252,8 @@ static st_shader *shader(void *self, int pass) {
 
 static bool reload(void *self, st_err *err) {
     mitchell *m = self;
-    return st_shader_reload(m->occ_sh, err) && st_shader_reload(m->disc_sh, err) && st_shader_reload(m->blur_sh, err);
+    return st_shader_reload(m->occ_sh, err) && st_shader_reload(m->disc_sh, err) &&
+           st_shader_reload(m->blur_sh, err);
 }
 
 ST_PLUGIN(.name = "mitchell",

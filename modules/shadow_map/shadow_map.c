@@ -17,11 +17,14 @@ enum { P_RESOLUTION, P_BIAS, P_SLOPE_BIAS, P_PCF, P_PCF_RADIUS, P_CASCADES, P_SP
 
 static const st_param_def params[P_COUNT] = {
     {"resolution", ST_PARAM_INT, 1024, 16, 8192, NULL, "cube face size in texels"},
-    {"bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL, "constant depth bias, in shadow-map texels at the receiver's distance"},
-    {"slope_bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL, "bias per unit tan(angle of incidence), in texels (clamped at tan = 20)"},
+    {"bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL,
+     "constant depth bias, in shadow-map texels at the receiver's distance"},
+    {"slope_bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL,
+     "bias per unit tan(angle of incidence), in texels (clamped at tan = 20)"},
     {"pcf", ST_PARAM_BOOL, 0, 0, 1, NULL, "percentage-closer filtering over 16 taps"},
     {"pcf_radius", ST_PARAM_FLOAT, 1.5, 0.5, 16, NULL, "PCF kernel radius in texels"},
-    {"cascades", ST_PARAM_INT, 4, 1, SM_MAX_CASCADES, NULL, "directional lights: shadow cascades over the view"},
+    {"cascades", ST_PARAM_INT, 4, 1, SM_MAX_CASCADES, NULL,
+     "directional lights: shadow cascades over the view"},
     {"cascade_split", ST_PARAM_FLOAT, 0.75, 0, 1, NULL,
      "directional lights: 0 uniform, 1 logarithmic split distances (practical split scheme)"},
 };
@@ -46,7 +49,8 @@ static void release(shadow_map *s) {
     if (s->fbo) glDeleteFramebuffers(1, &s->fbo);
     if (s->cube_array) glDeleteTextures(1, &s->cube_array);
     if (s->depth_rb) glDeleteRenderbuffers(1, &s->depth_rb);
-    if (s->size) st_gpu_track(-(long long)s->size * s->size * 4 * (6 * (s->layers > 0 ? s->layers : 1) + 1));
+    if (s->size)
+        st_gpu_track(-(long long)s->size * s->size * 4 * (6 * (s->layers > 0 ? s->layers : 1) + 1));
     if (s->sun_array) {
         glDeleteTextures(1, &s->sun_array);
         st_gpu_track(s->sun_layers > 0 ? -(long long)s->size * s->size * 4 * s->sun_layers : -4);
@@ -61,7 +65,8 @@ static bool allocate(shadow_map *s, st_err *err) {
     int size = (int)s->p[P_RESOLUTION];
     int lights = st_world_scene(s->w)->num_lights;
     int sun_layers = s->num_suns * (int)s->p[P_CASCADES];
-    if (size == s->size && lights == s->layers && sun_layers == s->sun_layers && s->fbo) return true;
+    if (size == s->size && lights == s->layers && sun_layers == s->sun_layers && s->fbo)
+        return true;
     release(s);
     s->size = size;
     s->layers = lights;
@@ -91,7 +96,8 @@ static bool allocate(shadow_map *s, st_err *err) {
         glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         st_gpu_track(sun_layers > 0 ? (long long)size * size * 4 * sun_layers : 4);
-        for (int i = 0; i < ST_MAX_LIGHTS; i++) s->sun_dirty[i] = true;
+        for (int i = 0; i < ST_MAX_LIGHTS; i++)
+            s->sun_dirty[i] = true;
     }
     return st_gl_check("shadow map arrays", err);
 }
@@ -104,10 +110,12 @@ static float scene_far(const st_scene *sc) {
         mat4 model; // cglm wants aligned matrices; the mesh's may not be
         memcpy(model, me->model, sizeof model);
         for (uint32_t v = 0; v < me->num_vertices; v++) {
-            vec4 p = {me->positions[3 * v], me->positions[3 * v + 1], me->positions[3 * v + 2], 1}, wp;
+            vec4 p = {me->positions[3 * v], me->positions[3 * v + 1], me->positions[3 * v + 2], 1},
+                 wp;
             glm_mat4_mulv(model, p, wp);
             for (int l = 0; l < sc->num_lights; l++) {
-                vec3 lp = {sc->lights[l].position[0], sc->lights[l].position[1], sc->lights[l].position[2]};
+                vec3 lp = {sc->lights[l].position[0], sc->lights[l].position[1],
+                           sc->lights[l].position[2]};
                 float d2 = glm_vec3_distance2(wp, lp);
                 if (d2 > far2) far2 = d2;
             }
@@ -128,7 +136,8 @@ static void *create(st_world *w, const double *p, st_err *err) {
         if (s->sun_slot[i] >= 0) sm_sun_init(&s->suns[s->sun_slot[i]], sc, sc->lights[i].direction);
     }
     s->depth = st_shader_load("shadow_map/depth.vert", "shadow_map/depth.frag", NULL, err);
-    if (s->depth && s->num_suns) s->cascade = st_shader_load("shadow_map/depth.vert", "shadow_map/cascade.frag", NULL, err);
+    if (s->depth && s->num_suns)
+        s->cascade = st_shader_load("shadow_map/depth.vert", "shadow_map/cascade.frag", NULL, err);
     if (!s->depth || (s->num_suns && !s->cascade) || !allocate(s, err)) {
         st_shader_destroy(s->depth);
         st_shader_destroy(s->cascade);
@@ -148,11 +157,14 @@ static void destroy(void *self) {
 }
 
 // One pass per light; nothing to do without lights.
-static int num_passes(void *self) { return st_world_scene(((shadow_map *)self)->w)->num_lights; }
+static int num_passes(void *self) {
+    return st_world_scene(((shadow_map *)self)->w)->num_lights;
+}
 
 static const st_pass_info *pass_info(void *self, int pass) {
     shadow_map *s = self;
-    s->info = (st_pass_info){s->sun_slot[pass] >= 0 ? "cascades" : "cube", ST_STAGE_PRE, "", "shadow_map", 0};
+    s->info = (st_pass_info){s->sun_slot[pass] >= 0 ? "cascades" : "cube", ST_STAGE_PRE, "",
+                             "shadow_map", 0};
     return &s->info;
 }
 
@@ -189,7 +201,8 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
     glViewport(0, 0, s->size, s->size);
     const float cleared[4] = {1e30f, 0, 0, 0};
     for (int c = 0; c < sun->count; c++) {
-        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->sun_array, 0, slot * sun->count + c);
+        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->sun_array, 0,
+                                       slot * sun->count + c);
         glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
         glClearBufferfv(GL_COLOR, 0, cleared);
         glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
@@ -208,8 +221,10 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     if (s->sun_slot[pass] >= 0) return render_cascades(s, s->sun_slot[pass], f, err);
     const float *lp = f->scene->lights[pass].position;
     // Cube face directions and up vectors of the GL cube-map convention.
-    static const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    static const float ups[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    static const float dirs[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    static const float ups[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
+                                    {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
     mat4 proj;
     glm_perspective(glm_rad(90.0f), 1.0f, s->far_z * 1e-4f, s->far_z, proj);
     st_shader_use(s->depth);
@@ -219,7 +234,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     glViewport(0, 0, s->size, s->size);
     const float cleared[4] = {1e30f, 0, 0, 0};
     for (int face = 0; face < 6; face++) {
-        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->cube_array, 0, 6 * pass + face);
+        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->cube_array, 0,
+                                       6 * pass + face);
         glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
         glClearBufferfv(GL_COLOR, 0, cleared);
         glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
@@ -238,7 +254,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 
 // Uniforms every shader including shadow_map/visibility.glsl receives.
 static void u_cubes(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    st_shader_texture(sh, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, ((shadow_map *)self)->cube_array);
+    st_shader_texture(sh, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY,
+                      ((shadow_map *)self)->cube_array);
 }
 static void u_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1f(loc, (float)((shadow_map *)self)->size);
@@ -269,7 +286,8 @@ static void u_cascade_count(void *self, st_shader *sh, GLint loc, const st_frame
 static void u_cascade_far(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     shadow_map *s = self;
     float far_z[SM_MAX_CASCADES] = {0};
-    for (int c = 0; s->num_suns && c < s->suns[0].count; c++) far_z[c] = (float)s->suns[0].far_z[c];
+    for (int c = 0; s->num_suns && c < s->suns[0].count; c++)
+        far_z[c] = (float)s->suns[0].far_z[c];
     glUniform1fv(loc, SM_MAX_CASCADES, far_z);
 }
 static void u_cascade_rect(void *self, st_shader *sh, GLint loc, const st_frame *f) {
@@ -278,7 +296,8 @@ static void u_cascade_rect(void *self, st_shader *sh, GLint loc, const st_frame 
     for (int k = 0; k < s->num_suns; k++)
         for (int c = 0; c < s->suns[k].count; c++) {
             const sm_rect *q = &s->suns[k].fit[c];
-            r[k * SM_MAX_CASCADES + c][0] = (float)q->cu, r[k * SM_MAX_CASCADES + c][1] = (float)q->cv;
+            r[k * SM_MAX_CASCADES + c][0] = (float)q->cu,
+                                    r[k * SM_MAX_CASCADES + c][1] = (float)q->cv;
             r[k * SM_MAX_CASCADES + c][2] = (float)q->half;
         }
     glUniform4fv(loc, ST_MAX_LIGHTS * SM_MAX_CASCADES, &r[0][0]);
@@ -290,8 +309,12 @@ static const st_uniform uniforms_table[] = {
     {"st_shadow_cascade_count", u_cascade_count},
     {"st_shadow_cascade_far", u_cascade_far},
     {"st_shadow_cascade_rect", u_cascade_rect},
-    {"st_shadow_cubes", u_cubes}, {"st_shadow_res", u_res},       {"st_shadow_bias", u_bias},
-    {"st_shadow_slope", u_slope}, {"st_shadow_pcf", u_pcf},       {"st_shadow_pcf_radius", u_pcf_radius},
+    {"st_shadow_cubes", u_cubes},
+    {"st_shadow_res", u_res},
+    {"st_shadow_bias", u_bias},
+    {"st_shadow_slope", u_slope},
+    {"st_shadow_pcf", u_pcf},
+    {"st_shadow_pcf_radius", u_pcf_radius},
 };
 
 static int uniforms(void *self, const st_uniform **out) {
@@ -305,7 +328,8 @@ static bool reload(void *self, st_err *err) {
 }
 
 ST_PLUGIN(.name = "shadow_map",
-          .description = "shadow maps: distance cube maps for point and spot lights, cascades for directional ones ("
+          .description = "shadow maps: distance cube maps for point and spot lights, cascades for "
+                         "directional ones ("
                          "slope-scaled bias, optional PCF)",
           ST_PARAMS(params), .provides = "shadow_map",
           .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,

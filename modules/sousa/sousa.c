@@ -73,9 +73,11 @@ static void *create(st_world *w, const double *p, st_err *err) {
     s->num_lights = st_world_scene(w)->num_lights;
     if (s->num_lights > ST_MAX_LIGHTS) s->num_lights = ST_MAX_LIGHTS;
     s->mask_sh = st_shader_load("common/fullscreen.vert", "sousa/mask.frag", NULL, err);
-    if (s->mask_sh) s->blur_sh = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", NULL, err);
+    if (s->mask_sh)
+        s->blur_sh = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", NULL, err);
     if (s->blur_sh)
-        s->compose_sh = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", "SOUSA_COMPOSE 1", err);
+        s->compose_sh =
+            st_shader_load("common/fullscreen.vert", "sousa/blur.frag", "SOUSA_COMPOSE 1", err);
     if (!s->compose_sh) {
         destroy(s);
         return NULL;
@@ -86,8 +88,10 @@ static void *create(st_world *w, const double *p, st_err *err) {
         snprintf(s->names[k][1], sizeof s->names[k][1], "sousa.blur2_%d", k);
         snprintf(s->reads3[k], sizeof s->reads3[k], "hdr,%s", s->names[k][1]);
         st_pass_info *in = &s->info[1 + NUM_BLUR * k];
-        in[BLUR1] = (st_pass_info){"blur1", ST_STAGE_POST, "sousa.mask", s->names[k][0], ST_PASS_FULLSCREEN};
-        in[BLUR2] = (st_pass_info){"blur2", ST_STAGE_POST, s->names[k][0], s->names[k][1], ST_PASS_FULLSCREEN};
+        in[BLUR1] = (st_pass_info){"blur1", ST_STAGE_POST, "sousa.mask", s->names[k][0],
+                                   ST_PASS_FULLSCREEN};
+        in[BLUR2] = (st_pass_info){"blur2", ST_STAGE_POST, s->names[k][0], s->names[k][1],
+                                   ST_PASS_FULLSCREEN};
         in[BLUR3] = (st_pass_info){"blur3", ST_STAGE_POST, s->reads3[k], "hdr", ST_PASS_FULLSCREEN};
     }
     if (!declare_targets(s, err)) {
@@ -102,13 +106,16 @@ static int num_passes(void *self) {
     sousa *s = self;
     return s->num_lights ? 1 + NUM_BLUR * s->num_lights : 0;
 }
-static const st_pass_info *pass_info(void *self, int pass) { return &((sousa *)self)->info[pass]; }
+static const st_pass_info *pass_info(void *self, int pass) {
+    return &((sousa *)self)->info[pass];
+}
 
 static bool needed(void *self, int pass, const st_frame *f) {
     sousa *s = self;
     // The G-buffer is rewritten every frame, but its content only changes
     // with the view or the scene, so ST_CHANGE_INPUTS alone does not count.
-    const unsigned view = ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_CAMERA | ST_CHANGE_SIZE | ST_CHANGE_PARAMS;
+    const unsigned view =
+        ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_CAMERA | ST_CHANGE_SIZE | ST_CHANGE_PARAMS;
     if (pass == 0) return f->changes & view;
     int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
     if (!(s->p[P_BRIGHTNESS] > 0) || !godray_light_active(f, k, s->p[P_FADE_MARGIN])) return false;
@@ -142,7 +149,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     st_shader_texture(sh, "u_src", GL_TEXTURE_2D, src->color[0]);
     st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
     st_shader_set_int(sh, "u_taps", taps);
-    st_shader_set_float(sh, "u_step", (float)pow(taps, -(b + 1))); // TAPS^-1, ^-2, ^-3 (figure 3.15)
+    st_shader_set_float(sh, "u_step",
+                        (float)pow(taps, -(b + 1))); // TAPS^-1, ^-2, ^-3 (figure 3.15)
     st_shader_set_float(sh, "u_brightness", (float)s->p[P_BRIGHTNESS]);
     return st_gl_check("sousa blur", err);
 }

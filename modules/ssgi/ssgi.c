@@ -15,9 +15,11 @@ enum { P_SAMPLES, P_ESTIMATOR, P_DISPLAY, P_MIN_COS, P_COUNT };
 static const st_param_def params[P_COUNT] = {
     {"samples", ST_PARAM_INT, 100, 1, 4096, NULL, "Hammersley samples over the image per pixel"},
     {"estimator", ST_PARAM_ENUM, 0, 0, 1, "area|thesis", "the same estimators as atlas_gi"},
-    {"display", ST_PARAM_ENUM, 0, 0, 1, "combined|indirect", "combined: the image plus indirect; indirect only"},
+    {"display", ST_PARAM_ENUM, 0, 0, 1, "combined|indirect",
+     "combined: the image plus indirect; indirect only"},
     {"min_cos", ST_PARAM_FLOAT, 0.05, 0.001, 1, NULL,
-     "a pixel's surface patch is at most 1/min_cos times its perpendicular footprint (grazing views)"},
+     "a pixel's surface patch is at most 1/min_cos times its perpendicular footprint (grazing "
+     "views)"},
 };
 
 typedef struct ssgi {
@@ -49,15 +51,20 @@ static void destroy(void *self) {
     free(s);
 }
 
-static int num_passes(void *self) { return 1; }
+static int num_passes(void *self) {
+    return 1;
+}
 
 static const st_pass_info *pass_info(void *self, int pass) {
     ssgi *s = self;
-    s->info = (st_pass_info){"gather", ST_STAGE_POST, "hdr,gbuffer,albedo", "hdr", ST_PASS_FULLSCREEN};
+    s->info =
+        (st_pass_info){"gather", ST_STAGE_POST, "hdr,gbuffer,albedo", "hdr", ST_PASS_FULLSCREEN};
     return &s->info;
 }
 
-static st_shader *shader(void *self, int pass) { return ((ssgi *)self)->sh; }
+static st_shader *shader(void *self, int pass) {
+    return ((ssgi *)self)->sh;
+}
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     ssgi *s = self;
@@ -75,7 +82,9 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     return st_gl_check("ssgi", err);
 }
 
-static bool reload(void *self, st_err *err) { return st_shader_reload(((ssgi *)self)->sh, err); }
+static bool reload(void *self, st_err *err) {
+    return st_shader_reload(((ssgi *)self)->sh, err);
+}
 
 ST_PLUGIN(.name = "ssgi",
           .description =

@@ -88,11 +88,14 @@ typedef struct toth {
 // Steps cannot be shared by more pixels than there are steps.
 static int interleave(const toth *t) {
     int m = (int)t->p[P_INTERLEAVE], n = (int)t->p[P_SAMPLES];
-    while (m > 1 && m * m > n) m--;
+    while (m > 1 && m * m > n)
+        m--;
     return m;
 }
 
-static int scale(const toth *t) { return 1 << (int)t->p[P_RESOLUTION]; }
+static int scale(const toth *t) {
+    return 1 << (int)t->p[P_RESOLUTION];
+}
 
 // The pass a slot index stands for (the gather exists only when interleaved).
 static int pass_kind(const toth *t, int pass) {
@@ -115,8 +118,10 @@ static bool load_shaders(st_shader **march, st_shader **gather, st_shader **comp
     char defines[64];
     snprintf(defines, sizeof defines, "ST_MAX_LIGHTS %d\n", ST_MAX_LIGHTS);
     *march = st_shader_load("common/fullscreen.vert", "toth/march.frag", defines, err);
-    *gather = *march ? st_shader_load("common/fullscreen.vert", "toth/gather.frag", defines, err) : NULL;
-    *compose = *gather ? st_shader_load("common/fullscreen.vert", "toth/compose.frag", defines, err) : NULL;
+    *gather =
+        *march ? st_shader_load("common/fullscreen.vert", "toth/gather.frag", defines, err) : NULL;
+    *compose = *gather ? st_shader_load("common/fullscreen.vert", "toth/compose.frag", defines, err)
+                       : NULL;
     if (*compose) return true;
     st_shader_destroy(*march);
     st_shader_destroy(*gather);
@@ -148,16 +153,20 @@ static void destroy(void *self) {
     free(t);
 }
 
-static int num_passes(void *self) { return interleave(self) > 1 ? 3 : 2; }
+static int num_passes(void *self) {
+    return interleave(self) > 1 ? 3 : 2;
+}
 
 static const st_pass_info *pass_info(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        t->info = (st_pass_info){"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march", ST_PASS_FULLSCREEN};
+        t->info = (st_pass_info){"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march",
+                                 ST_PASS_FULLSCREEN};
         break;
     case PASS_GATHER:
-        t->info = (st_pass_info){"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather", ST_PASS_FULLSCREEN};
+        t->info = (st_pass_info){"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather",
+                                 ST_PASS_FULLSCREEN};
         break;
     default:
         t->info = (st_pass_info){"compose", ST_STAGE_POST,
@@ -196,9 +205,12 @@ static void march_size(const toth *t, const st_frame *f, int *w, int *h) {
 static GLuint rendertarget(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
-    case PASS_MARCH: return t->march_rt.fbo;
-    case PASS_GATHER: return t->gather_rt.fbo;
-    default: return 0; // compose writes "hdr": the world's PostProcessor target
+    case PASS_MARCH:
+        return t->march_rt.fbo;
+    case PASS_GATHER:
+        return t->gather_rt.fbo;
+    default:
+        return 0; // compose writes "hdr": the world's PostProcessor target
     }
 }
 
@@ -247,7 +259,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
-        if (lit && src->fbo) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        if (lit && src->fbo)
+            st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         // Without lights shadow_map binds no shadow textures, and an unset
         // sampler of another type on unit 0 makes the draw invalid: bind empty ones.
         if (!lit) {
@@ -263,9 +276,12 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 static st_shader *shader(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
-    case PASS_MARCH: return t->march;
-    case PASS_GATHER: return t->gather;
-    default: return t->compose;
+    case PASS_MARCH:
+        return t->march;
+    case PASS_GATHER:
+        return t->gather;
+    default:
+        return t->compose;
     }
 }
 

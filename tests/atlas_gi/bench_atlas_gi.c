@@ -81,7 +81,10 @@ static double median(double *v, int n) {
 static double occupancy(const st_scene *sc, int size) {
     atlas a;
     st_err err = {0};
-    atlas_opts o = {.size = size, .max_size = 4096, .gutter = 2, .chart_angle_deg = 30,
+    atlas_opts o = {.size = size,
+                    .max_size = 4096,
+                    .gutter = 2,
+                    .chart_angle_deg = 30,
                     .use_uv1 = atlas_meshes_have_uv1(sc->meshes, sc->num_meshes)};
     if (!atlas_build(&a, sc->meshes, sc->num_meshes, &o, &err)) return NAN;
     double f = (double)a.valid_texels / ((double)a.width * a.height);
@@ -90,17 +93,23 @@ static double occupancy(const st_scene *sc, int size) {
 }
 
 int main(int argc, char **argv) {
-    int frames = 3, sizes[8] = {512, 1024}, nsizes = 2, samples[16] = {10, 25, 50, 100, 200, 400}, nsamples = 6;
+    int frames = 3, sizes[8] = {512, 1024}, nsizes = 2, samples[16] = {10, 25, 50, 100, 200, 400},
+        nsamples = 6;
     const char *scenes[8];
     int nscenes = 0;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--frames") && i + 1 < argc) frames = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--sizes") && i + 1 < argc) nsizes = parse_list(argv[++i], sizes, 8);
-        else if (!strcmp(argv[i], "--samples") && i + 1 < argc) nsamples = parse_list(argv[++i], samples, 16);
-        else if (nscenes < 8) scenes[nscenes++] = argv[i];
+        if (!strcmp(argv[i], "--frames") && i + 1 < argc)
+            frames = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--sizes") && i + 1 < argc)
+            nsizes = parse_list(argv[++i], sizes, 8);
+        else if (!strcmp(argv[i], "--samples") && i + 1 < argc)
+            nsamples = parse_list(argv[++i], samples, 16);
+        else if (nscenes < 8)
+            scenes[nscenes++] = argv[i];
     }
     if (!nscenes || frames < 1) {
-        fprintf(stderr, "usage: bench_atlas_gi [--frames F] [--sizes 512,1024] [--samples 10,25,...] SCENE.json...\n");
+        fprintf(stderr, "usage: bench_atlas_gi [--frames F] [--sizes 512,1024] [--samples "
+                        "10,25,...] SCENE.json...\n");
         return 2;
     }
     st_err err = {0};
@@ -121,10 +130,11 @@ int main(int argc, char **argv) {
             return 2;
         }
         tris[s] = st_scene_triangle_count(&sc_all[s]);
-        for (int a = 0; a < nsizes; a++) occ[s][a] = occupancy(&sc_all[s], sizes[a]);
+        for (int a = 0; a < nsizes; a++)
+            occ[s][a] = occupancy(&sc_all[s], sizes[a]);
     }
-    printf("%-16s %9s %9s %5s %14s %14s %10s %9s\n", "scene", "triangles", "atlas", "N", "gather ms (med)",
-           "regular ms", "fps", "occupied");
+    printf("%-16s %9s %9s %5s %14s %14s %10s %9s\n", "scene", "triangles", "atlas", "N",
+           "gather ms (med)", "regular ms", "fps", "occupied");
     // Every scene's world lives at once and their frames alternate, so a
     // change in the machine's load hits all scenes alike.
     for (int a = 0; a < nsizes; a++)
@@ -138,14 +148,19 @@ int main(int argc, char **argv) {
                 st_world_reset_samples(ws[s]);
             }
             for (int f = 0; f < frames; f++)
-                for (int s = 0; s < nscenes; s++) frame(ws[s], NULL);
+                for (int s = 0; s < nscenes; s++)
+                    frame(ws[s], NULL);
             for (int s = 0; s < nscenes; s++) {
-                const char *base = strrchr(scenes[s], '/') ? strrchr(scenes[s], '/') + 1 : scenes[s];
-                const st_pass_stats *g = pass(ws[s], "atlas_gi", "gather"), *r = pass(ws[s], "world", "regular");
-                double gm = st_median_f(g->gpu_ms, g->num_samples), rm = st_median_f(r->gpu_ms, r->num_samples);
+                const char *base =
+                    strrchr(scenes[s], '/') ? strrchr(scenes[s], '/') + 1 : scenes[s];
+                const st_pass_stats *g = pass(ws[s], "atlas_gi", "gather"),
+                                    *r = pass(ws[s], "world", "regular");
+                double gm = st_median_f(g->gpu_ms, g->num_samples),
+                       rm = st_median_f(r->gpu_ms, r->num_samples);
                 gather_ms[s][a][k] = gm;
-                printf("%-16s %9llu %4dx%-4d %5d %14.2f %14.2f %10.2f %9.3f\n", base, (unsigned long long)tris[s],
-                       sizes[a], sizes[a], samples[k], gm, rm, 1000.0 / (gm + rm), occ[s][a]);
+                printf("%-16s %9llu %4dx%-4d %5d %14.2f %14.2f %10.2f %9.3f\n", base,
+                       (unsigned long long)tris[s], sizes[a], sizes[a], samples[k], gm, rm,
+                       1000.0 / (gm + rm), occ[s][a]);
                 st_world_destroy(ws[s]);
             }
             fflush(stdout);
@@ -161,12 +176,14 @@ int main(int argc, char **argv) {
             st_world *wv[2];
             for (int v = 0; v < 2; v++) {
                 wv[v] = open_world(&sc, sizes[0], nvis, true);
-                if (!wv[v] || !st_world_set_param(wv[v], "atlas_gi", "visibility", v, &err)) return 1;
+                if (!wv[v] || !st_world_set_param(wv[v], "atlas_gi", "visibility", v, &err))
+                    return 1;
                 frame(wv[v], NULL);
                 frame(wv[v], NULL);
                 st_world_reset_samples(wv[v]);
             }
-            for (int f = 0; f < frames; f++) frame(wv[0], NULL), frame(wv[1], NULL);
+            for (int f = 0; f < frames; f++)
+                frame(wv[0], NULL), frame(wv[1], NULL);
             double ms[2];
             for (int v = 0; v < 2; v++) {
                 const st_pass_stats *g = pass(wv[v], "atlas_gi", "gather");
@@ -180,7 +197,8 @@ int main(int argc, char **argv) {
                 const st_pass_stats *gb = pass(wv[0], "atlas_gi", "gbuffer");
                 rebuild[r] = gb->num_samples ? gb->cpu_ms[gb->num_samples - 1] : NAN;
             }
-            printf("%s: atlas %d, %d samples: gather %.2f ms without visibility, %.2f ms with (%.2fx); "
+            printf("%s: atlas %d, %d samples: gather %.2f ms without visibility, %.2f ms with "
+                   "(%.2fx); "
                    "atlas rebuild + G-buffer after a geometry change %.1f ms\n",
                    base, sizes[0], nvis, ms[0], ms[1], ms[1] / ms[0], median(rebuild, 3));
             st_world_destroy(wv[0]);
@@ -204,17 +222,20 @@ int main(int argc, char **argv) {
             fprintf(stderr, "%s\n", err.msg);
             return 1;
         }
-        for (int i = 0; i < 3; i++) frame(w, NULL), frame(wp, NULL);
+        for (int i = 0; i < 3; i++)
+            frame(w, NULL), frame(wp, NULL);
         int n = 61;
         double *t[5];
-        for (int k = 0; k < 5; k++) t[k] = malloc((size_t)n * sizeof(double));
+        for (int k = 0; k < 5; k++)
+            t[k] = malloc((size_t)n * sizeof(double));
         st_camera *c = st_world_camera(w);
         float pos[3], tgt[3], up[3];
         memcpy(pos, c->position, sizeof pos);
         memcpy(tgt, c->target, sizeof tgt);
         memcpy(up, c->up, sizeof up);
         for (int i = 0; i < n; i++) {
-            float p[3] = {pos[0] + ((i & 1) ? 0.001f : -0.001f), pos[1], pos[2]}, q[3] = {pos[0], pos[1], pos[2]};
+            float p[3] = {pos[0] + ((i & 1) ? 0.001f : -0.001f), pos[1], pos[2]},
+                  q[3] = {pos[0], pos[1], pos[2]};
             float ang = 0.35f * sinf(0.7f * (float)i), dx = pos[0] - tgt[0], dz = pos[2] - tgt[2];
             q[0] = tgt[0] + cosf(ang) * dx + sinf(ang) * dz;
             q[2] = tgt[2] - sinf(ang) * dx + cosf(ang) * dz;
@@ -233,12 +254,16 @@ int main(int argc, char **argv) {
             frame(wp, NULL);
         }
         double m[5];
-        for (int k = 0; k < 5; k++) m[k] = median(t[k], n), free(t[k]);
-        printf("%s: atlas_gi cached (atlas %d), median frame ms over %d interleaved rounds: unchanged %.3f, "
-               "camera moved 1 mm %.3f (ratio %.3f), orbit %.3f; without atlas_gi: 1 mm %.3f, orbit %.3f "
+        for (int k = 0; k < 5; k++)
+            m[k] = median(t[k], n), free(t[k]);
+        printf("%s: atlas_gi cached (atlas %d), median frame ms over %d interleaved rounds: "
+               "unchanged %.3f, "
+               "camera moved 1 mm %.3f (ratio %.3f), orbit %.3f; without atlas_gi: 1 mm %.3f, "
+               "orbit %.3f "
                "(cached atlas_gi / none: %.3fx, %.3fx); atlas passes ran: gbuffer %u, gather %u\n",
-               base, sizes[0], n, m[0], m[1], m[1] / m[0], m[3], m[2], m[4], m[1] / m[2], m[3] / m[4],
-               pass(w, "atlas_gi", "gbuffer")->runs, pass(w, "atlas_gi", "gather")->runs);
+               base, sizes[0], n, m[0], m[1], m[1] / m[0], m[3], m[2], m[4], m[1] / m[2],
+               m[3] / m[4], pass(w, "atlas_gi", "gbuffer")->runs,
+               pass(w, "atlas_gi", "gather")->runs);
         st_world_destroy(wp);
         st_world_destroy(w);
         st_scene_free(&plain_sc);
@@ -247,10 +272,12 @@ int main(int argc, char **argv) {
     if (nscenes >= 2)
         for (int a = 0; a < nsizes; a++)
             for (int k = 0; k < nsamples; k++)
-                printf("gather time ratio %s / %s (%llu vs %llu triangles), atlas %d, %d samples: %.3f "
+                printf("gather time ratio %s / %s (%llu vs %llu triangles), atlas %d, %d samples: "
+                       "%.3f "
                        "(occupancy %.3f vs %.3f)\n",
-                       scenes[1], scenes[0], (unsigned long long)tris[1], (unsigned long long)tris[0], sizes[a],
-                       samples[k], gather_ms[1][a][k] / gather_ms[0][a][k], occ[1][a], occ[0][a]);
+                       scenes[1], scenes[0], (unsigned long long)tris[1],
+                       (unsigned long long)tris[0], sizes[a], samples[k],
+                       gather_ms[1][a][k] / gather_ms[0][a][k], occ[1][a], occ[0][a]);
     st_context_destroy(ctx);
     return 0;
 }

@@ -26,10 +26,13 @@ static inline int gi_render(const char *name, const char *json, const char *extr
 // straight down: the square covers exactly the central K x K pixels of an
 // H x H image.
 // A negative D looks up from below.
-static inline double gi_headon_fov(int H, int K, double D) { return 2.0 * atan(H / (2.0 * fabs(D) * K)) * 180.0 / GI_PI; }
+static inline double gi_headon_fov(int H, int K, double D) {
+    return 2.0 * atan(H / (2.0 * fabs(D) * K)) * 180.0 / GI_PI;
+}
 static inline void gi_headon_camera(char *out, size_t n, int H, int K, double D) {
     snprintf(out, n,
-             "\"camera\": {\"position\": [0.5, %.17g, 0.5], \"target\": [0.5, 0, 0.5], \"up\": [0, 0, -1], "
+             "\"camera\": {\"position\": [0.5, %.17g, 0.5], \"target\": [0.5, 0, 0.5], \"up\": [0, "
+             "0, -1], "
              "\"fov_y\": %.17g, \"near\": 0.01, \"far\": 100}",
              D, gi_headon_fov(H, K, D));
 }
@@ -39,7 +42,8 @@ static inline double gi_headon_mean(const st_image *img, int K, int c) {
     int o = (img->width - K) / 2;
     double s = 0;
     for (int j = o; j < o + K; j++)
-        for (int i = o; i < o + K; i++) s += st_image_px(img, i, j)[c];
+        for (int i = o; i < o + K; i++)
+            s += st_image_px(img, i, j)[c];
     return s / ((double)K * K);
 }
 
@@ -47,7 +51,8 @@ static inline double gi_headon_mean(const st_image *img, int K, int c) {
 // y = 0) and a uniform point of a parallelogram sender (corner c, edges u, v)
 // that faces it: the thesis estimator's expectation per unit atlas fraction.
 // Midpoint rule, n^4 points.
-static inline double gi_mean_cos_receiver(const double c[3], const double u[3], const double v[3], int n) {
+static inline double gi_mean_cos_receiver(const double c[3], const double u[3], const double v[3],
+                                          int n) {
     double s = 0;
     for (int a = 0; a < n; a++)
         for (int b = 0; b < n; b++) {

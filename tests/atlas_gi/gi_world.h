@@ -65,7 +65,8 @@ typedef struct gi_pose {
 
 static inline void gi_set_pose(gi_world *g, const gi_pose *p) {
     float pos[3], tgt[3], up[3] = {0, 1, 0};
-    for (int k = 0; k < 3; k++) pos[k] = (float)p->pos[k], tgt[k] = (float)p->target[k];
+    for (int k = 0; k < 3; k++)
+        pos[k] = (float)p->pos[k], tgt[k] = (float)p->target[k];
     st_world_camera(g->w)->fov_y = (float)p->fov;
     st_world_set_camera(g->w, pos, tgt, up);
 }
@@ -73,14 +74,17 @@ static inline void gi_set_pose(gi_world *g, const gi_pose *p) {
 // Bilinear lookup of channel c of the image at the projection of world
 // point x under pose p (the pinhole convention of docs/physics.md). Returns -1 if
 // the point is not at least 3 pixels inside the image.
-static inline double gi_sample_point(const st_image *img, const gi_pose *p, const double x[3], int c) {
+static inline double gi_sample_point(const st_image *img, const gi_pose *p, const double x[3],
+                                     int c) {
     const double up[3] = {0, 1, 0};
     st_test_cam cam = st_test_camera(p->pos, p->target, up, p->fov, img->width, img->height);
     double d[3];
-    for (int k = 0; k < 3; k++) d[k] = x[k] - cam.pos[k];
+    for (int k = 0; k < 3; k++)
+        d[k] = x[k] - cam.pos[k];
     double z = d[0] * cam.f[0] + d[1] * cam.f[1] + d[2] * cam.f[2];
     if (z <= 0) return -1;
-    double sx = (d[0] * cam.r[0] + d[1] * cam.r[1] + d[2] * cam.r[2]) / z / (cam.tan_half * cam.aspect);
+    double sx =
+        (d[0] * cam.r[0] + d[1] * cam.r[1] + d[2] * cam.r[2]) / z / (cam.tan_half * cam.aspect);
     double sy = (d[0] * cam.u[0] + d[1] * cam.u[1] + d[2] * cam.u[2]) / z / cam.tan_half;
     double px = (sx + 1) / 2 * img->width - 0.5, py = (1 - sy) / 2 * img->height - 0.5;
     if (px < 3 || py < 3 || px > img->width - 4 || py > img->height - 4) return -1;

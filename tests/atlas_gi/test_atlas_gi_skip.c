@@ -9,12 +9,16 @@
 
 static const char *scene =
     "{\"image\": {\"width\": 64, \"height\": 64},"
-    " \"camera\": {\"position\": [0, 1, 0.95], \"target\": [0, 0.8, -1], \"up\": [0, 1, 0], \"fov_y\": 80, \"near\": 0.05, \"far\": 100},"
+    " \"camera\": {\"position\": [0, 1, 0.95], \"target\": [0, 0.8, -1], \"up\": [0, 1, 0], "
+    "\"fov_y\": 80, \"near\": 0.05, \"far\": 100},"
     " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.5, 0], \"intensity\": [3, 3, 3]}],"
     " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": true},"
-    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": [0.75, 0.1, 0.1]},"
+    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": "
+    "[0.75, 0.1, 0.1]},"
     "  {\"box\": {\"min\": [-0.3, 0, -0.3], \"max\": [0.3, 0.6, 0.3]}}],"
-    " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 64, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 32, \"max_frames\": 6,"
+    " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 64, \"mode\": "
+    "\"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"samples\": 32, "
+    "\"max_frames\": 6,"
     " \"tolerance\": 0, \"display\": \"indirect\"}}]}";
 
 static int gb, ga;
@@ -26,7 +30,8 @@ static void delta(gi_world *g, int *dgb, int *dga) {
 }
 
 static void frames(gi_world *g, int n) {
-    for (int i = 0; i < n; i++) gi_frame(g);
+    for (int i = 0; i < n; i++)
+        gi_frame(g);
 }
 
 static void set(gi_world *g, const char *param, double v) {
@@ -46,11 +51,13 @@ int main(void) {
         int db, da;
         frames(&g, 10);
         delta(&g, &db, &da);
-        CHECK(db == 1 && da == 6, "static scene: G-buffer once, gather max_frames = 6 times (%d, %d)", db, da);
+        CHECK(db == 1 && da == 6,
+              "static scene: G-buffer once, gather max_frames = 6 times (%d, %d)", db, da);
         st_image first = {0}, back = {0};
         gi_read(&g, &first);
 
-        const gi_pose poses[3] = {{{0.5, 1.5, 0.9}, {0, 0.5, 0}, 50}, {{-0.5, 0.5, 0.8}, {0, 1, -1}, 60},
+        const gi_pose poses[3] = {{{0.5, 1.5, 0.9}, {0, 0.5, 0}, 50},
+                                  {{-0.5, 0.5, 0.8}, {0, 1, -1}, 60},
                                   {{0, 1, 0.95}, {0, 0.8, -1}, 80}};
         for (int p = 0; p < 3; p++) {
             gi_set_pose(&g, &poses[p]);
@@ -59,7 +66,8 @@ int main(void) {
         delta(&g, &db, &da);
         CHECK(db == 0 && da == 0, "camera-only frames run no atlas pass (%d, %d)", db, da);
         gi_read(&g, &back);
-        CHECK(first.data && back.data && !memcmp(first.data, back.data, sizeof(float) * 3 * 64 * 64),
+        CHECK(first.data && back.data &&
+                  !memcmp(first.data, back.data, sizeof(float) * 3 * 64 * 64),
               "back at the first pose, the image is bit-identical");
         st_image_free(&back);
 
@@ -72,7 +80,8 @@ int main(void) {
         set(&g, "samples", 48);
         frames(&g, 10);
         delta(&g, &db, &da);
-        CHECK(db == 0 && da == 6, "samples change: gather only, accumulated again (%d, %d)", db, da);
+        CHECK(db == 0 && da == 6, "samples change: gather only, accumulated again (%d, %d)", db,
+              da);
 
         set(&g, "max_frames", 8);
         frames(&g, 10);
@@ -83,7 +92,8 @@ int main(void) {
         set(&g, "estimator", 1);
         frames(&g, 4);
         delta(&g, &db, &da);
-        CHECK(db == 0 && da == 1, "without progressive accumulation one gather per change (%d, %d)", db, da);
+        CHECK(db == 0 && da == 1, "without progressive accumulation one gather per change (%d, %d)",
+              db, da);
         set(&g, "estimator", 0);
 
         // With a tolerance the accumulation stops by itself, before max_frames.
@@ -128,13 +138,16 @@ int main(void) {
         delta(&g, &db, &da);
         frames(&g, 10);
         delta(&g, &db, &da);
-        CHECK(db == 1 && da == 8, "atlas_size change: atlas rebuilt, accumulated again (%d, %d)", db, da);
+        CHECK(db == 1 && da == 8, "atlas_size change: atlas rebuilt, accumulated again (%d, %d)",
+              db, da);
         // Same indirect light up to the resolution: the mean over the image within 10%.
         st_image now = {0};
         if (gi_read(&g, &now) && first.data) {
             double a = 0, b = 0;
-            for (size_t i = 0; i < 3 * 64 * 64; i++) a += first.data[i], b += now.data[i];
-            CHECK(b > 0 && fabs(a / b - 1) < 0.1, "indirect at atlas 64 vs 128: %.4f vs %.4f", a, b);
+            for (size_t i = 0; i < 3 * 64 * 64; i++)
+                a += first.data[i], b += now.data[i];
+            CHECK(b > 0 && fabs(a / b - 1) < 0.1, "indirect at atlas 64 vs 128: %.4f vs %.4f", a,
+                  b);
         }
         st_image_free(&now);
         st_image_free(&first);
@@ -149,8 +162,10 @@ int main(void) {
     snprintf(path, sizeof path, "%s/skip.json", ST_TEST_SCRATCH);
     snprintf(out, sizeof out, "%s/skip.exr", ST_TEST_SCRATCH);
     st_test_write(path, scene);
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --frames 5 --set atlas_gi.progressive=false --stats=json 2>/dev/null",
-             ST_TEST_STRAHL, path, out);
+    snprintf(
+        cmd, sizeof cmd,
+        "%s render %s -o %s --frames 5 --set atlas_gi.progressive=false --stats=json 2>/dev/null",
+        ST_TEST_STRAHL, path, out);
     CHECK(st_test_capture(buf, sizeof buf, cmd) == 0, "render --stats=json");
     cJSON *j = cJSON_Parse(buf), *p, *passes = cJSON_GetObjectItem(j, "passes");
     CHECK(j != NULL, "stats are JSON");
@@ -159,7 +174,8 @@ int main(void) {
         if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, "atlas_gi")) continue;
         seen++;
         int runs = cJSON_GetObjectItem(p, "runs")->valueint;
-        int skipped = cJSON_GetObjectItem(p, "skipped")->valueint + cJSON_GetObjectItem(p, "culled")->valueint;
+        int skipped = cJSON_GetObjectItem(p, "skipped")->valueint +
+                      cJSON_GetObjectItem(p, "culled")->valueint;
         CHECK(runs == 1 && skipped == 4, "--stats: atlas_gi %s ran %d, skipped or culled %d",
               cJSON_GetObjectItem(p, "pass")->valuestring, runs, skipped);
     }

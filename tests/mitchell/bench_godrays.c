@@ -9,7 +9,8 @@
 // PARAM = V (its own converged image, e.g. n = 512), relative to that
 // image's RMS: what the sampling parameter buys, apart from the model's error.
 //
-//   bench_godrays SCENE.json INSCATTER.exr MODULE.PARAM=v1,v2,... [--frames F] [--size WxH] [--converged V]
+//   bench_godrays SCENE.json INSCATTER.exr MODULE.PARAM=v1,v2,... [--frames F] [--size WxH]
+//   [--converged V]
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -25,7 +26,8 @@ static double module_gpu_ms(const st_world *w, const char *module) {
     double sum = 0;
     for (int i = 0; i < st_world_num_pass_stats(w); i++) {
         const st_pass_stats *s = st_world_pass_stats(w, i);
-        if (!strcmp(s->module, module) && s->num_samples) sum += st_median_f(s->gpu_ms, s->num_samples);
+        if (!strcmp(s->module, module) && s->num_samples)
+            sum += st_median_f(s->gpu_ms, s->num_samples);
     }
     return sum;
 }
@@ -50,9 +52,10 @@ static bool time_frames(st_world *w, int frames, float *ms, double *median, st_e
 
 int main(int argc, char **argv) {
     if (argc < 4) {
-        fprintf(stderr, "usage: bench_godrays SCENE.json INSCATTER.exr MODULE.PARAM=v1,v2,... [--frames F] "
-                        "[--size WxH] "
-                        "[--converged V]\n");
+        fprintf(stderr,
+                "usage: bench_godrays SCENE.json INSCATTER.exr MODULE.PARAM=v1,v2,... [--frames F] "
+                "[--size WxH] "
+                "[--converged V]\n");
         return 2;
     }
     int frames = 9, width = 0, height = 0;
@@ -70,40 +73,44 @@ int main(int argc, char **argv) {
     st_err err = {0};
     st_scene with = {0}, without = {0};
     st_image ref = {0}, img = {0}, base = {0}, effect = {0}, conv = {0};
-    if (!st_scene_load(argv[1], &with, &err) || !st_scene_load(argv[1], &without, &err)) return fail(argv[1], &err);
+    if (!st_scene_load(argv[1], &with, &err) || !st_scene_load(argv[1], &without, &err))
+        return fail(argv[1], &err);
     without.medium.present = false; // the surfaces alone: the modules skip their passes
     if (!st_image_read_exr(argv[2], &ref, &err)) return fail(argv[2], &err);
     st_context *ctx = st_context_create_headless(&err);
     if (!ctx) return fail("context", &err);
     st_world_opts opts = {width, height, true};
     st_world *wb = st_world_create(&without, &opts, &err);
-    if (!wb || !st_world_frame(wb, &err) || !st_world_read(wb, &base, &err)) return fail("base render", &err);
+    if (!wb || !st_world_frame(wb, &err) || !st_world_read(wb, &base, &err))
+        return fail("base render", &err);
     if (base.width != ref.width || base.height != ref.height) {
-        fprintf(stderr, "bench_godrays: reference is %dx%d, render %dx%d\n", ref.width, ref.height, base.width,
-                base.height);
+        fprintf(stderr, "bench_godrays: reference is %dx%d, render %dx%d\n", ref.width, ref.height,
+                base.width, base.height);
         return 2;
     }
     double conv_rms = 1;
     if (converged) {
         st_world *w = st_world_create(&with, &opts, &err);
-        if (!w || !st_world_set_param(w, module, param, atof(converged), &err) || !st_world_frame(w, &err) ||
-            !st_world_read(w, &conv, &err))
+        if (!w || !st_world_set_param(w, module, param, atof(converged), &err) ||
+            !st_world_frame(w, &err) || !st_world_read(w, &conv, &err))
             return fail("converged render", &err);
-        for (size_t i = 0; i < (size_t)conv.width * conv.height * 3; i++) conv.data[i] -= base.data[i];
+        for (size_t i = 0; i < (size_t)conv.width * conv.height * 3; i++)
+            conv.data[i] -= base.data[i];
         st_world_destroy(w);
         // Its RMS, to report the self-convergence error relative to it.
         st_image zero = {0};
         st_metrics m;
-        if (!st_image_alloc(&zero, conv.width, conv.height, 3, &err) || !st_image_compare(&zero, &conv, &m, &err))
+        if (!st_image_alloc(&zero, conv.width, conv.height, 3, &err) ||
+            !st_image_compare(&zero, &conv, &m, &err))
             return fail("compare", &err);
         conv_rms = m.scaled_rmse[3];
         st_image_free(&zero);
     }
-    printf("# %s, %dx%d, %s, %d frames (recompute), shafts vs %s%s%s\n", argv[1], base.width, base.height,
-           st_context_renderer(), frames, argv[2], converged ? "; self-convergence vs " : "",
-           converged ? converged : "");
-    printf("%-22s %10s %12s %12s %10s %12s\n", "setting", "frame ms", "module gpu ms", "scaled rmse", "scale",
-           "vs conv. rel");
+    printf("# %s, %dx%d, %s, %d frames (recompute), shafts vs %s%s%s\n", argv[1], base.width,
+           base.height, st_context_renderer(), frames, argv[2],
+           converged ? "; self-convergence vs " : "", converged ? converged : "");
+    printf("%-22s %10s %12s %12s %10s %12s\n", "setting", "frame ms", "module gpu ms",
+           "scaled rmse", "scale", "vs conv. rel");
     float *ms = calloc((size_t)frames, sizeof *ms);
     {
         // Baseline: the scene without medium (the module skips its passes),
@@ -112,9 +119,11 @@ int main(int argc, char **argv) {
         if (!time_frames(wb, frames, ms, &median, &err)) return fail("frame", &err);
         st_metrics m;
         st_image zero = {0};
-        if (!st_image_alloc(&zero, base.width, base.height, 3, &err) || !st_image_compare(&zero, &ref, &m, &err))
+        if (!st_image_alloc(&zero, base.width, base.height, 3, &err) ||
+            !st_image_compare(&zero, &ref, &m, &err))
             return fail("compare", &err);
-        printf("%-22s %10.2f %12s %12.5f %10s %12s\n", "(no shafts)", median, "-", m.scaled_rmse[3], "-", "-");
+        printf("%-22s %10.2f %12s %12.5f %10s %12s\n", "(no shafts)", median, "-", m.scaled_rmse[3],
+               "-", "-");
         st_image_free(&zero);
     }
     for (char *v = strtok(values, ","); v; v = strtok(NULL, ",")) {
@@ -125,18 +134,20 @@ int main(int argc, char **argv) {
         if (!st_world_read(w, &img, &err)) return fail("read", &err);
         st_image_free(&effect);
         if (!st_image_alloc(&effect, img.width, img.height, 3, &err)) return fail("alloc", &err);
-        for (size_t i = 0; i < (size_t)img.width * img.height * 3; i++) effect.data[i] = img.data[i] - base.data[i];
+        for (size_t i = 0; i < (size_t)img.width * img.height * 3; i++)
+            effect.data[i] = img.data[i] - base.data[i];
         st_metrics m;
         if (!st_image_compare(&effect, &ref, &m, &err)) return fail("compare", &err);
         char setting[160];
         snprintf(setting, sizeof setting, "%s.%s=%s", module, param, v);
         double self = -1;
         st_metrics mc;
-        if (converged && st_image_compare(&effect, &conv, &mc, &err)) self = mc.scaled_rmse[3] / conv_rms;
+        if (converged && st_image_compare(&effect, &conv, &mc, &err))
+            self = mc.scaled_rmse[3] / conv_rms;
         char self_s[32] = "-";
         if (self >= 0) snprintf(self_s, sizeof self_s, "%.5f", self);
-        printf("%-22s %10.2f %12.2f %12.5f %10.4g %12s\n", setting, median, module_gpu_ms(w, module),
-               m.scaled_rmse[3], m.scale, self_s);
+        printf("%-22s %10.2f %12.2f %12.5f %10.4g %12s\n", setting, median,
+               module_gpu_ms(w, module), m.scaled_rmse[3], m.scale, self_s);
         fflush(stdout);
         st_image_free(&img);
         st_world_destroy(w);

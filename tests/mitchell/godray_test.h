@@ -22,14 +22,17 @@ static inline gimg gimg_new(int w, int h, int nc) {
     }
     return g;
 }
-static inline float *gimg_at(const gimg *g, int x, int y) { return g->px + ((size_t)y * g->w + x) * g->nc; }
+static inline float *gimg_at(const gimg *g, int x, int y) {
+    return g->px + ((size_t)y * g->w + x) * g->nc;
+}
 
 // GL_LINEAR with GL_CLAMP_TO_BORDER, border 0 (GL 4.5 spec 8.14.2).
 static inline void ref_bilinear(const gimg *g, float u, float v, float *out) {
     float x = u * g->w - 0.5f, y = v * g->h - 0.5f;
     float fx = floorf(x), fy = floorf(y);
     float a = x - fx, b = y - fy;
-    for (int c = 0; c < g->nc; c++) out[c] = 0;
+    for (int c = 0; c < g->nc; c++)
+        out[c] = 0;
     if (!(fabsf(fx) < 1e8f && fabsf(fy) < 1e8f)) return; // far outside: all border
     int i = (int)fx, j = (int)fy;
     const float wts[4] = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
@@ -37,7 +40,8 @@ static inline void ref_bilinear(const gimg *g, float u, float v, float *out) {
     for (int t = 0; t < 4; t++) {
         if (xs[t] < 0 || ys[t] < 0 || xs[t] >= g->w || ys[t] >= g->h) continue;
         const float *p = gimg_at(g, xs[t], ys[t]);
-        for (int c = 0; c < g->nc; c++) out[c] += wts[t] * p[c];
+        for (int c = 0; c < g->nc; c++)
+            out[c] += wts[t] * p[c];
     }
 }
 
@@ -48,7 +52,8 @@ typedef struct {
 } mitchell_args;
 
 // thesis listing A.4 / shaders/mitchell/blur.frag: out = hdr + fade exposure sum.
-static inline void ref_mitchell(const gimg *occ, const gimg *hdr, const mitchell_args *a, gimg *out) {
+static inline void ref_mitchell(const gimg *occ, const gimg *hdr, const mitchell_args *a,
+                                gimg *out) {
     for (int y = 0; y < out->h; y++)
         for (int x = 0; x < out->w; x++) {
             float uv[2] = {(x + 0.5f) / out->w, (y + 0.5f) / out->h};
@@ -59,7 +64,8 @@ static inline void ref_mitchell(const gimg *occ, const gimg *hdr, const mitchell
             for (int i = 0; i < a->n; i++) {
                 p[0] -= d[0], p[1] -= d[1];
                 ref_bilinear(occ, p[0], p[1], t);
-                for (int c = 0; c < 3; c++) sum[c] += t[c] * (decay_i * a->weight);
+                for (int c = 0; c < 3; c++)
+                    sum[c] += t[c] * (decay_i * a->weight);
                 decay_i *= a->decay;
             }
             float *o = gimg_at(out, x, y);
@@ -73,8 +79,8 @@ static inline void ref_mitchell(const gimg *occ, const gimg *hdr, const mitchell
 }
 
 // One Sousa pass (thesis listing A.7 / shaders/sousa/blur.frag) on channel 0.
-static inline float ref_sousa_tap_sum(const gimg *src, float px, float py, const float light[2], int taps,
-                                      float step, float brightness) {
+static inline float ref_sousa_tap_sum(const gimg *src, float px, float py, const float light[2],
+                                      int taps, float step, float brightness) {
     float v[2] = {light[0] - px, light[1] - py};
     float l = sqrtf(v[0] * v[0] + v[1] * v[1]);
     float stp[2] = {0, 0};
@@ -89,28 +95,30 @@ static inline float ref_sousa_tap_sum(const gimg *src, float px, float py, const
     return fminf(sum * brightness, 1e30f);
 }
 
-static inline void ref_sousa_pass(const gimg *src, const float light[2], int taps, float step, float brightness,
-                                  gimg *out) {
+static inline void ref_sousa_pass(const gimg *src, const float light[2], int taps, float step,
+                                  float brightness, gimg *out) {
     for (int y = 0; y < out->h; y++)
         for (int x = 0; x < out->w; x++)
-            gimg_at(out, x, y)[0] =
-                ref_sousa_tap_sum(src, (x + 0.5f) / out->w, (y + 0.5f) / out->h, light, taps, step, brightness);
+            gimg_at(out, x, y)[0] = ref_sousa_tap_sum(src, (x + 0.5f) / out->w, (y + 0.5f) / out->h,
+                                                      light, taps, step, brightness);
 }
 
 // The whole chain: mask -> pass 1 (TAPS^-1) -> pass 2 (TAPS^-2) at the mask's
 // size -> pass 3 (TAPS^-3) at the output size, added to hdr tinted and faded.
-static inline void ref_sousa(const gimg *mask, const gimg *hdr, const float light[2], int taps, float brightness,
-                             const float tint[3], float fade, gimg *out) {
+static inline void ref_sousa(const gimg *mask, const gimg *hdr, const float light[2], int taps,
+                             float brightness, const float tint[3], float fade, gimg *out) {
     gimg t1 = gimg_new(mask->w, mask->h, 1), t2 = gimg_new(mask->w, mask->h, 1);
     ref_sousa_pass(mask, light, taps, (float)pow(taps, -1), brightness, &t1);
     ref_sousa_pass(&t1, light, taps, (float)pow(taps, -2), brightness, &t2);
     float step3 = (float)pow(taps, -3);
     for (int y = 0; y < out->h; y++)
         for (int x = 0; x < out->w; x++) {
-            float s = ref_sousa_tap_sum(&t2, (x + 0.5f) / out->w, (y + 0.5f) / out->h, light, taps, step3, brightness);
+            float s = ref_sousa_tap_sum(&t2, (x + 0.5f) / out->w, (y + 0.5f) / out->h, light, taps,
+                                        step3, brightness);
             float *o = gimg_at(out, x, y);
             const float *hp = gimg_at(hdr, x, y);
-            for (int c = 0; c < 3; c++) o[c] = fminf(hp[c] + tint[c] * (s * fade), 3e38f);
+            for (int c = 0; c < 3; c++)
+                o[c] = fminf(hp[c] + tint[c] * (s * fade), 3e38f);
         }
     free(t1.px);
     free(t2.px);
@@ -135,14 +143,15 @@ static inline GLuint gl_texture_from(const gimg *g) {
 // Reads a texture into a gimg of nc channels (1 or 4), GL orientation.
 static inline gimg gl_read(GLuint tex, int w, int h, int nc) {
     gimg g = gimg_new(w, h, nc);
-    glGetTextureImage(tex, 0, nc == 1 ? GL_RED : GL_RGBA, GL_FLOAT, (GLsizei)((size_t)w * h * nc * sizeof(float)),
-                      g.px);
+    glGetTextureImage(tex, 0, nc == 1 ? GL_RED : GL_RGBA, GL_FLOAT,
+                      (GLsizei)((size_t)w * h * nc * sizeof(float)), g.px);
     return g;
 }
 
 static inline int gimg_nonfinite(const gimg *g) {
     int n = 0;
-    for (size_t i = 0; i < (size_t)g->w * g->h * g->nc; i++) n += !isfinite(g->px[i]);
+    for (size_t i = 0; i < (size_t)g->w * g->h * g->nc; i++)
+        n += !isfinite(g->px[i]);
     return n;
 }
 
@@ -218,14 +227,16 @@ static inline bool gt_frames(st_world *w, int frames, st_image *img) {
 
 // Sums of a module's pass stats whose name starts with `pass` ("blur" matches
 // "blur" and "blur[1]"); returns how many passes matched.
-static inline int gt_stats(const st_world *w, const char *module, const char *pass, unsigned *runs, unsigned *skipped,
-                           unsigned *culled) {
+static inline int gt_stats(const st_world *w, const char *module, const char *pass, unsigned *runs,
+                           unsigned *skipped, unsigned *culled) {
     int n = 0;
     *runs = *skipped = *culled = 0;
     size_t l = strlen(pass);
     for (int i = 0; i < st_world_num_pass_stats(w); i++) {
         const st_pass_stats *s = st_world_pass_stats(w, i);
-        if (strcmp(s->module, module) || strncmp(s->pass, pass, l) || (s->pass[l] && s->pass[l] != '[')) continue;
+        if (strcmp(s->module, module) || strncmp(s->pass, pass, l) ||
+            (s->pass[l] && s->pass[l] != '['))
+            continue;
         n++;
         *runs += s->runs, *skipped += s->skipped, *culled += s->culled;
     }
@@ -234,7 +245,8 @@ static inline int gt_stats(const st_world *w, const char *module, const char *pa
 
 static inline double gt_image_sum(const st_image *a) {
     double s = 0;
-    for (size_t i = 0; i < (size_t)a->width * a->height * a->channels; i++) s += a->data[i];
+    for (size_t i = 0; i < (size_t)a->width * a->height * a->channels; i++)
+        s += a->data[i];
     return s;
 }
 
@@ -259,8 +271,9 @@ typedef struct {
     int zero_from, nonfinite, skips_ok;
 } sweep_result;
 
-static inline sweep_result gt_sweep(const char *module, const char *last, const char *first, const char *json_with,
-                                    const char *json_without, int steps, void (*pose)(double, double[3], double[3])) {
+static inline sweep_result gt_sweep(const char *module, const char *last, const char *first,
+                                    const char *json_with, const char *json_without, int steps,
+                                    void (*pose)(double, double[3], double[3])) {
     st_scene sa, sb;
     gt_scene(json_with, &sa);
     gt_scene(json_without, &sb);
@@ -302,22 +315,25 @@ static inline sweep_result gt_sweep(const char *module, const char *last, const 
 // No popping: along the same path, 4x finer steps must shrink the largest
 // step-to-step change (a jump would stay the same size), and the shafts
 // reach exactly 0, with the passes skipped and culled from then on.
-static inline void gt_check_sweep(const char *what, const char *module, const char *last, const char *first,
-                                  const char *json_with, const char *json_without, int steps,
+static inline void gt_check_sweep(const char *what, const char *module, const char *last,
+                                  const char *first, const char *json_with,
+                                  const char *json_without, int steps,
                                   void (*pose)(double, double[3], double[3])) {
     sweep_result c = gt_sweep(module, last, first, json_with, json_without, steps, pose),
                  f = gt_sweep(module, last, first, json_with, json_without, 4 * steps, pose);
-    printf("%s: peak energy %.4g; largest change per step %.4g at %d steps, %.4g at %d steps (ratio %.2f); "
+    printf("%s: peak energy %.4g; largest change per step %.4g at %d steps, %.4g at %d steps "
+           "(ratio %.2f); "
            "zero from t = %.3f\n",
            what, f.peak, c.max_jump, steps, f.max_jump, 4 * steps, f.max_jump / c.max_jump,
            (double)f.zero_from / (4 * steps));
     CHECK(c.nonfinite == 0 && f.nonfinite == 0, "%s: finite", what);
     CHECK(f.peak > 0, "%s: visible at the start", what);
-    CHECK(f.max_jump < 0.5 * c.max_jump, "%s: continuous: %g at 4x finer steps vs %g", what, f.max_jump, c.max_jump);
+    CHECK(f.max_jump < 0.5 * c.max_jump, "%s: continuous: %g at 4x finer steps vs %g", what,
+          f.max_jump, c.max_jump);
     CHECK(f.zero_from > 0 && f.last == 0 && c.last == 0, "%s: fades to exactly 0", what);
-    CHECK(c.skips_ok && f.skips_ok, "%s: %s skipped and %s culled exactly when the effect is 0", what, last, first);
+    CHECK(c.skips_ok && f.skips_ok, "%s: %s skipped and %s culled exactly when the effect is 0",
+          what, last, first);
 }
-
 
 // Camera paths for the fade tests (t in [0, 1]), light near the origin seen
 // from z = 5. Slide sideways: the light leaves the screen at x = 5 tan 20 =

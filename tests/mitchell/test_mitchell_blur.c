@@ -36,7 +36,8 @@ static void run_case(const char *what, const gimg *occ, const gimg *hdr, const m
     double d = gimg_max_err(&gpu, &ref, 3);
     double peak = 0;
     for (int i = 0; i < ref.w * ref.h; i++)
-        for (int c = 0; c < 3; c++) peak = fmax(peak, ref.px[4 * i + c]);
+        for (int c = 0; c < 3; c++)
+            peak = fmax(peak, ref.px[4 * i + c]);
     printf("%-44s max err = %.3g (peak %.3g)\n", what, d, peak);
     if (d > worst) worst = d;
     CHECK(d <= 1e-3, "%s: max |gpu - C| / max(1, |C|) = %g", what, d);
@@ -63,15 +64,19 @@ int main(void) {
             float *p = gimg_at(&occ, x, y);
             float dx = x + 0.5f - 20.3f, dy = y + 0.5f - 15.7f;
             float rgb[3] = {0, 0, 0};
-            if (dx * dx + dy * dy < 9.0f) rgb[0] = 1.0f, rgb[1] = 0.8f, rgb[2] = 0.5f; // light disc
-            else if (y > 18) rgb[0] = 0.2f, rgb[1] = 0.3f, rgb[2] = 0.6f;                // sky
-            if ((x / 3) % 3 == 1 && y > 6 && y < 21 && !(y > 12 && y < 15)) rgb[0] = rgb[1] = rgb[2] = 0; // bars
+            if (dx * dx + dy * dy < 9.0f)
+                rgb[0] = 1.0f, rgb[1] = 0.8f, rgb[2] = 0.5f; // light disc
+            else if (y > 18)
+                rgb[0] = 0.2f, rgb[1] = 0.3f, rgb[2] = 0.6f; // sky
+            if ((x / 3) % 3 == 1 && y > 6 && y < 21 && !(y > 12 && y < 15))
+                rgb[0] = rgb[1] = rgb[2] = 0; // bars
             float sp = gt_rand(&seed);
             if (sp > 0.9f) rgb[0] += 2 * sp, rgb[1] += sp, rgb[2] += 0.5f * sp;
             p[0] = rgb[0], p[1] = rgb[1], p[2] = rgb[2], p[3] = 1;
         }
     for (int i = 0; i < W * H; i++)
-        for (int c = 0; c < 4; c++) hdr.px[4 * i + c] = c == 3 ? 1 : gt_rand(&seed);
+        for (int c = 0; c < 4; c++)
+            hdr.px[4 * i + c] = c == 3 ? 1 : gt_rand(&seed);
     occ_tex = gl_texture_from(&occ);
     hdr_tex = gl_texture_from(&hdr);
     CHECK(st_target_create(&target, W, H, 1, GL_RGBA32F, false, &err), "target: %s", err.msg);
@@ -79,7 +84,8 @@ int main(void) {
     const float inside[2] = {0.63f, 0.66f};
     // Exactly the centre of output pixel (40, 31): a zero step there.
     const float centre[2] = {40.5f / W, 31.5f / H};
-    mitchell_args a = {{inside[0], inside[1]}, 100, 1.4f, 1.0f, 1.0f, 0.01921f, 1.0f}; // thesis defaults
+    mitchell_args a = {
+        {inside[0], inside[1]}, 100, 1.4f, 1.0f, 1.0f, 0.01921f, 1.0f}; // thesis defaults
     run_case("thesis defaults (n 100, density 1.4)", &occ, &hdr, &a);
     a.density = 1, a.n = 37, a.decay = 0.95f, a.weight = 2.5f, a.exposure = 0.02f;
     run_case("n 37, density 1, decay 0.95, weight 2.5", &occ, &hdr, &a);

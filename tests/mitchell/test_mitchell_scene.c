@@ -22,19 +22,21 @@ static char json[8192];
 
 // A scene around the camera at CAM looking down -z (unless `camera` is
 // given), with `geometry`, `lights`, an optional medium and mitchell params.
-static const char *scene_json(const char *lights, const char *geometry, const char *medium, const char *params,
-                              const char *camera) {
+static const char *scene_json(const char *lights, const char *geometry, const char *medium,
+                              const char *params, const char *camera) {
     char cam[512];
-    snprintf(cam, sizeof cam,
-             "{\"position\": [%g, %g, %g], \"target\": [%g, %g, 0], \"up\": [0, 1, 0], \"fov_y\": 40, "
-             "\"near\": 0.05, \"far\": 100}",
-             CAM[0], CAM[1], CAM[2], CAM[0], CAM[1]);
+    snprintf(
+        cam, sizeof cam,
+        "{\"position\": [%g, %g, %g], \"target\": [%g, %g, 0], \"up\": [0, 1, 0], \"fov_y\": 40, "
+        "\"near\": 0.05, \"far\": 100}",
+        CAM[0], CAM[1], CAM[2], CAM[0], CAM[1]);
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},\n \"camera\": %s,\n \"lights\": [%s],\n"
              " \"geometry\": [%s],\n%s%s%s \"modules\": [%s%s%s]}\n",
-             RES, RES, camera ? camera : cam, lights, geometry, medium ? " \"medium\": " : "", medium ? medium : "",
-             medium ? ",\n" : "", params ? "{\"name\": \"mitchell\", \"params\": {" : "",
-             params ? params : "", params ? "}}" : ""); // params NULL: no module
+             RES, RES, camera ? camera : cam, lights, geometry, medium ? " \"medium\": " : "",
+             medium ? medium : "", medium ? ",\n" : "",
+             params ? "{\"name\": \"mitchell\", \"params\": {" : "", params ? params : "",
+             params ? "}}" : ""); // params NULL: no module
     return json;
 }
 
@@ -52,8 +54,8 @@ static void free_pair(render_pair *r) {
     st_image_free(&r->effect);
 }
 
-static bool render_effect(const char *lights, const char *geometry, const char *params, const char *camera,
-                          render_pair *r) {
+static bool render_effect(const char *lights, const char *geometry, const char *params,
+                          const char *camera, render_pair *r) {
     memset(r, 0, sizeof *r);
     st_scene a, b;
     gt_scene(scene_json(lights, geometry, MEDIUM, params, camera), &a);
@@ -67,7 +69,8 @@ static bool render_effect(const char *lights, const char *geometry, const char *
     if (!ok) return false;
     st_err err = {0};
     st_image_alloc(&r->effect, RES, RES, 3, &err);
-    for (int i = 0; i < RES * RES * 3; i++) r->effect.data[i] = r->with.data[i] - r->without.data[i];
+    for (int i = 0; i < RES * RES * 3; i++)
+        r->effect.data[i] = r->with.data[i] - r->without.data[i];
     CHECK(st_test_all_finite(&r->with), "finite output");
     return true;
 }
@@ -112,23 +115,28 @@ static int classify(double x, double y) {
 }
 
 static void test_occlusion_content(void) {
-    const char *geo =
-        "{\"quad\": {\"corner\": [-1.2, -1.2, -1], \"u\": [2.4, 0, 0], \"v\": [0, 2.4, 0]}, \"emission\": [0.5, 1, 2]},"
-        "{\"quad\": {\"corner\": [0.5, -1.5, 0.5], \"u\": [0, 1, 0], \"v\": [0.8, 0, 0]}, \"emission\": [5, 5, 5]},"
-        "{\"box\": {\"min\": [-1.0, 0.2, -0.5], \"max\": [-0.3, 0.9, -0.3]}, \"albedo\": [0.5, 0.5, 0.5]}";
+    const char *geo = "{\"quad\": {\"corner\": [-1.2, -1.2, -1], \"u\": [2.4, 0, 0], \"v\": [0, "
+                      "2.4, 0]}, \"emission\": [0.5, 1, 2]},"
+                      "{\"quad\": {\"corner\": [0.5, -1.5, 0.5], \"u\": [0, 1, 0], \"v\": [0.8, 0, "
+                      "0]}, \"emission\": [5, 5, 5]},"
+                      "{\"box\": {\"min\": [-1.0, 0.2, -0.5], \"max\": [-0.3, 0.9, -0.3]}, "
+                      "\"albedo\": [0.5, 0.5, 0.5]}";
     char lights[256];
-    snprintf(lights, sizeof lights, "{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [2, 1, 0.5]}",
+    snprintf(lights, sizeof lights,
+             "{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [2, 1, 0.5]}",
              LIGHT_A[0], LIGHT_A[1], LIGHT_A[2]);
     // density 1000 keeps all 5 taps inside the pixel's own texel, so the
     // effect is exposure (1 + n weight) times the occlusion image = the image.
     char params[256];
     snprintf(params, sizeof params,
-             "\"n\": 4, \"density\": 1000, \"decay\": 1, \"weight\": 1, \"exposure\": 0.2, \"resolution\": 1, "
+             "\"n\": 4, \"density\": 1000, \"decay\": 1, \"weight\": 1, \"exposure\": 0.2, "
+             "\"resolution\": 1, "
              "\"sky\": 1, \"light_radius\": %g",
              RADIUS_A);
     render_pair r;
     if (!render_effect(lights, geo, params, NULL, &r)) return;
-    const double expect[5][3] = {{0.2, 0.3, 0.6}, {0.5, 1, 2}, {0, 0, 0}, {0, 0, 0}, {1, 0.5, 0.25}};
+    const double expect[5][3] = {
+        {0.2, 0.3, 0.6}, {0.5, 1, 2}, {0, 0, 0}, {0, 0, 0}, {1, 0.5, 0.25}};
     int count[5] = {0};
     double worst[5] = {0};
     for (int j = 0; j < RES; j++)
@@ -139,16 +147,19 @@ static void test_occlusion_content(void) {
             bool robust = true;
             for (int k = 0; k < 24 && robust; k++) {
                 double rad = 0.5 * (1 + k / 8);
-                robust = classify(i + 0.5 + rad * cos(k * M_PI / 4), j + 0.5 + rad * sin(k * M_PI / 4)) == c;
+                robust = classify(i + 0.5 + rad * cos(k * M_PI / 4),
+                                  j + 0.5 + rad * sin(k * M_PI / 4)) == c;
             }
             if (!robust) continue;
             count[c]++;
             const float *e = st_image_px(&r.effect, i, j);
-            for (int ch = 0; ch < 3; ch++) worst[c] = fmax(worst[c], fabs(e[ch] - expect[c][ch]));
+            for (int ch = 0; ch < 3; ch++)
+                worst[c] = fmax(worst[c], fabs(e[ch] - expect[c][ch]));
         }
     const char *names[5] = {"sky", "emitter front", "occluder", "emitter back", "light disc"};
     for (int c = 0; c < 5; c++) {
-        printf("occlusion content: %-14s %4d px, max |effect - expected| = %.3g\n", names[c], count[c], worst[c]);
+        printf("occlusion content: %-14s %4d px, max |effect - expected| = %.3g\n", names[c],
+               count[c], worst[c]);
         CHECK(count[c] >= 4, "%s: %d robust pixels", names[c], count[c]);
         CHECK(worst[c] < 1e-4, "%s: max error %g", names[c], worst[c]);
     }
@@ -161,20 +172,25 @@ static void test_light_pixel(void) {
     // Light on the view axis: uv (0.5, 0.5) is the centre of pixel (16, 16),
     // the step there is 0, every tap reads the sphere's tint.
     render_pair r;
-    const char *light = "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [3, 1.5, 0.3]}";
-    const char *params = "\"n\": 10, \"density\": 1.4, \"decay\": 0.5, \"weight\": 2, \"exposure\": 0.05, "
-                         "\"resolution\": 1, \"light_radius\": 0.3";
+    const char *light =
+        "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [3, 1.5, 0.3]}";
+    const char *params =
+        "\"n\": 10, \"density\": 1.4, \"decay\": 0.5, \"weight\": 2, \"exposure\": 0.05, "
+        "\"resolution\": 1, \"light_radius\": 0.3";
     if (!render_effect(light, "", params, NULL, &r)) return;
     const float *e = st_image_px(&r.effect, 16, 16);
     double factor = 0.05 * (1 + 2 * (1 - pow(0.5, 10)) / 0.5);
     const double tint[3] = {1, 0.5, 0.1};
-    for (int c = 0; c < 3; c++) CHECK_REL(e[c], factor * tint[c], 1e-4, 1e-6);
-    printf("light pixel: effect (%.6f, %.6f, %.6f), expected %.6f x tint (1, 0.5, 0.1)\n", e[0], e[1], e[2], factor);
+    for (int c = 0; c < 3; c++)
+        CHECK_REL(e[c], factor * tint[c], 1e-4, 1e-6);
+    printf("light pixel: effect (%.6f, %.6f, %.6f), expected %.6f x tint (1, 0.5, 0.1)\n", e[0],
+           e[1], e[2], factor);
     // Symmetry about the light (the scene is symmetric up to the sphere's tessellation).
     double asym = 0, peak = 0;
     for (int j = 0; j < RES; j++)
         for (int i = 0; i < RES; i++) {
-            double a = st_image_px(&r.effect, i, j)[0], b = st_image_px(&r.effect, RES - 1 - i, RES - 1 - j)[0];
+            double a = st_image_px(&r.effect, i, j)[0],
+                   b = st_image_px(&r.effect, RES - 1 - i, RES - 1 - j)[0];
             asym = fmax(asym, fabs(a - b));
             peak = fmax(peak, a);
         }
@@ -189,11 +205,14 @@ static void test_additive(void) {
     const char *geo = "{\"quad\": {\"corner\": [-3, -3, -2], \"u\": [6, 0, 0], \"v\": [0, 6, 0]}, "
                       "\"albedo\": [0.5, 0.5, 0.5]},"
                       "{\"box\": {\"min\": [-0.2, -0.2, -0.5], \"max\": [0.2, 0.2, -0.4]}}";
-    const char *l1 = "{\"type\": \"point\", \"position\": [-0.6, 0.3, -1], \"intensity\": [1, 1, 1]}";
-    const char *l2 = "{\"type\": \"point\", \"position\": [0.5, -0.4, -1], \"intensity\": [1, 0.5, 0.5]}";
+    const char *l1 =
+        "{\"type\": \"point\", \"position\": [-0.6, 0.3, -1], \"intensity\": [1, 1, 1]}";
+    const char *l2 =
+        "{\"type\": \"point\", \"position\": [0.5, -0.4, -1], \"intensity\": [1, 0.5, 0.5]}";
     char both[512];
     snprintf(both, sizeof both, "%s, %s", l1, l2);
-    const char *params = "\"n\": 32, \"density\": 1, \"exposure\": 0.05, \"light_radius\": 0.15, \"resolution\": 0.5";
+    const char *params = "\"n\": 32, \"density\": 1, \"exposure\": 0.05, \"light_radius\": 0.15, "
+                         "\"resolution\": 0.5";
     render_pair a, b, ab;
     if (!render_effect(l1, geo, params, NULL, &a) || !render_effect(l2, geo, params, NULL, &b) ||
         !render_effect(both, geo, params, NULL, &ab))
@@ -203,7 +222,8 @@ static void test_additive(void) {
         worst = fmax(worst, fabs(ab.effect.data[i] - a.effect.data[i] - b.effect.data[i]));
         peak = fmax(peak, ab.effect.data[i]);
     }
-    printf("two lights: max |effect(1+2) - effect(1) - effect(2)| = %.3g (peak %.3g)\n", worst, peak);
+    printf("two lights: max |effect(1+2) - effect(1) - effect(2)| = %.3g (peak %.3g)\n", worst,
+           peak);
     CHECK(peak > 0.05, "shafts visible: peak %g", peak);
     CHECK(worst < 1e-5 * fmax(1, peak), "lights add up: %g", worst);
     free_pair(&a);
@@ -215,12 +235,13 @@ static void test_additive(void) {
 
 static void check_sweep(const char *what, int steps, void (*pose)(double, double[3], double[3])) {
     const char *light = "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [1, 1, 1]}";
-    const char *params = "\"n\": 24, \"density\": 1, \"exposure\": 0.05, \"sky\": 1, \"resolution\": 0.5";
+    const char *params =
+        "\"n\": 24, \"density\": 1, \"exposure\": 0.05, \"sky\": 1, \"resolution\": 0.5";
     const char *geo = "{\"box\": {\"min\": [-0.5, -0.1, -1], \"max\": [0.5, 0.1, -0.9]}}";
     char with[8192];
     snprintf(with, sizeof with, "%s", scene_json(light, geo, MEDIUM, params, NULL));
-    gt_check_sweep(what, "mitchell", "blur", "occlusion", with, scene_json(light, geo, MEDIUM, NULL, NULL), steps,
-                   pose);
+    gt_check_sweep(what, "mitchell", "blur", "occlusion", with,
+                   scene_json(light, geo, MEDIUM, NULL, NULL), steps, pose);
 }
 
 static void test_fade(void) {
@@ -233,7 +254,8 @@ static void test_fade(void) {
     gt_scene(scene_json(light, "", MEDIUM, "", NULL), &sc);
     st_world *w = gt_world(&sc);
     const st_camera *c = st_world_camera(w);
-    const float at_cam[3] = {0, 0, 5}, behind[3] = {0, 0, 6}, ahead[3] = {0, 0, 0}, near_[3] = {0, 0, 4.925f};
+    const float at_cam[3] = {0, 0, 5}, behind[3] = {0, 0, 6}, ahead[3] = {0, 0, 0},
+                near_[3] = {0, 0, 4.925f};
     godray_light l = godray_project(c->view_proj, c->near_z, RES, RES, at_cam, 0.5);
     CHECK(l.fade == 0 && isfinite(l.uv[0]), "light at the camera: fade %g", l.fade);
     l = godray_project(c->view_proj, c->near_z, RES, RES, behind, 0.5);
@@ -249,21 +271,28 @@ static void test_fade(void) {
 
 // ---- nothing runs that the scene does not need ------------------------------------
 
-static void expect_idle(const char *what, const char *lights, const char *medium, const char *params,
-                        const char *camera) {
+static void expect_idle(const char *what, const char *lights, const char *medium,
+                        const char *params, const char *camera) {
     st_scene sc, base;
-    gt_scene(scene_json(lights, "{\"box\": {\"min\": [-1, -1, -2], \"max\": [1, 1, -1.5]}, \"emission\": [1, 1, 1]}",
-                        medium, params, camera),
-             &sc);
-    gt_scene(scene_json(lights, "{\"box\": {\"min\": [-1, -1, -2], \"max\": [1, 1, -1.5]}, \"emission\": [1, 1, 1]}",
-                        medium, NULL, camera),
-             &base);
+    gt_scene(
+        scene_json(
+            lights,
+            "{\"box\": {\"min\": [-1, -1, -2], \"max\": [1, 1, -1.5]}, \"emission\": [1, 1, 1]}",
+            medium, params, camera),
+        &sc);
+    gt_scene(
+        scene_json(
+            lights,
+            "{\"box\": {\"min\": [-1, -1, -2], \"max\": [1, 1, -1.5]}, \"emission\": [1, 1, 1]}",
+            medium, NULL, camera),
+        &base);
     st_world *w = gt_world(&sc), *wb = gt_world(&base);
     st_image a = {0}, b = {0};
     if (gt_frames(w, 3, &a) && gt_frames(wb, 1, &b)) {
         unsigned runs, skipped, culled;
         int n = gt_stats(w, "mitchell", "blur", &runs, &skipped, &culled);
-        CHECK(n == sc.num_lights && runs == 0 && skipped == 3u * n, "%s: blur runs %u skipped %u", what, runs, skipped);
+        CHECK(n == sc.num_lights && runs == 0 && skipped == 3u * n, "%s: blur runs %u skipped %u",
+              what, runs, skipped);
         n = gt_stats(w, "mitchell", "occlusion", &runs, &skipped, &culled);
         CHECK(runs == 0 && culled == 3u * n, "%s: occlusion runs %u culled %u", what, runs, culled);
         CHECK(gt_image_max_diff(&a, &b) == 0, "%s: image unchanged", what);
@@ -280,12 +309,15 @@ static void expect_idle(const char *what, const char *lights, const char *medium
 static void test_idle(void) {
     const char *light = "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [1, 1, 1]}";
     expect_idle("no medium", light, NULL, "", NULL);
-    expect_idle("sigma_s = 0", light, "{\"sigma_s\": [0, 0, 0], \"sigma_a\": [0.1, 0.1, 0.1]}", "", NULL);
-    expect_idle("exposure 0", light, MEDIUM, "\"exposure\": 0", NULL);
-    expect_idle("light behind the camera", "{\"type\": \"point\", \"position\": [0, 0, 7], \"intensity\": [1, 1, 1]}",
-                MEDIUM, "", NULL);
-    expect_idle("black light", "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [0, 0, 0]}", MEDIUM, "",
+    expect_idle("sigma_s = 0", light, "{\"sigma_s\": [0, 0, 0], \"sigma_a\": [0.1, 0.1, 0.1]}", "",
                 NULL);
+    expect_idle("exposure 0", light, MEDIUM, "\"exposure\": 0", NULL);
+    expect_idle("light behind the camera",
+                "{\"type\": \"point\", \"position\": [0, 0, 7], \"intensity\": [1, 1, 1]}", MEDIUM,
+                "", NULL);
+    expect_idle("black light",
+                "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [0, 0, 0]}", MEDIUM,
+                "", NULL);
 
     // Static view with a medium: the occlusion image is drawn once, the blur
     // composes every frame.
@@ -296,7 +328,8 @@ static void test_idle(void) {
     if (gt_frames(w, 3, &img)) {
         unsigned runs, skipped, culled;
         gt_stats(w, "mitchell", "occlusion", &runs, &skipped, &culled);
-        CHECK(runs == 1 && skipped == 2, "static view: occlusion runs %u (1), skipped %u (2)", runs, skipped);
+        CHECK(runs == 1 && skipped == 2, "static view: occlusion runs %u (1), skipped %u (2)", runs,
+              skipped);
         gt_stats(w, "mitchell", "blur", &runs, &skipped, &culled);
         CHECK(runs == 3, "static view: blur runs %u (3)", runs);
         // A moved camera redraws it.
@@ -324,7 +357,8 @@ static void test_idle(void) {
     cJSON_ArrayForEach(p, passes) {
         if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, "mitchell")) continue;
         const char *pass = cJSON_GetObjectItem(p, "pass")->valuestring;
-        int runs = cJSON_GetObjectItem(p, "runs")->valueint, skipped = cJSON_GetObjectItem(p, "skipped")->valueint,
+        int runs = cJSON_GetObjectItem(p, "runs")->valueint,
+            skipped = cJSON_GetObjectItem(p, "skipped")->valueint,
             culled = cJSON_GetObjectItem(p, "culled")->valueint;
         if (!strcmp(pass, "blur")) {
             seen++;
@@ -342,14 +376,17 @@ static void test_idle(void) {
 
 static int stress_scene(const char *what, const char *light_pos, const char *params) {
     char light[256];
-    snprintf(light, sizeof light, "{\"type\": \"point\", \"position\": [%s], \"intensity\": [4, 2, 1]}", light_pos);
+    snprintf(light, sizeof light,
+             "{\"type\": \"point\", \"position\": [%s], \"intensity\": [4, 2, 1]}", light_pos);
     st_scene sc;
-    gt_scene(scene_json(light,
-                        "{\"quad\": {\"corner\": [-3, -3, -1], \"u\": [6, 0, 0], \"v\": [0, 6, 0]}, "
-                        "\"albedo\": [0.5, 0.5, 0.5]},"
-                        "{\"box\": {\"min\": [-0.3, -0.3, -0.5], \"max\": [0.3, 0.3, -0.2]}, \"emission\": [3, 3, 3]}",
-                        MEDIUM, params, NULL),
-             &sc);
+    gt_scene(
+        scene_json(light,
+                   "{\"quad\": {\"corner\": [-3, -3, -1], \"u\": [6, 0, 0], \"v\": [0, 6, 0]}, "
+                   "\"albedo\": [0.5, 0.5, 0.5]},"
+                   "{\"box\": {\"min\": [-0.3, -0.3, -0.5], \"max\": [0.3, 0.3, -0.2]}, "
+                   "\"emission\": [3, 3, 3]}",
+                   MEDIUM, params, NULL),
+        &sc);
     st_world *w = gt_world(&sc);
     st_image img = {0};
     int bad = gt_frames(w, 1, &img) ? (int)st_image_count_nonfinite(&img) : -1;
@@ -363,14 +400,16 @@ static int stress_scene(const char *what, const char *light_pos, const char *par
             double def = mi.params[k];
             for (int end = 0; end < 2 && bad == 0; end++) {
                 st_err err = {0};
-                st_world_set_param(w, "mitchell", p->params[k].name, end ? p->params[k].max : p->params[k].min, &err);
+                st_world_set_param(w, "mitchell", p->params[k].name,
+                                   end ? p->params[k].max : p->params[k].min, &err);
                 bad = gt_frames(w, 1, &img) ? (int)st_image_count_nonfinite(&img) : -1;
             }
             st_world_set_param(w, "mitchell", p->params[k].name, def, NULL);
         }
         for (int end = 0; end < 2 && bad == 0; end++) {
             for (int k = 0; k < p->num_params; k++)
-                st_world_set_param(w, "mitchell", p->params[k].name, end ? p->params[k].max : p->params[k].min, NULL);
+                st_world_set_param(w, "mitchell", p->params[k].name,
+                                   end ? p->params[k].max : p->params[k].min, NULL);
             bad = gt_frames(w, 1, &img) ? (int)st_image_count_nonfinite(&img) : -1;
         }
     }

@@ -6,13 +6,17 @@
 
 static const char *plane_json =
     "{\"image\": {\"width\": 32, \"height\": 24},\n"
-    " \"camera\": {\"position\": [0, 2.5, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 50,"
+    " \"camera\": {\"position\": [0, 2.5, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": "
+    "50,"
     " \"near\": 0.05, \"far\": 100},\n"
-    " \"lights\": [{\"type\": \"point\", \"position\": [0.3, 1, -0.2], \"intensity\": [2, 1, 0.5]}],\n"
+    " \"lights\": [{\"type\": \"point\", \"position\": [0.3, 1, -0.2], \"intensity\": [2, 1, "
+    "0.5]}],\n"
     " \"geometry\": [\n"
-    "  {\"quad\": {\"corner\": [-5, 0, -5], \"u\": [0, 0, 10], \"v\": [10, 0, 0]}, \"albedo\": [0.6, 0.6, 0.6]},\n"
+    "  {\"quad\": {\"corner\": [-5, 0, -5], \"u\": [0, 0, 10], \"v\": [10, 0, 0]}, \"albedo\": "
+    "[0.6, 0.6, 0.6]},\n"
     "  {\"box\": {\"min\": [-0.5, 0, -0.5], \"max\": [0, 0.4, 0]}, \"albedo\": [0.7, 0.2, 0.2]}],\n"
-    " \"medium\": {\"sigma_s\": [0.05, 0.05, 0.05], \"sigma_a\": [0.01, 0.01, 0.01], \"phase\": {\"hg\": 0.4}}\n"
+    " \"medium\": {\"sigma_s\": [0.05, 0.05, 0.05], \"sigma_a\": [0.01, 0.01, 0.01], \"phase\": "
+    "{\"hg\": 0.4}}\n"
     "}\n";
 
 static char scene[2048], out[2048];
@@ -41,10 +45,12 @@ static void channels(void) {
     CHECK(exr_start_read(&ctx, out, NULL) == EXR_ERR_SUCCESS, "open %s", out);
     const exr_attr_chlist_t *chl = NULL;
     if (exr_get_channels(ctx, 0, &chl) == EXR_ERR_SUCCESS && chl) {
-        const char *want[] = {"B", "G", "R", "stderr.B", "stderr.G", "stderr.R"}; // EXR sorts by name
+        const char *want[] = {"B",        "G",        "R",
+                              "stderr.B", "stderr.G", "stderr.R"}; // EXR sorts by name
         CHECK(chl->num_channels == 6, "%d channels", chl->num_channels);
         for (int i = 0; i < 6 && i < chl->num_channels; i++)
-            CHECK(!strcmp(chl->entries[i].name.str, want[i]), "channel %d is %s", i, chl->entries[i].name.str);
+            CHECK(!strcmp(chl->entries[i].name.str, want[i]), "channel %d is %s", i,
+                  chl->entries[i].name.str);
     }
     exr_finish(&ctx);
 }
@@ -65,11 +71,13 @@ static void good_runs(void) {
     CHECK(st_test_sh("%s --threads 2", cmd) == 0, "rerun exits 0");
     if (read_exr(out, &b)) CHECK(same(&a, &b), "two runs with one seed differ");
     st_image_free(&b);
-    CHECK(st_test_sh("%s reference %s -o %s --spp 8 --seed 6", ST_TEST_STRAHL, scene, out) == 0, "seed 6");
+    CHECK(st_test_sh("%s reference %s -o %s --spp 8 --seed 6", ST_TEST_STRAHL, scene, out) == 0,
+          "seed 6");
     if (read_exr(out, &c)) CHECK(!same(&a, &c), "another seed gives the same noise");
     st_image_free(&c);
     // --size overrides the scene's image; the AOVs and estimator options parse.
-    CHECK(st_test_sh("%s reference %s -o %s --spp 2 --size 8x6 --aov inscatter --bounces 2 --bounce-visibility off "
+    CHECK(st_test_sh("%s reference %s -o %s --spp 2 --size 8x6 --aov inscatter --bounces 2 "
+                     "--bounce-visibility off "
                      "--estimator thesis --steps 32",
                      ST_TEST_STRAHL, scene, out) == 0,
           "options exit 0");
@@ -106,13 +114,16 @@ static void bad_runs(void) {
         CHECK(!st_test_exists(fresh), "'%s' left an output file", cases[k].args);
     }
     unlink(fresh);
-    CHECK(st_test_sh("%s reference %s -o %s", ST_TEST_STRAHL, bad_scene, fresh) == 2, "malformed scene exits 2");
-    CHECK(st_test_sh("%s reference %s/missing.json -o %s", ST_TEST_STRAHL, ST_TEST_SCRATCH, fresh) == 2,
+    CHECK(st_test_sh("%s reference %s -o %s", ST_TEST_STRAHL, bad_scene, fresh) == 2,
+          "malformed scene exits 2");
+    CHECK(st_test_sh("%s reference %s/missing.json -o %s", ST_TEST_STRAHL, ST_TEST_SCRATCH,
+                     fresh) == 2,
           "missing scene exits 2");
     CHECK(st_test_sh("%s reference %s", ST_TEST_STRAHL, scene) == 2, "missing -o exits 2");
     CHECK(!st_test_exists(fresh), "a failed run left an output file");
     // An unwritable destination is a runtime failure, and leaves nothing.
-    CHECK(st_test_sh("%s reference %s -o %s/no-such-dir/x.exr --spp 1", ST_TEST_STRAHL, scene, ST_TEST_SCRATCH) == 1,
+    CHECK(st_test_sh("%s reference %s -o %s/no-such-dir/x.exr --spp 1", ST_TEST_STRAHL, scene,
+                     ST_TEST_SCRATCH) == 1,
           "unwritable output exits 1");
 }
 

@@ -29,19 +29,23 @@ static void converges(const char *what, const char *scene, const char *ref, cons
         CHECK(st_test_render(scene, out, extra) == 0, "%s: render %s=%d", what, param, n[k]);
         e = rmse_vs(out, ref);
         fprintf(stderr, "%s: %s=%d rmse %.6g\n", what, param, n[k], e);
-        CHECK(e >= 0 && e < prev, "%s: rmse %.6g at %s=%d must be below %.6g", what, e, param, n[k], prev);
+        CHECK(e >= 0 && e < prev, "%s: rmse %.6g at %s=%d must be below %.6g", what, e, param, n[k],
+              prev);
         if (k == 0) first = e;
         prev = e;
     }
-    CHECK(e < factor * first, "%s: rmse falls from %.6g to %.6g, want below %.3g of the first", what, first, e, factor);
+    CHECK(e < factor * first, "%s: rmse falls from %.6g to %.6g, want below %.3g of the first",
+          what, first, e, factor);
 }
 
 int main(void) {
     char ref[600], scene[600];
     // toth: single scattering with shadow-map visibility vs exact visibility.
     snprintf(ref, sizeof ref, "%s/window_ref.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_sh("%s reference %s/scenes/godrays_window.json -o %s --size 32x32 --spp 16 --bounces 0",
-                     ST_TEST_STRAHL, ST_TEST_SOURCE_DIR, ref) == 0, "toth reference");
+    CHECK(st_test_sh(
+              "%s reference %s/scenes/godrays_window.json -o %s --size 32x32 --spp 16 --bounces 0",
+              ST_TEST_STRAHL, ST_TEST_SOURCE_DIR, ref) == 0,
+          "toth reference");
     snprintf(scene, sizeof scene, "%s/scenes/godrays_window.json", ST_TEST_SOURCE_DIR);
     const int steps[] = {2, 8, 32, 128};
     converges("toth", scene, ref,
@@ -55,20 +59,26 @@ int main(void) {
     // atlas_gi: one bounce without visibility, one frame per sample count
     // (no progressive accumulation), against the reference's bounce.
     snprintf(scene, sizeof scene, "%s/room.json", ST_TEST_SCRATCH);
-    st_test_write(scene,
-                  "{\"image\": {\"width\": 32, \"height\": 32},\n"
-                  " \"camera\": {\"position\": [0, 1, 3.4], \"target\": [0, 1, 0], \"fov_y\": 40},\n"
-                  " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.2, 0.3], \"intensity\": [3, 3, 3]}],\n"
-                  " \"geometry\": [\n"
-                  "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}},\n"
-                  "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}},\n"
-                  "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}},\n"
-                  "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": [0.75, 0.1, 0.1]},\n"
-                  "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, \"albedo\": [0.1, 0.75, 0.1]}],\n"
-                  " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 256, \"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", \"progressive\": false}}]}\n");
+    st_test_write(
+        scene, "{\"image\": {\"width\": 32, \"height\": 32},\n"
+               " \"camera\": {\"position\": [0, 1, 3.4], \"target\": [0, 1, 0], \"fov_y\": 40},\n"
+               " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.2, 0.3], \"intensity\": "
+               "[3, 3, 3]}],\n"
+               " \"geometry\": [\n"
+               "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}},\n"
+               "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}},\n"
+               "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}},\n"
+               "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, "
+               "\"albedo\": [0.75, 0.1, 0.1]},\n"
+               "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, "
+               "\"albedo\": [0.1, 0.75, 0.1]}],\n"
+               " \"modules\": [{\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 256, "
+               "\"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", "
+               "\"progressive\": false}}]}\n");
     snprintf(ref, sizeof ref, "%s/room_ref.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_sh("%s reference %s -o %s --spp 2048 --bounces 1 --bounce-visibility off", ST_TEST_STRAHL,
-                     scene, ref) == 0, "atlas_gi reference");
+    CHECK(st_test_sh("%s reference %s -o %s --spp 2048 --bounces 1 --bounce-visibility off",
+                     ST_TEST_STRAHL, scene, ref) == 0,
+          "atlas_gi reference");
     const int samples[] = {4, 32, 256};
     converges("atlas_gi", scene, ref, "", "atlas_gi.samples", samples, 3, 0.4);
     return st_test_summary("test_convergence");

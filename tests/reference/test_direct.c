@@ -8,15 +8,21 @@ typedef struct {
     bool double_sided;
 } tquad;
 
-static tquad make(const double c[3], const double u[3], const double v[3], double albedo, double emission) {
-    tquad q = {{c[0], c[1], c[2]}, {u[0], u[1], u[2]}, {v[0], v[1], v[2]}, {0}, albedo, emission, false};
-    q.n[0] = u[1] * v[2] - u[2] * v[1], q.n[1] = u[2] * v[0] - u[0] * v[2], q.n[2] = u[0] * v[1] - u[1] * v[0];
+static tquad make(const double c[3], const double u[3], const double v[3], double albedo,
+                  double emission) {
+    tquad q = {
+        {c[0], c[1], c[2]}, {u[0], u[1], u[2]}, {v[0], v[1], v[2]}, {0}, albedo, emission, false};
+    q.n[0] = u[1] * v[2] - u[2] * v[1], q.n[1] = u[2] * v[0] - u[0] * v[2],
+    q.n[2] = u[0] * v[1] - u[1] * v[0];
     double l = sqrt(q.n[0] * q.n[0] + q.n[1] * q.n[1] + q.n[2] * q.n[2]);
-    for (int k = 0; k < 3; k++) q.n[k] /= l;
+    for (int k = 0; k < 3; k++)
+        q.n[k] /= l;
     return q;
 }
 
-static double dot(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 // Ray (o, d) against a parallelogram: distance or -1. *margin is how far
 // inside the edges the hit lies, in parameter units (to skip ambiguous hits).
@@ -52,7 +58,8 @@ static double expected(const tquad *qs, int nq, const double light[3], double I,
     bool front = dot(d, n) < 0;
     if (!front && !q->double_sided) return 0.0;
     if (!front)
-        for (int k = 0; k < 3; k++) n[k] = -n[k];
+        for (int k = 0; k < 3; k++)
+            n[k] = -n[k];
     double L[3] = {light[0] - p[0], light[1] - p[1], light[2] - p[2]};
     double d2 = dot(L, L), dl = sqrt(d2), ld[3] = {L[0] / dl, L[1] / dl, L[2] / dl};
     double cosv = dot(n, ld);
@@ -76,7 +83,8 @@ static st_mesh *add_tquad(st_scene *s, const tquad *q) {
 }
 
 // Renders the scene and compares every unambiguous pixel with `expected`.
-static void compare(const char *name, st_scene *s, const tquad *qs, int nq, const double light[3], double I) {
+static void compare(const char *name, st_scene *s, const tquad *qs, int nq, const double light[3],
+                    double I) {
     st_ref_options o = {.spp = 1, .aov = ST_REF_DIRECT, .bounces = 0};
     st_image img;
     if (!render(s, &o, &img)) {
@@ -100,15 +108,17 @@ static void compare(const char *name, st_scene *s, const tquad *qs, int nq, cons
             if (err > worst) worst = err;
             if (err > 1e-4 || px[0] != px[1] || px[1] != px[2]) bad++;
         }
-    fprintf(stderr, "  %s: %d pixels checked (%d lit, %d dark), worst rel error %.2e\n", name, checked, lit, dark,
-            worst);
-    CHECK(bad == 0, "%s: %d pixels differ from rho/pi I cos/d^2 V by more than 1e-4 (worst %.3g)", name, bad, worst);
+    fprintf(stderr, "  %s: %d pixels checked (%d lit, %d dark), worst rel error %.2e\n", name,
+            checked, lit, dark, worst);
+    CHECK(bad == 0, "%s: %d pixels differ from rho/pi I cos/d^2 V by more than 1e-4 (worst %.3g)",
+          name, bad, worst);
     CHECK(checked > img.width * img.height / 2, "%s: only %d pixels checked", name, checked);
     st_image_free(&img);
 }
 
 static void plane_under_light(void) {
-    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0}, light[3] = {0.3, 1, -0.2};
+    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0},
+                 light[3] = {0.3, 1, -0.2};
     st_scene s;
     scene_init(&s, 64, 48, cam, tgt, up, 50, 100);
     add_light(&s, light, 2.0);
@@ -125,15 +135,18 @@ static void plane_under_light(void) {
 // Front side only unless double-sided, for reflection and emission alike;
 // back faces are black but still occlude.
 static void sides(void) {
-    const double cam[3] = {0.2, -2, 0.1}, tgt[3] = {0, 0, 0}, up[3] = {0, 0, -1}, light[3] = {-0.4, -1, 0.3};
+    const double cam[3] = {0.2, -2, 0.1}, tgt[3] = {0, 0, 0}, up[3] = {0, 0, -1},
+                 light[3] = {-0.4, -1, 0.3};
     for (int ds = 0; ds < 2; ds++) {
         st_scene s;
         scene_init(&s, 40, 40, cam, tgt, up, 60, 100);
         add_light(&s, light, 3.0);
         // Faces up (+y): the camera and the light below see its back.
-        tquad q[2] = {make((double[]){-3, 0, -3}, (double[]){0, 0, 6}, (double[]){6, 0, 0}, 0.5, 0.0),
-                      // A small emitter below it, facing down toward the camera.
-                      make((double[]){-0.6, -0.5, -0.6}, (double[]){0.5, 0, 0}, (double[]){0, 0, 0.5}, 0.2, 0.25)};
+        tquad q[2] = {
+            make((double[]){-3, 0, -3}, (double[]){0, 0, 6}, (double[]){6, 0, 0}, 0.5, 0.0),
+            // A small emitter below it, facing down toward the camera.
+            make((double[]){-0.6, -0.5, -0.6}, (double[]){0.5, 0, 0}, (double[]){0, 0, 0.5}, 0.2,
+                 0.25)};
         q[0].double_sided = q[1].double_sided = ds;
         add_tquad(&s, &q[0]);
         add_tquad(&s, &q[1]);
@@ -146,7 +159,8 @@ static void sides(void) {
         const double c2[3] = {0, 0, 3}, t2[3] = {0, 0, 0}, up2[3] = {0, 1, 0};
         scene_init(&s, 8, 8, c2, t2, up2, 30, 100);
         // normal u x v = -z: faces away from the camera at +z.
-        st_mesh *m = add_quad(&s, (double[]){-1, -1, 0}, (double[]){0, 2, 0}, (double[]){2, 0, 0}, 0.5, 0.7);
+        st_mesh *m =
+            add_quad(&s, (double[]){-1, -1, 0}, (double[]){0, 2, 0}, (double[]){2, 0, 0}, 0.5, 0.7);
         m->double_sided = ds;
         st_ref_options o = {.spp = 1, .aov = ST_REF_DIRECT};
         st_image img;
@@ -161,7 +175,8 @@ static void sides(void) {
 // With no medium and no bounce, combined equals direct; the reference's
 // camera follows the contract (checked above through every hit point).
 static void combined_equals_direct(void) {
-    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0}, light[3] = {0.3, 1, -0.2};
+    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0},
+                 light[3] = {0.3, 1, -0.2};
     st_scene s;
     scene_init(&s, 24, 24, cam, tgt, up, 50, 100);
     add_light(&s, light, 2.0);
@@ -170,7 +185,8 @@ static void combined_equals_direct(void) {
     st_image a, b;
     if (render(&s, &od, &a) && render(&s, &oc, &b)) {
         int diff = 0;
-        for (size_t k = 0; k < (size_t)a.width * a.height * 6; k++) diff += a.data[k] != b.data[k];
+        for (size_t k = 0; k < (size_t)a.width * a.height * 6; k++)
+            diff += a.data[k] != b.data[k];
         CHECK(diff == 0, "combined (no medium, no bounce) differs from direct in %d values", diff);
         st_image_free(&a);
         st_image_free(&b);
@@ -182,7 +198,8 @@ static void combined_equals_direct(void) {
 // every pixel is rho/pi I cos/d^2 e^(-sigma_t d), d from the light, seen
 // through e^(-sigma_t s), s from the camera (docs/physics.md).
 static void plane_in_medium(void) {
-    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0}, light[3] = {0.3, 1, -0.2};
+    const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0},
+                 light[3] = {0.3, 1, -0.2};
     const double I = 2.0, rho = 0.6, sigma_a = 0.35;
     const int W = 32, H = 24;
     st_scene s;
@@ -201,16 +218,19 @@ static void plane_in_medium(void) {
                 contract_ray(&s, i, j, d);
                 if (d[1] >= -1e-3) continue;
                 double t = -cam[1] / d[1], p[3], l[3];
-                for (int k = 0; k < 3; k++) p[k] = cam[k] + t * d[k], l[k] = light[k] - p[k];
+                for (int k = 0; k < 3; k++)
+                    p[k] = cam[k] + t * d[k], l[k] = light[k] - p[k];
                 if (fabs(p[0]) > 4.9 || fabs(p[2]) > 4.9) continue; // off the quad or at its edge
                 double dl = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
                 double want = st_direct_point(rho, I, l[1] / dl, dl, sigma_a) * exp(-sigma_a * t);
                 worst = fmax(worst, fabs(st_image_px(&img, i, j)[0] - want) / want);
                 mean_t += exp(-sigma_a * (t + dl)), n++;
             }
-        printf("  plane in medium: worst relative error %.2e over %d pixels (mean transmittance %.3f)\n", worst, n,
-               mean_t / n);
-        CHECK(n > 300 && mean_t / n < 0.5, "the medium matters: %d pixels, mean transmittance %g", n, mean_t / n);
+        printf("  plane in medium: worst relative error %.2e over %d pixels (mean transmittance "
+               "%.3f)\n",
+               worst, n, mean_t / n);
+        CHECK(n > 300 && mean_t / n < 0.5, "the medium matters: %d pixels, mean transmittance %g",
+              n, mean_t / n);
         CHECK(worst < 1e-5, "plane in medium: worst relative error %g", worst);
         st_image_free(&img);
     }
@@ -224,7 +244,8 @@ static void plane_in_medium(void) {
 // and a spot's falloff, written out again here.
 static void sun_and_spot(void) {
     const double cam[3] = {0, 2.5, 3}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0};
-    const double rho = 0.6, E = 2.0, sigma_a = 0.2, spot_pos[3] = {0.25, 1.5, -0.25}; // exact in float
+    const double rho = 0.6, E = 2.0, sigma_a = 0.2,
+                 spot_pos[3] = {0.25, 1.5, -0.25}; // exact in float
     const double sun[3] = {0.3 / 1.0630146, -1 / 1.0630146, 0.2 / 1.0630146};
     const int W = 48, H = 32;
     for (int type = 1; type <= 2; type++) {
@@ -236,7 +257,8 @@ static void sun_and_spot(void) {
         st_light_desc l = {0};
         l.type = type == 1 ? ST_LIGHT_DIRECTIONAL : ST_LIGHT_SPOT;
         for (int k = 0; k < 3; k++)
-            l.intensity[k] = (float)E, l.direction[k] = (float)(type == 1 ? sun[k] : (k == 1 ? -1 : 0)),
+            l.intensity[k] = (float)E,
+            l.direction[k] = (float)(type == 1 ? sun[k] : (k == 1 ? -1 : 0)),
             l.position[k] = (float)spot_pos[k];
         l.inner_angle = 0.5f, l.outer_angle = 1.0f;
         st_err err = {0};
@@ -258,7 +280,8 @@ static void sun_and_spot(void) {
                 contract_ray(&s, i, j, d);
                 if (d[1] >= -1e-3) continue;
                 double t = -cam[1] / d[1];
-                for (int k = 0; k < 3; k++) p[k] = cam[k] + t * d[k];
+                for (int k = 0; k < 3; k++)
+                    p[k] = cam[k] + t * d[k];
                 if (fabs(p[0]) > 4.9 || fabs(p[2]) > 4.9) continue;
                 // Seen through the occluder, or near its outline from the camera: skip.
                 double to_occ = (cam[1] - 0.5) / -d[1];
@@ -266,7 +289,8 @@ static void sun_and_spot(void) {
                 if (fabs(q[0]) < 0.55 && fabs(q[2]) < 0.55) continue;
                 double want, cosv, f = 1, dist;
                 if (type == 1) {
-                    for (int k = 0; k < 3; k++) l2[k] = -sun[k];
+                    for (int k = 0; k < 3; k++)
+                        l2[k] = -sun[k];
                     cosv = l2[1];
                     double path = entry - (p[0] * l2[0] + p[1] * l2[1] + p[2] * l2[2]);
                     want = rho / ST_PI * E * cosv * exp(-sigma_a * (path + t));
@@ -274,7 +298,8 @@ static void sun_and_spot(void) {
                 } else {
                     double v[3] = {spot_pos[0] - p[0], spot_pos[1] - p[1], spot_pos[2] - p[2]};
                     dist = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-                    for (int k = 0; k < 3; k++) l2[k] = v[k] / dist;
+                    for (int k = 0; k < 3; k++)
+                        l2[k] = v[k] / dist;
                     cosv = l2[1];
                     double a = (l2[1] - cos(1.0f)) / fmax(0.001, cos(0.5f) - cos(1.0f));
                     a = fmin(fmax(a, 0.0), 1.0), f = a * a;
@@ -296,11 +321,12 @@ static void sun_and_spot(void) {
             }
         printf("  %s: worst relative error %.2e over %d lit pixels; %d dark pixels, %d not 0\n",
                type == 1 ? "sun in a medium" : "spot", worst, lit, shadow, shadow_bad);
-        CHECK(lit > 300 && shadow > 20, "%s: %d lit, %d dark", type == 1 ? "sun" : "spot", lit, shadow);
+        CHECK(lit > 300 && shadow > 20, "%s: %d lit, %d dark", type == 1 ? "sun" : "spot", lit,
+              shadow);
         // The spot's falloff is steep near its outer cone: Embree's float hit
         // points (~1e-7 relative) become ~2e-5 there.
-        CHECK(worst < (type == 1 ? 1e-5 : 1e-4) && shadow_bad == 0, "%s: worst %g, %d dark pixels lit", type == 1 ? "sun" : "spot", worst,
-              shadow_bad);
+        CHECK(worst < (type == 1 ? 1e-5 : 1e-4) && shadow_bad == 0,
+              "%s: worst %g, %d dark pixels lit", type == 1 ? "sun" : "spot", worst, shadow_bad);
         st_image_free(&img);
         st_scene_free(&s);
     }

@@ -12,11 +12,13 @@ static void floor_point(const st_scene *s, int i, int j, double p[3]) {
     double d[3];
     contract_ray(s, i, j, d);
     double t = -s->camera.position[1] / d[1];
-    for (int k = 0; k < 3; k++) p[k] = s->camera.position[k] + t * d[k];
+    for (int k = 0; k < 3; k++)
+        p[k] = s->camera.position[k] + t * d[k];
 }
 
 typedef struct {
-    double mean, oracle, se, z2; // image mean, oracle mean, standard error of the mean, mean z^2 per pixel
+    double mean, oracle, se,
+        z2; // image mean, oracle mean, standard error of the mean, mean z^2 per pixel
 } stats;
 
 // Compares the image (channel 0) with a per-pixel oracle.
@@ -42,11 +44,15 @@ static stats compare(const st_image *img, const double *oracle) {
 // standard errors (mean z^2 ~ 1).
 static void check_stats(const char *name, const stats *r, double rel) {
     double z = r->se > 0 ? fabs(r->mean - r->oracle) / r->se : 0;
-    fprintf(stderr, "  %s: mean %.6f, oracle %.6f (rel %+.2e), stderr of mean %.1e (z %.2f), mean z^2 %.2f\n", name,
-            r->mean, r->oracle, r->mean / r->oracle - 1, r->se, z, r->z2);
-    CHECK(fabs(r->mean - r->oracle) <= rel * r->oracle, "%s: mean %.6g vs oracle %.6g", name, r->mean, r->oracle);
+    fprintf(
+        stderr,
+        "  %s: mean %.6f, oracle %.6f (rel %+.2e), stderr of mean %.1e (z %.2f), mean z^2 %.2f\n",
+        name, r->mean, r->oracle, r->mean / r->oracle - 1, r->se, z, r->z2);
+    CHECK(fabs(r->mean - r->oracle) <= rel * r->oracle, "%s: mean %.6g vs oracle %.6g", name,
+          r->mean, r->oracle);
     CHECK(z < 4.5, "%s: %.2f standard errors off", name, z);
-    CHECK(r->se == 0 || (r->z2 > 0.6 && r->z2 < 1.6), "%s: mean z^2 = %.3g, stderr channel inconsistent", name, r->z2);
+    CHECK(r->se == 0 || (r->z2 > 0.6 && r->z2 < 1.6),
+          "%s: mean z^2 = %.3g, stderr channel inconsistent", name, r->z2);
 }
 
 // A camera straight above the unit square [0,1]^2 of y = 0 at height H whose
@@ -57,7 +63,8 @@ static void square_camera(st_scene *s, int n, double H) {
     scene_init(s, n, n, pos, tgt, up, 2.0 * atan(0.5 / H) * 180.0 / ST_PI, 100);
 }
 
-static const double floor_c[3] = {0, 0, 0}, floor_u[3] = {0, 0, 1}, floor_v[3] = {1, 0, 0}; // faces +y
+static const double floor_c[3] = {0, 0, 0}, floor_u[3] = {0, 0, 1},
+                    floor_v[3] = {1, 0, 0}; // faces +y
 
 static double point_ff(const double p[3], const double c[3], const double u[3], const double v[3]) {
     double q[4][3];
@@ -85,7 +92,8 @@ static void shared_edge(void) {
     st_scene s;
     square_camera(&s, N, 0.9);
     add_quad(&s, floor_c, floor_u, floor_v, rho, 0);
-    const double wc[3] = {0, 0, 0}, wu[3] = {0, 1, 0}, wv[3] = {0, 0, 1}; // the wall x = 0, faces +x
+    const double wc[3] = {0, 0, 0}, wu[3] = {0, 1, 0},
+                 wv[3] = {0, 0, 1}; // the wall x = 0, faces +x
     add_quad(&s, wc, wu, wv, 0.0, 1.0);
     double *ff = malloc(sizeof(double) * N * N), *th = malloc(sizeof(double) * N * N);
     double grid = 0;
@@ -99,16 +107,29 @@ static void shared_edge(void) {
             th[j * N + i] = rho * st_integrate(thesis_inner, &c, 0.0, 1.0, 1e-12, 1e-10);
         }
     // The pixel grid samples the area average well enough to show the published number.
-    fprintf(stderr, "  shared edge: pixel-grid average of the point form factor %.6f (closed form 0.200044)\n", grid);
+    fprintf(
+        stderr,
+        "  shared edge: pixel-grid average of the point form factor %.6f (closed form 0.200044)\n",
+        grid);
     CHECK_REL(grid, 0.200044, 2e-3, 0);
     const struct {
         const char *name;
         st_ref_options o;
         double *oracle;
     } runs[] = {
-        {"shared edge, visibility on", {.spp = 1024, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 1}, ff},
-        {"shared edge, visibility off", {.spp = 512, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 2, .no_visibility = true}, ff},
-        {"shared edge, thesis estimator", {.spp = 256, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 3, .estimator = ST_REF_EST_THESIS}, th},
+        {"shared edge, visibility on",
+         {.spp = 1024, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 1},
+         ff},
+        {"shared edge, visibility off",
+         {.spp = 512, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 2, .no_visibility = true},
+         ff},
+        {"shared edge, thesis estimator",
+         {.spp = 256,
+          .aov = ST_REF_INDIRECT,
+          .bounces = 1,
+          .seed = 3,
+          .estimator = ST_REF_EST_THESIS},
+         th},
     };
     double means[3] = {0};
     for (int k = 0; k < 3; k++) {
@@ -121,7 +142,8 @@ static void shared_edge(void) {
     }
     // docs/physics.md: the thesis estimator is 2.8x too bright here.
     fprintf(stderr, "  thesis / true: %.3f\n", means[2] / means[0]);
-    CHECK(fabs(means[2] / means[0] - 2.82) < 0.03, "thesis estimator ratio %.3f, expected 2.82", means[2] / means[0]);
+    CHECK(fabs(means[2] / means[0] - 2.82) < 0.03, "thesis estimator ratio %.3f, expected 2.82",
+          means[2] / means[0]);
     free(ff);
     free(th);
     st_scene_free(&s);
@@ -139,7 +161,8 @@ static void parallel(void) {
         add_quad(&s, cc, cu, cv, 0.0, 1.0);
         if (blocked) // faces +y; lit by nothing at bounce 1, so L0 = 0
             add_quad(&s, (double[]){-1, 0.5, -1}, (double[]){0, 0, 3}, (double[]){3, 0, 0}, 0.5, 0);
-        double *ff = malloc(sizeof(double) * N * N), *zero = calloc(N * N, sizeof(double)), grid = 0;
+        double *ff = malloc(sizeof(double) * N * N), *zero = calloc(N * N, sizeof(double)),
+               grid = 0;
         for (int j = 0; j < N; j++)
             for (int i = 0; i < N; i++) {
                 double p[3];
@@ -148,17 +171,23 @@ static void parallel(void) {
                 grid += ff[j * N + i] / rho / (N * N);
             }
         if (!blocked) {
-            fprintf(stderr, "  parallel: pixel-grid average of the point form factor %.6f (closed form 0.199825)\n", grid);
+            fprintf(stderr,
+                    "  parallel: pixel-grid average of the point form factor %.6f (closed form "
+                    "0.199825)\n",
+                    grid);
             CHECK_REL(grid, 0.199825, 2e-3, 0);
         }
         st_ref_options on = {.spp = 1024, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 4};
-        st_ref_options off = {.spp = 256, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 5, .no_visibility = true};
+        st_ref_options off = {
+            .spp = 256, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 5, .no_visibility = true};
         st_image img;
         if (render(&s, &on, &img)) {
             stats r = compare(&img, blocked ? zero : ff);
             if (blocked) {
                 fprintf(stderr, "  parallel, blocked, visibility on: mean %.3g\n", r.mean);
-                CHECK(r.mean == 0.0, "an opaque plate must remove the bounce with visibility on (mean %g)", r.mean);
+                CHECK(r.mean == 0.0,
+                      "an opaque plate must remove the bounce with visibility on (mean %g)",
+                      r.mean);
             } else {
                 check_stats("parallel, visibility on", &r, 0.01);
             }
@@ -166,7 +195,8 @@ static void parallel(void) {
         }
         if (render(&s, &off, &img)) {
             stats r = compare(&img, ff);
-            check_stats(blocked ? "parallel, blocked, visibility off" : "parallel, visibility off", &r, 0.01);
+            check_stats(blocked ? "parallel, blocked, visibility off" : "parallel, visibility off",
+                        &r, 0.01);
             st_image_free(&img);
         }
         free(ff);
@@ -176,7 +206,9 @@ static void parallel(void) {
 }
 
 // e^(-sigma_t d) / d^3: the coaxial disk's kernel in a medium (ctx: sigma_t).
-static double disk_kernel(double d, void *ctx) { return exp(-*(double *)ctx * d) / (d * d * d); }
+static double disk_kernel(double d, void *ctx) {
+    return exp(-*(double *)ctx * d) / (d * d * d);
+}
 
 // A point under a coaxial disk (an area-matched 256-gon) of radius R at
 // height h: F = R^2 / (R^2 + h^2). One pixel looks at the point.
@@ -186,7 +218,8 @@ static void disk(void) {
     const double pos[3] = {0, 0.5, 0}, tgt[3] = {0, 0, 0}, up[3] = {0, 0, -1};
     st_scene s;
     scene_init(&s, 1, 1, pos, tgt, up, 10, 100);
-    add_quad(&s, (double[]){-0.01, 0, -0.01}, (double[]){0, 0, 0.02}, (double[]){0.02, 0, 0}, rho, 0);
+    add_quad(&s, (double[]){-0.01, 0, -0.01}, (double[]){0, 0, 0.02}, (double[]){0.02, 0, 0}, rho,
+             0);
     st_mesh m = {0};
     snprintf(m.name, sizeof m.name, "disk");
     m.num_vertices = NS + 1, m.num_triangles = NS;
@@ -203,8 +236,10 @@ static void disk(void) {
         // (centre, k, k + 1) winds to face -y, toward the receiver.
         m.indices[3 * k] = 0, m.indices[3 * k + 1] = 1 + k, m.indices[3 * k + 2] = 1 + (k + 1) % NS;
     }
-    for (uint32_t k = 0; k < m.num_vertices; k++) v3(m.normals + 3 * k, 0, -1, 0);
-    for (int k = 0; k < 16; k++) m.model[k] = k % 5 == 0;
+    for (uint32_t k = 0; k < m.num_vertices; k++)
+        v3(m.normals + 3 * k, 0, -1, 0);
+    for (int k = 0; k < 16; k++)
+        m.model[k] = k % 5 == 0;
     v3(m.emission, 1, 1, 1);
     st_err err = {0};
     CHECK(st_scene_add_mesh(&s, &m, &err), "add disk: %s", err.msg);
@@ -212,7 +247,10 @@ static void disk(void) {
     double F = st_ff_point_polygon(p0, n0, (const double(*)[3])poly, NS);
     CHECK_REL(F, st_ff_point_disk(R, h), 1e-4, 0);
     for (int vis = 0; vis < 2; vis++) {
-        st_ref_options o = {.spp = vis ? 1000000 : 200000, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 6,
+        st_ref_options o = {.spp = vis ? 1000000 : 200000,
+                            .aov = ST_REF_INDIRECT,
+                            .bounces = 1,
+                            .seed = 6,
                             .no_visibility = !vis};
         st_image img;
         if (!render(&s, &o, &img)) continue;
@@ -226,16 +264,21 @@ static void disk(void) {
     // r^2, L1 = rho 2 h^2 integral_h^sqrt(h^2 + R^2) e^(-sigma_t d) / d^3 dd.
     double sigma_a = 0.7;
     set_medium(&s, 0.0, sigma_a, ST_PHASE_ISOTROPIC, 0);
-    double oracle = rho * 2 * h * h * st_integrate(disk_kernel, &sigma_a, h, sqrt(h * h + R * R), 1e-14, 1e-12);
+    double oracle =
+        rho * 2 * h * h * st_integrate(disk_kernel, &sigma_a, h, sqrt(h * h + R * R), 1e-14, 1e-12);
     CHECK(oracle < 0.8 * rho * F, "the medium matters: %g vs %g", oracle, rho * F);
     for (int vis = 0; vis < 2; vis++) {
-        st_ref_options o = {.spp = vis ? 1000000 : 200000, .aov = ST_REF_INDIRECT, .bounces = 1, .seed = 7,
+        st_ref_options o = {.spp = vis ? 1000000 : 200000,
+                            .aov = ST_REF_INDIRECT,
+                            .bounces = 1,
+                            .seed = 7,
                             .no_visibility = !vis};
         st_image img;
         if (!render(&s, &o, &img)) continue;
         stats r = compare(&img, &oracle);
         r.z2 = 1;
-        check_stats(vis ? "disk in medium, visibility on" : "disk in medium, visibility off", &r, 0.005);
+        check_stats(vis ? "disk in medium, visibility on" : "disk in medium, visibility off", &r,
+                    0.005);
         st_image_free(&img);
     }
     st_scene_free(&s);
@@ -256,14 +299,19 @@ static void furnace(void) {
     CHECK(st_scene_add_mesh(&s, &m, &err), "add box");
     for (int K = 1; K <= 3; K++) {
         double want = 0;
-        for (int k = 0; k <= K; k++) want += pow(rho, k);
+        for (int k = 0; k <= K; k++)
+            want += pow(rho, k);
         for (int vis = 0; vis < 2; vis++) {
-            st_ref_options o = {.spp = vis ? 2 : 256, .aov = ST_REF_COMBINED, .bounces = K, .seed = 8,
+            st_ref_options o = {.spp = vis ? 2 : 256,
+                                .aov = ST_REF_COMBINED,
+                                .bounces = K,
+                                .seed = 8,
                                 .no_visibility = !vis};
             st_image img;
             if (!render(&s, &o, &img)) continue;
             double *oracle = malloc(sizeof(double) * 24 * 24);
-            for (int k = 0; k < 24 * 24; k++) oracle[k] = want;
+            for (int k = 0; k < 24 * 24; k++)
+                oracle[k] = want;
             stats r = compare(&img, oracle);
             char name[64];
             snprintf(name, sizeof name, "furnace K=%d, visibility %s", K, vis ? "on" : "off");

@@ -34,8 +34,15 @@ static void check_image(const char *name, const st_scene *s, const st_image *img
                 double c = (to_l[0] * d[0] + to_l[1] * d[1] + to_l[2] * d[2]) / D;
                 want = st_inscatter_sun(ss, st, I, D, acos(c), len);
             } else {
-                st_inscatter_problem p = {{cam[0], cam[1], cam[2]}, {d[0], d[1], d[2]}, len, {light[0], light[1], light[2]},
-                                          I, ss, st, m->phase, m->g};
+                st_inscatter_problem p = {{cam[0], cam[1], cam[2]},
+                                          {d[0], d[1], d[2]},
+                                          len,
+                                          {light[0], light[1], light[2]},
+                                          I,
+                                          ss,
+                                          st,
+                                          m->phase,
+                                          m->g};
                 want = st_inscatter_quadrature(&p, 100000);
             }
             const float *px = st_image_px(img, i, j);
@@ -48,8 +55,8 @@ static void check_image(const char *name, const st_scene *s, const st_image *img
             if (err > 5e-3) bad++;
             n++;
         }
-    fprintf(stderr, "  %s: worst rel error %.2e, %d noisy pixels, mean z^2 %.2f\n", name, worst, noisy,
-            noisy ? z2 / noisy : 0.0);
+    fprintf(stderr, "  %s: worst rel error %.2e, %d noisy pixels, mean z^2 %.2f\n", name, worst,
+            noisy, noisy ? z2 / noisy : 0.0);
     CHECK(bad == 0, "%s: %d of %d pixels off by more than 0.5%% (worst %.3g)", name, bad, n, worst);
     if (noisy == 0) {
         // Equi-angular strata make the unshadowed, isotropic, extinction-free
@@ -59,8 +66,8 @@ static void check_image(const char *name, const st_scene *s, const st_image *img
         // The reported standard error should describe the actual error: the
         // mean z^2 of a t statistic with spp - 1 = 7 degrees of freedom is 1.4.
         CHECK(noisy == n, "%s: %d of %d pixels without a standard error", name, n - noisy, n);
-        CHECK(z2 / noisy > 0.4 && z2 / noisy < 4.0, "%s: mean z^2 = %.3g: stderr inconsistent with the error", name,
-              z2 / noisy);
+        CHECK(z2 / noisy > 0.4 && z2 / noisy < 4.0,
+              "%s: mean z^2 = %.3g: stderr inconsistent with the error", name, z2 / noisy);
     }
 }
 
@@ -95,7 +102,8 @@ static void open_space(void) {
             oc.aov = ST_REF_COMBINED;
             st_image c;
             if (render(&s, &oc, &c)) {
-                CHECK(!memcmp(c.data, img.data, sizeof(float) * 6 * 15 * 15), "%s: combined != inscatter", cases[k].name);
+                CHECK(!memcmp(c.data, img.data, sizeof(float) * 6 * 15 * 15),
+                      "%s: combined != inscatter", cases[k].name);
                 st_image_free(&c);
             }
             st_image_free(&img);
@@ -121,8 +129,9 @@ static void shadowed(void) {
         double want = st_inscatter_sun(0.08, 0.12, 3.0, D, gamma, 5.0);
         double unshadowed = st_inscatter_sun(0.08, 0.12, 3.0, D, gamma, 50.0);
         const float *px = st_image_px(&img, 7, 7);
-        fprintf(stderr, "  shadowed: %.6g (stderr %.2g), Sun over the lit part %.6g, unshadowed %.6g\n", px[0], px[3],
-                want, unshadowed);
+        fprintf(stderr,
+                "  shadowed: %.6g (stderr %.2g), Sun over the lit part %.6g, unshadowed %.6g\n",
+                px[0], px[3], want, unshadowed);
         CHECK_REL(px[0], want, 5e-3, 0);
         CHECK(unshadowed > 1.05 * want, "the occluder must matter here");
         st_image_free(&img);
@@ -138,7 +147,8 @@ static void combined(void) {
     scene_init(&s, 16, 16, c, t, u, 45, 100);
     add_light(&s, l, 5.0);
     set_medium(&s, 0.2, 0.1, ST_PHASE_HG, 0.3);
-    add_quad(&s, (double[]){-3, -1, -1}, (double[]){6, 0, 0}, (double[]){0, 6, 0}, 0.7, 0.1); // faces +z
+    add_quad(&s, (double[]){-3, -1, -1}, (double[]){6, 0, 0}, (double[]){0, 6, 0}, 0.7,
+             0.1); // faces +z
     st_ref_options o = {.spp = 4, .seed = 11};
     st_image a[3];
     const st_ref_aov aovs[3] = {ST_REF_COMBINED, ST_REF_DIRECT, ST_REF_INSCATTER};
@@ -154,12 +164,14 @@ static void combined(void) {
                 double d[3];
                 contract_ray(&s, i, j, d);
                 double dist = (-1.0 - c[2]) / d[2]; // the wall z = -1
-                double want = st_image_px(&a[1], i, j)[0] * exp(-0.3 * dist) + st_image_px(&a[2], i, j)[0];
+                double want =
+                    st_image_px(&a[1], i, j)[0] * exp(-0.3 * dist) + st_image_px(&a[2], i, j)[0];
                 if (fabs(st_image_px(&a[0], i, j)[0] - want) > 1e-5 * want) bad++;
             }
         CHECK(bad == 0, "combined != direct e^(-sigma_t s) + inscatter at %d pixels", bad);
     }
-    for (int k = 0; k < 3 && ok; k++) st_image_free(&a[k]);
+    for (int k = 0; k < 3 && ok; k++)
+        st_image_free(&a[k]);
     st_scene_free(&s);
 }
 
@@ -170,22 +182,25 @@ static void combined(void) {
 typedef struct {
     int type; // 1 directional, 2 spot
     double o[3], d[3], ss, st, g;
-    double dir[3], entry; // directional: travel direction, entry
+    double dir[3], entry;   // directional: travel direction, entry
     double cos_in, cos_out; // spot
 } lt_problem;
 
 static double lt_integrand(double t, void *ctx) {
     const lt_problem *p = ctx;
     double x[3], l[3], E, path;
-    for (int k = 0; k < 3; k++) x[k] = p->o[k] + t * p->d[k];
+    for (int k = 0; k < 3; k++)
+        x[k] = p->o[k] + t * p->d[k];
     if (p->type == 1) {
-        for (int k = 0; k < 3; k++) l[k] = -p->dir[k];
+        for (int k = 0; k < 3; k++)
+            l[k] = -p->dir[k];
         path = fmax(0.0, p->entry - (x[0] * l[0] + x[1] * l[1] + x[2] * l[2]));
         E = I;
     } else {
         double v[3] = {light[0] - x[0], light[1] - x[1], light[2] - x[2]};
         double d = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        for (int k = 0; k < 3; k++) l[k] = v[k] / d;
+        for (int k = 0; k < 3; k++)
+            l[k] = v[k] / d;
         double a = (-(l[0] * p->dir[0] + l[1] * p->dir[1] + l[2] * p->dir[2]) - p->cos_out) /
                    fmax(0.001, p->cos_in - p->cos_out);
         a = fmin(fmax(a, 0.0), 1.0);
@@ -217,8 +232,18 @@ static void light_types(void) {
         st_ref_options o = {.spp = 8, .aov = ST_REF_INSCATTER, .seed = 40 + type};
         st_image img;
         if (!render(&s, &o, &img)) continue;
-        lt_problem p = {type, {cam[0], cam[1], cam[2]}, {0}, 0.1, 0.15, 0.4, {0}, 0, cos(l.inner_angle), cos(l.outer_angle)};
-        for (int k = 0; k < 3; k++) p.dir[k] = l.direction[k];
+        lt_problem p = {type,
+                        {cam[0], cam[1], cam[2]},
+                        {0},
+                        0.1,
+                        0.15,
+                        0.4,
+                        {0},
+                        0,
+                        cos(l.inner_angle),
+                        cos(l.outer_angle)};
+        for (int k = 0; k < 3; k++)
+            p.dir[k] = l.direction[k];
         p.entry = -INFINITY; // the quad's corners
         for (int k = 0; k < 4; k++) {
             double c[3] = {k & 1 ? 1 : -1, k & 2 ? 1 : -1, 30};
@@ -247,12 +272,14 @@ static void light_types(void) {
                 worst = fmax(worst, fabs(px[0] - want) / want);
                 if (px[3] > 0) z2 += (px[0] - want) * (px[0] - want) / ((double)px[3] * px[3]);
             }
-        fprintf(stderr, "  %s in-scatter: worst rel error %.2e over %d lit of %d pixels, mean z^2 %.2f\n",
+        fprintf(stderr,
+                "  %s in-scatter: worst rel error %.2e over %d lit of %d pixels, mean z^2 %.2f\n",
                 type == 1 ? "directional" : "spot", worst, lit, n, lit ? z2 / lit : 0.0);
         CHECK(lit > 50, "%s: %d pixels see the light", type == 1 ? "sun" : "spot", lit);
-        CHECK(worst < 5e-3, "%s in-scatter: worst relative error %.3g", type == 1 ? "sun" : "spot", worst);
-        CHECK(z2 / lit < 4.0, "%s: mean z^2 %.3g: stderr inconsistent with the error", type == 1 ? "sun" : "spot",
-              z2 / lit);
+        CHECK(worst < 5e-3, "%s in-scatter: worst relative error %.3g", type == 1 ? "sun" : "spot",
+              worst);
+        CHECK(z2 / lit < 4.0, "%s: mean z^2 %.3g: stderr inconsistent with the error",
+              type == 1 ? "sun" : "spot", z2 / lit);
         st_image_free(&img);
         st_scene_free(&s);
     }

@@ -3,10 +3,18 @@
 #include "st_module.h"
 #include <stdlib.h>
 
-static void *create(st_world *w, const double *p, st_err *err) { return malloc(1); }
-static void destroy(void *s) { free(s); }
-static int num_passes(void *s) { return 0; }
-static const st_pass_info *pass_info(void *s, int p) { return NULL; }
+static void *create(st_world *w, const double *p, st_err *err) {
+    return malloc(1);
+}
+static void destroy(void *s) {
+    free(s);
+}
+static int num_passes(void *s) {
+    return 0;
+}
+static const st_pass_info *pass_info(void *s, int p) {
+    return NULL;
+}
 
 static const st_plugin plugin = {
 #if BAD_ABI_MAJOR
@@ -30,7 +38,9 @@ static const st_plugin plugin = {
     .pass_info = pass_info,
 };
 
-ST_EXPORT const st_plugin *strahl_plugin(void) { return &plugin; }
+ST_EXPORT const st_plugin *strahl_plugin(void) {
+    return &plugin;
+}
 
 #if BAD_FRAME_SIZE
 // Built as if st_frame had grown by a field this strahl does not know.

@@ -10,13 +10,17 @@ static void write_scene(const char *path, const char *modules) {
     char json[2048];
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": 96, \"height\": 96},\n"
-             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 60,"
+             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
+             "\"fov_y\": 60,"
              " \"near\": 0.05, \"far\": 100},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, %g, %g]}],\n"
-             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, \"albedo\": [%g, %g, %g]},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, "
+             "%g, %g]}],\n"
+             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
+             "0]}, \"albedo\": [%g, %g, %g]},\n"
              "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
              " \"modules\": [%s]}\n",
-             LP[0], LP[1], LP[2], I, I, I, RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], modules);
+             LP[0], LP[1], LP[2], I, I, I, RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0],
+             BMAX[1], BMAX[2], modules);
     st_test_write(path, json);
 }
 
@@ -27,7 +31,8 @@ int main(void) {
     const double cam[3] = {0, 3, 2.5}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0};
     st_test_cam c = st_test_camera(cam, tgt, up, 60, 96, 96);
     for (int with = 0; with < 2; with++) {
-        write_scene(scene, with ? "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}" : "");
+        write_scene(scene,
+                    with ? "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}" : "");
         CHECK(st_test_render(scene, out, NULL) == 0, "render (shadow_map %d)", with);
         st_image img = {0};
         if (!st_test_read(out, &img)) continue;
@@ -40,7 +45,8 @@ int main(void) {
                 st_test_ray(&c, i, j, d);
                 if (d[1] >= 0 || st_test_ray_box(c.pos, d, BMIN, BMAX) >= 0) continue; // box itself
                 double t = -c.pos[1] / d[1], p[3];
-                for (int k = 0; k < 3; k++) p[k] = c.pos[k] + t * d[k];
+                for (int k = 0; k < 3; k++)
+                    p[k] = c.pos[k] + t * d[k];
                 if (fabs(p[0]) > 3.9 || fabs(p[2]) > 3.9) continue;
                 // Footprint of a pixel on the floor, about t * angle per pixel.
                 int s = st_test_shadow_state(p, 2.5 * t * 2 * c.tan_half / 96, LP, BMIN, BMAX);
@@ -63,7 +69,8 @@ int main(void) {
             CHECK(worst_shadow == 0, "shadowed pixels must be black, max %.6g", worst_shadow);
         }
         CHECK(lit > 3000, "lit floor pixels: %d", lit);
-        CHECK(worst_lit < 0.01, "lit pixels vs analytic (shadow_map %d): worst rel %.5f", with, worst_lit);
+        CHECK(worst_lit < 0.01, "lit pixels vs analytic (shadow_map %d): worst rel %.5f", with,
+              worst_lit);
         st_image_free(&img);
     }
     return st_test_summary("test_shadow_map");

@@ -29,13 +29,16 @@ static void write_scene(const char *path, int lights, const char *modules) {
     char json[2048];
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": 32, \"height\": 32},\n"
-             " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 50, \"near\": 0.05, \"far\": 100},\n"
+             " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
+             "\"fov_y\": 50, \"near\": 0.05, \"far\": 100},\n"
              " \"lights\": [%s],\n"
-             " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": true}],\n"
+             " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": "
+             "true}],\n"
              " \"modules\": [%s]}\n",
-             lights == 2 ? "{\"type\": \"point\", \"position\": [0.5, 1.5, 0], \"intensity\": [1, 1, 1]},"
-                           "{\"type\": \"point\", \"position\": [-0.5, 1.5, 0], \"intensity\": [1, 1, 1]}"
-                         : "",
+             lights == 2
+                 ? "{\"type\": \"point\", \"position\": [0.5, 1.5, 0], \"intensity\": [1, 1, 1]},"
+                   "{\"type\": \"point\", \"position\": [-0.5, 1.5, 0], \"intensity\": [1, 1, 1]}"
+                 : "",
              modules);
     st_test_write(path, json);
 }
@@ -49,8 +52,10 @@ int main(void) {
     write_scene(scene, 2, "");
     cJSON *j = stats(scene, out, "--frames 3");
     if (j) {
-        CHECK(count_module(j, "shadow_map", &runs, &skipped) == 0, "no shadow pass without shadow_map");
-        CHECK(count_module(j, "world", &runs, &skipped) == 1 && runs == 3, "regular pass ran 3 times: %d", runs);
+        CHECK(count_module(j, "shadow_map", &runs, &skipped) == 0,
+              "no shadow pass without shadow_map");
+        CHECK(count_module(j, "world", &runs, &skipped) == 1 && runs == 3,
+              "regular pass ran 3 times: %d", runs);
         CHECK(cJSON_GetObjectItem(j, "frames")->valueint == 2, "2 frames timed after 1 warm-up");
         cJSON_Delete(j);
     }
@@ -60,7 +65,8 @@ int main(void) {
     if (j) {
         CHECK(count_module(j, "shadow_map", &runs, &skipped) == 2, "one shadow pass per light");
         // Static scene: each cube map is rendered once, then reused.
-        CHECK(runs == 2 && skipped == 4, "shadow runs %d (want 2), skipped %d (want 4)", runs, skipped);
+        CHECK(runs == 2 && skipped == 4, "shadow runs %d (want 2), skipped %d (want 4)", runs,
+              skipped);
         cJSON_Delete(j);
     }
 

@@ -37,14 +37,18 @@ static const char *gltf_json =
     "   \"perspective\": {\"yfov\": 0.5, \"znear\": 0.1, \"zfar\": 50, \"aspectRatio\": 1.5}}],"
     " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.2, 0.4, 0.6, 1]},"
     "   \"emissiveFactor\": [0.5, 0, 0], \"doubleSided\": true}],"
-    " \"meshes\": [{\"name\": \"quad\", \"primitives\": [{\"attributes\": {%s}, \"material\": 0%s}]}],"
+    " \"meshes\": [{\"name\": \"quad\", \"primitives\": [{\"attributes\": {%s}, \"material\": "
+    "0%s}]}],"
     " \"buffers\": [{\"byteLength\": 140}],"
     " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 128},"
     "                  {\"buffer\": 0, \"byteOffset\": 128, \"byteLength\": 12}],"
     " \"accessors\": ["
-    "   {\"bufferView\": 0, \"byteOffset\": 0, \"componentType\": 5126, \"count\": %s, \"type\": \"VEC3\"},"
-    "   {\"bufferView\": 0, \"byteOffset\": 48, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\"},"
-    "   {\"bufferView\": 0, \"byteOffset\": 96, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+    "   {\"bufferView\": 0, \"byteOffset\": 0, \"componentType\": 5126, \"count\": %s, \"type\": "
+    "\"VEC3\"},"
+    "   {\"bufferView\": 0, \"byteOffset\": 48, \"componentType\": 5126, \"count\": 4, \"type\": "
+    "\"VEC3\"},"
+    "   {\"bufferView\": 0, \"byteOffset\": 96, \"componentType\": 5126, \"count\": 4, \"type\": "
+    "\"VEC2\"},"
     "   {\"bufferView\": 1, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}]}";
 
 typedef struct variant {
@@ -55,15 +59,18 @@ static const variant good = {"point", "4", "\"POSITION\": 0, \"NORMAL\": 1, \"TE
                              ", \"indices\": 3", "4"};
 
 static void put32(unsigned char *p, uint32_t v) {
-    for (int i = 0; i < 4; i++) p[i] = (unsigned char)(v >> (8 * i));
+    for (int i = 0; i < 4; i++)
+        p[i] = (unsigned char)(v >> (8 * i));
 }
 
 // Binary glTF: 12-byte header, JSON chunk padded with spaces, BIN chunk
 // padded with zeros. Returns the size written to buf.
 static size_t make_glb(unsigned char *buf, size_t cap, const variant *v) {
     char json[8192];
-    snprintf(json, sizeof json, gltf_json, v->light, v->children, v->attributes, v->prim_extra, v->count);
-    size_t jl = strlen(json), jp = (jl + 3) & ~(size_t)3, bl = sizeof(bin), bp = (bl + 3) & ~(size_t)3;
+    snprintf(json, sizeof json, gltf_json, v->light, v->children, v->attributes, v->prim_extra,
+             v->count);
+    size_t jl = strlen(json), jp = (jl + 3) & ~(size_t)3, bl = sizeof(bin),
+           bp = (bl + 3) & ~(size_t)3;
     size_t total = 12 + 8 + jp + 8 + bp;
     if (total > cap) return 0;
     memcpy(buf, "glTF", 4);
@@ -90,12 +97,14 @@ static void write_file(const char *path, const unsigned char *data, size_t n) {
 
 // World-space bounds of a mesh (positions through its model matrix).
 static void bounds(const st_mesh *m, double lo[3], double hi[3]) {
-    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int k = 0; k < 3; k++)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
     for (uint32_t i = 0; i < m->num_vertices; i++) {
         const float *p = m->positions + 3 * i;
         for (int r = 0; r < 3; r++) {
             double w = m->model[12 + r];
-            for (int c = 0; c < 3; c++) w += (double)m->model[4 * c + r] * p[c];
+            for (int c = 0; c < 3; c++)
+                w += (double)m->model[4 * c + r] * p[c];
             lo[r] = fmin(lo[r], w), hi[r] = fmax(hi[r], w);
         }
     }
@@ -114,12 +123,16 @@ static void test_load(const char *path) {
         double lo[3], hi[3];
         bounds(m, lo, hi);
         // translation (1,2,3), scale 2: x in [1,3], y in [2,4], z = 3.
-        CHECK_REL(lo[0], 1, 0, 1e-6); CHECK_REL(hi[0], 3, 0, 1e-6);
-        CHECK_REL(lo[1], 2, 0, 1e-6); CHECK_REL(hi[1], 4, 0, 1e-6);
-        CHECK_REL(lo[2], 3, 0, 1e-6); CHECK_REL(hi[2], 3, 0, 1e-6);
-        CHECK(m->num_triangles == 2 && m->num_vertices == 4, "counts %u %u", m->num_triangles, m->num_vertices);
-        CHECK(m->albedo[0] == 0.2f && m->albedo[1] == 0.4f && m->albedo[2] == 0.6f, "albedo %g %g %g",
-              m->albedo[0], m->albedo[1], m->albedo[2]);
+        CHECK_REL(lo[0], 1, 0, 1e-6);
+        CHECK_REL(hi[0], 3, 0, 1e-6);
+        CHECK_REL(lo[1], 2, 0, 1e-6);
+        CHECK_REL(hi[1], 4, 0, 1e-6);
+        CHECK_REL(lo[2], 3, 0, 1e-6);
+        CHECK_REL(hi[2], 3, 0, 1e-6);
+        CHECK(m->num_triangles == 2 && m->num_vertices == 4, "counts %u %u", m->num_triangles,
+              m->num_vertices);
+        CHECK(m->albedo[0] == 0.2f && m->albedo[1] == 0.4f && m->albedo[2] == 0.6f,
+              "albedo %g %g %g", m->albedo[0], m->albedo[1], m->albedo[2]);
         CHECK(m->emission[0] == 0.5f && m->emission[1] == 0, "emission");
         CHECK(m->double_sided, "doubleSided");
         CHECK(m->uv1 != NULL, "uv1 present");
@@ -129,15 +142,21 @@ static void test_load(const char *path) {
         // Child of a node rotated 90 deg about y, translated (1,0,0) locally:
         // (x + 1, y, 0) -> (0, y, -(x + 1)).
         bounds(&s.meshes[1], lo, hi);
-        CHECK_REL(lo[0], 0, 0, 1e-6); CHECK_REL(hi[0], 0, 0, 1e-6);
-        CHECK_REL(lo[1], 0, 0, 1e-6); CHECK_REL(hi[1], 1, 0, 1e-6);
-        CHECK_REL(lo[2], -2, 0, 1e-6); CHECK_REL(hi[2], -1, 0, 1e-6);
+        CHECK_REL(lo[0], 0, 0, 1e-6);
+        CHECK_REL(hi[0], 0, 0, 1e-6);
+        CHECK_REL(lo[1], 0, 0, 1e-6);
+        CHECK_REL(hi[1], 1, 0, 1e-6);
+        CHECK_REL(lo[2], -2, 0, 1e-6);
+        CHECK_REL(hi[2], -1, 0, 1e-6);
     }
     CHECK(cam, "camera found");
     CHECK_REL(s.camera.fov_y, 0.5 * 180 / 3.14159265358979, 1e-6, 0);
-    CHECK(s.camera.near_z == 0.1f && s.camera.far_z == 50, "near/far %g %g", s.camera.near_z, s.camera.far_z);
-    CHECK(s.camera.position[0] == 0 && s.camera.position[1] == 1 && s.camera.position[2] == 5, "camera position");
-    CHECK(s.camera.target[0] == 0 && s.camera.target[1] == 1 && s.camera.target[2] == 4, "camera looks down -z");
+    CHECK(s.camera.near_z == 0.1f && s.camera.far_z == 50, "near/far %g %g", s.camera.near_z,
+          s.camera.far_z);
+    CHECK(s.camera.position[0] == 0 && s.camera.position[1] == 1 && s.camera.position[2] == 5,
+          "camera position");
+    CHECK(s.camera.target[0] == 0 && s.camera.target[1] == 1 && s.camera.target[2] == 4,
+          "camera looks down -z");
     CHECK(s.camera.up[1] == 1, "camera up +y");
     CHECK(s.num_lights == 1, "lights %d", s.num_lights);
     if (s.num_lights == 1) {
@@ -149,7 +168,8 @@ static void test_load(const char *path) {
     }
     // A second file adds meshes but does not replace the first camera.
     s.camera.fov_y = 77;
-    CHECK(st_gltf_load(path, &s, &cam, &e) && s.num_meshes == 4 && s.camera.fov_y == 77, "second load");
+    CHECK(st_gltf_load(path, &s, &cam, &e) && s.num_meshes == 4 && s.camera.fov_y == 77,
+          "second load");
     st_scene_free(&s);
 }
 
@@ -162,7 +182,8 @@ static void test_scene_override(const char *dir) {
     st_scene s;
     st_err e = {0};
     CHECK(st_scene_parse(a, strlen(a), path, &s, &e), "scene with glTF: %s", e.msg);
-    CHECK(s.camera.fov_y == 60 && s.camera.position[2] == 5 && s.camera.far_z == 50, "camera merge");
+    CHECK(s.camera.fov_y == 60 && s.camera.position[2] == 5 && s.camera.far_z == 50,
+          "camera merge");
     CHECK(s.num_meshes == 2 && s.meshes[1].albedo[0] == 0.1f && s.meshes[1].albedo[2] == 0.3f &&
               s.meshes[1].double_sided,
           "albedo override keeps doubleSided");
@@ -173,8 +194,10 @@ static void test_scene_override(const char *dir) {
              "{\"geometry\": [{\"gltf\": \"quad.glb\", \"double_sided\": false}], \"lights\": [],"
              " \"camera\": {\"position\": [9, 9, 9], \"target\": [0, 0, 0]}}");
     CHECK(st_scene_parse(json, strlen(json), path, &s, &e), "%s", e.msg);
-    CHECK(s.num_lights == 0 && !s.meshes[0].double_sided, "lights replaced, double_sided overridden");
-    CHECK(s.camera.position[0] == 9 && s.camera.fov_y == (float)(0.5 * 180 / 3.14159265358979323846),
+    CHECK(s.num_lights == 0 && !s.meshes[0].double_sided,
+          "lights replaced, double_sided overridden");
+    CHECK(s.camera.position[0] == 9 &&
+              s.camera.fov_y == (float)(0.5 * 180 / 3.14159265358979323846),
           "position override, fov from glTF");
     st_scene_free(&s);
 }
@@ -186,7 +209,8 @@ static void expect_fail(const variant *v, const char *needle) {
     bool cam = false;
     bool ok = st_gltf_load_memory(glb, n, "bad.glb", ".", &s, &cam, &e);
     CHECK(!ok && e.kind == ST_ERR_INPUT, "corrupt variant accepted (%s)", needle);
-    CHECK(strstr(e.msg, needle) && !strncmp(e.msg, "bad.glb: ", 9), "message '%s' lacks '%s'", e.msg, needle);
+    CHECK(strstr(e.msg, needle) && !strncmp(e.msg, "bad.glb: ", 9), "message '%s' lacks '%s'",
+          e.msg, needle);
     CHECK(s.num_meshes == 0 && s.num_lights == 0 && !cam, "nothing left behind (%s)", needle);
     st_scene_free(&s);
 }
@@ -196,23 +220,25 @@ static void expect_fail(const variant *v, const char *needle) {
 static void test_light_types(void) {
     const variant kinds[2] = {
         {"directional", good.children, good.attributes, good.prim_extra, good.count},
-        {"spot\", \"spot\": {\"innerConeAngle\": 0.25, \"outerConeAngle\": 0.5}, \"name\": \"s", good.children,
-         good.attributes, good.prim_extra, good.count}};
+        {"spot\", \"spot\": {\"innerConeAngle\": 0.25, \"outerConeAngle\": 0.5}, \"name\": \"s",
+         good.children, good.attributes, good.prim_extra, good.count}};
     for (int k = 0; k < 2; k++) {
         size_t n = make_glb(glb, sizeof glb, &kinds[k]);
         st_scene s = {0};
         st_err e = {0};
         bool cam = false;
-        CHECK(st_gltf_load_memory(glb, n, "lights.glb", ".", &s, &cam, &e) && s.num_lights == 1, "%s: %s",
-              k ? "spot" : "directional", e.msg);
+        CHECK(st_gltf_load_memory(glb, n, "lights.glb", ".", &s, &cam, &e) && s.num_lights == 1,
+              "%s: %s", k ? "spot" : "directional", e.msg);
         if (s.num_lights != 1) continue;
         const st_light_desc *l = &s.lights[0];
         CHECK(l->type == (k ? ST_LIGHT_SPOT : ST_LIGHT_DIRECTIONAL), "type %d", l->type);
-        CHECK(l->direction[0] == 0 && l->direction[1] == 0 && l->direction[2] == -1, "direction -z: %g %g %g",
-              l->direction[0], l->direction[1], l->direction[2]);
+        CHECK(l->direction[0] == 0 && l->direction[1] == 0 && l->direction[2] == -1,
+              "direction -z: %g %g %g", l->direction[0], l->direction[1], l->direction[2]);
         CHECK_REL(l->intensity[0], 1.0, 1e-6, 0); // 683 lux -> 1 W/m^2, 683 cd -> 1 W/sr
         CHECK_REL(l->intensity[2], 0.25, 1e-6, 0);
-        if (k) CHECK(l->inner_angle == 0.25f && l->outer_angle == 0.5f, "cone %g %g", l->inner_angle, l->outer_angle);
+        if (k)
+            CHECK(l->inner_angle == 0.25f && l->outer_angle == 0.5f, "cone %g %g", l->inner_angle,
+                  l->outer_angle);
         if (k) CHECK(l->position[1] == 3, "spot position");
         st_scene_free(&s);
     }
@@ -226,8 +252,8 @@ static void test_corrupt(void) {
         st_scene s = {0};
         st_err e = {0};
         bool cam = false;
-        if (!st_gltf_load_memory(glb, len, "cut.glb", ".", &s, &cam, &e) && e.kind == ST_ERR_INPUT &&
-            s.num_meshes == 0)
+        if (!st_gltf_load_memory(glb, len, "cut.glb", ".", &s, &cam, &e) &&
+            e.kind == ST_ERR_INPUT && s.num_meshes == 0)
             failures++;
         st_scene_free(&s);
     }
@@ -259,7 +285,8 @@ static void test_corrupt(void) {
     expect_fail(&v, "accessors[0]");
     v = good, v.light = "area";
     expect_fail(&v, "type 'area' is not point, directional or spot");
-    v = good, v.light = "spot\", \"spot\": {\"innerConeAngle\": 0.5, \"outerConeAngle\": 0.5}, \"name\": \"s";
+    v = good,
+    v.light = "spot\", \"spot\": {\"innerConeAngle\": 0.5, \"outerConeAngle\": 0.5}, \"name\": \"s";
     expect_fail(&v, "innerConeAngle < outerConeAngle");
     v = good, v.children = "3";
     expect_fail(&v, "nodes[3]");
@@ -293,10 +320,12 @@ static void test_flat_normals(void) {
     st_scene s = {0};
     st_err e = {0};
     CHECK(st_gltf_load_memory(glb, n, "flat.glb", ".", &s, NULL, &e), "flat: %s", e.msg);
-    CHECK(s.num_meshes == 2 && s.meshes[0].num_triangles == 1 && s.meshes[0].uv1 == NULL, "one triangle");
+    CHECK(s.num_meshes == 2 && s.meshes[0].num_triangles == 1 && s.meshes[0].uv1 == NULL,
+          "one triangle");
     if (s.num_meshes)
         for (int i = 0; i < 3; i++)
-            CHECK(s.meshes[0].normals[3 * i + 2] == 1 && s.meshes[0].normals[3 * i] == 0, "flat normal");
+            CHECK(s.meshes[0].normals[3 * i + 2] == 1 && s.meshes[0].normals[3 * i] == 0,
+                  "flat normal");
     CHECK(s.camera.fov_y == 0, "has_camera NULL leaves the camera alone");
     st_scene_free(&s);
     // Indexed without normals: unwelded to 6 vertices, uv1 carried along.
@@ -320,7 +349,8 @@ static void test_ascii(void) {
         " \"buffers\": [{\"byteLength\": 36, \"uri\": \"data:application/octet-stream;base64,"
         "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA\"}],"
         " \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36}],"
-        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": \"VEC3\"}]}";
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, \"type\": "
+        "\"VEC3\"}]}";
     st_scene s = {0};
     st_err e = {0};
     CHECK(st_gltf_load_memory(tri, strlen(tri), "tri.gltf", ".", &s, NULL, &e), "ascii: %s", e.msg);
@@ -331,22 +361,27 @@ static void test_ascii(void) {
 
     static char deep[4096];
     int n = snprintf(deep, sizeof deep, "{\"asset\": {\"version\": \"2.0\"}, \"extras\": ");
-    for (int i = 0; i < 300; i++) deep[n++] = '[';
-    for (int i = 0; i < 300; i++) deep[n++] = ']';
+    for (int i = 0; i < 300; i++)
+        deep[n++] = '[';
+    for (int i = 0; i < 300; i++)
+        deep[n++] = ']';
     deep[n++] = '}';
     CHECK(!st_gltf_load_memory(deep, (size_t)n, "deep.gltf", ".", &s, NULL, &e) &&
               strstr(e.msg, "nested deeper than 256"),
           "deep nesting refused: %s", e.msg);
     // Brackets inside strings do not count.
     n = snprintf(deep, sizeof deep, "{\"asset\": {\"version\": \"2.0\", \"generator\": \"");
-    for (int i = 0; i < 300; i++) deep[n++] = '[';
+    for (int i = 0; i < 300; i++)
+        deep[n++] = '[';
     n += snprintf(deep + n, sizeof deep - (size_t)n, "\\\"\"}}");
-    CHECK(st_gltf_load_memory(deep, (size_t)n, "brackets.gltf", ".", &s, NULL, &e), "brackets in a string: %s", e.msg);
+    CHECK(st_gltf_load_memory(deep, (size_t)n, "brackets.gltf", ".", &s, NULL, &e),
+          "brackets in a string: %s", e.msg);
     st_scene_free(&s);
     // An accessor without bufferView could claim 4 billion zero vertices.
-    const char *bare = "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 0}],"
-                       " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}],"
-                       " \"accessors\": [{\"componentType\": 5126, \"count\": 4000000000, \"type\": \"VEC3\"}]}";
+    const char *bare =
+        "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 0}],"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}],"
+        " \"accessors\": [{\"componentType\": 5126, \"count\": 4000000000, \"type\": \"VEC3\"}]}";
     CHECK(!st_gltf_load_memory(bare, strlen(bare), "bare.gltf", ".", &s, NULL, &e) &&
               strstr(e.msg, "accessors[0]: no bufferView"),
           "accessor without bufferView: %s", e.msg);
@@ -366,7 +401,8 @@ int main(void) {
     test_ascii();
     st_err e = {0};
     st_scene s = {0};
-    CHECK(!st_gltf_load(ST_TEST_SCRATCH "/missing.glb", &s, NULL, &e) && strstr(e.msg, "missing.glb"),
+    CHECK(!st_gltf_load(ST_TEST_SCRATCH "/missing.glb", &s, NULL, &e) &&
+              strstr(e.msg, "missing.glb"),
           "missing file: %s", e.msg);
     return st_test_summary("test_scene_gltf");
 }

@@ -5,14 +5,17 @@
 #include "st_scene.h"
 
 static void sub(const float *a, const float *b, double *o) {
-    for (int k = 0; k < 3; k++) o[k] = (double)a[k] - b[k];
+    for (int k = 0; k < 3; k++)
+        o[k] = (double)a[k] - b[k];
 }
 static void cross(const double *a, const double *b, double *o) {
     o[0] = a[1] * b[2] - a[2] * b[1];
     o[1] = a[2] * b[0] - a[0] * b[2];
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
-static double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot(const double *a, const double *b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 // Geometric (winding) normal of triangle t, unnormalized: |n| = 2 * area.
 static void tri_normal(const st_mesh *m, uint32_t t, double *n) {
@@ -37,7 +40,8 @@ static bool winding_matches_normals(const st_mesh *m) {
     for (uint32_t t = 0; t < m->num_triangles; t++) {
         double n[3], vn[3];
         tri_normal(m, t, n);
-        for (int k = 0; k < 3; k++) vn[k] = m->normals[3 * m->indices[3 * t] + k];
+        for (int k = 0; k < 3; k++)
+            vn[k] = m->normals[3 * m->indices[3 * t] + k];
         if (!(dot(n, vn) > 0)) return false;
     }
     return true;
@@ -47,7 +51,8 @@ static void test_quad(void) {
     const float c[3] = {1, 2, 3}, u[3] = {2, 0, 0}, v[3] = {0.5f, 0, -3};
     st_mesh m;
     st_mesh_quad(&m, c, u, v);
-    CHECK(m.num_triangles == 2 && m.num_vertices == 4, "quad counts %u %u", m.num_triangles, m.num_vertices);
+    CHECK(m.num_triangles == 2 && m.num_vertices == 4, "quad counts %u %u", m.num_triangles,
+          m.num_vertices);
     // u x v = (0*-3 - 0*0, 0*0.5 - 2*-3, 0) = (0, 6, 0) -> +y.
     for (uint32_t i = 0; i < 4; i++) {
         CHECK_REL(m.normals[3 * i + 0], 0.0, 0, 1e-7);
@@ -57,14 +62,17 @@ static void test_quad(void) {
     CHECK(winding_matches_normals(&m), "quad winds CCW seen from its normal");
     CHECK_REL(area(&m), 6.0, 1e-6, 0); // |u x v|
     CHECK(m.uv1 == NULL, "quad has no uv1");
-    CHECK(m.model[0] == 1 && m.model[5] == 1 && m.model[10] == 1 && m.model[15] == 1 && m.model[12] == 0,
+    CHECK(m.model[0] == 1 && m.model[5] == 1 && m.model[10] == 1 && m.model[15] == 1 &&
+              m.model[12] == 0,
           "identity model");
-    CHECK(m.positions[0] == 1 && m.positions[1] == 2 && m.positions[2] == 3, "first vertex is the corner");
+    CHECK(m.positions[0] == 1 && m.positions[1] == 2 && m.positions[2] == 3,
+          "first vertex is the corner");
     // An oblique quad: normal is normalize(u x v) = (1,1,1)/sqrt(3) for u=(1,-1,0), v=(0,1,-1).
     const float u2[3] = {1, -1, 0}, v2[3] = {0, 1, -1};
     st_mesh q;
     st_mesh_quad(&q, c, u2, v2);
-    for (int k = 0; k < 3; k++) CHECK_REL(q.normals[k], 1 / sqrt(3.0), 1e-6, 0);
+    for (int k = 0; k < 3; k++)
+        CHECK_REL(q.normals[k], 1 / sqrt(3.0), 1e-6, 0);
     CHECK(winding_matches_normals(&q), "oblique quad winding");
     st_mesh_free(&q);
     st_mesh_free(&m);
@@ -83,11 +91,13 @@ static void test_box(bool inward) {
         double d[3], n[3] = {m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]};
         sub(m.positions + 3 * i, centre, d);
         CHECK_REL(dot(n, n), 1.0, 1e-12, 0);
-        CHECK(inward ? dot(n, d) < 0 : dot(n, d) > 0, "vertex %u normal direction (inward %d)", i, inward);
+        CHECK(inward ? dot(n, d) < 0 : dot(n, d) > 0, "vertex %u normal direction (inward %d)", i,
+              inward);
         for (int k = 0; k < 3; k++)
             if (fabs(n[k]) == 1) per_axis[2 * k + (n[k] > 0)]++;
     }
-    for (int a = 0; a < 6; a++) CHECK(per_axis[a] == 4, "4 vertices per face direction, got %d", per_axis[a]);
+    for (int a = 0; a < 6; a++)
+        CHECK(per_axis[a] == 4, "4 vertices per face direction, got %d", per_axis[a]);
     // 2 (3*1 + 1*3 + 3*3) = 30.
     CHECK_REL(area(&m), 30.0, 1e-6, 0);
     st_mesh_free(&m);

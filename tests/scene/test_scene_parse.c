@@ -22,12 +22,15 @@ static const char *valid =
     "    {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}},\n"
     "    {\"quad\": {\"corner\": [-0.2, 1.99, -0.2], \"u\": [0.4, 0, 0], \"v\": [0, 0, 0.4]},\n"
     "     \"emission\": [1, 2, 3], \"double_sided\": true},\n"
-    "    {\"sphere\": {\"center\": [0, 0.5, 0], \"radius\": 0.25, \"rings\": 8, \"segments\": 12}}\n"
+    "    {\"sphere\": {\"center\": [0, 0.5, 0], \"radius\": 0.25, \"rings\": 8, \"segments\": "
+    "12}}\n"
     "  ],\n"
     "  \"medium\": {\"sigma_s\": [0.05, 0.06, 0.07], \"sigma_a\": [0.005, 0.006, 0.007],\n"
     "             \"phase\": {\"hg\": 0.5}},\n"
-    "  \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 1024, \"pcf\": true}},\n"
-    "              {\"name\": \"toth\", \"params\": {\"samples\": 64, \"integrator\": \"thesis\"}},\n"
+    "  \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 1024, \"pcf\": "
+    "true}},\n"
+    "              {\"name\": \"toth\", \"params\": {\"samples\": 64, \"integrator\": "
+    "\"thesis\"}},\n"
     "              {\"name\": \"mitchell\"}]\n"
     "}\n";
 
@@ -61,7 +64,8 @@ static void test_valid(void) {
         // Inward box: the floor face (y = 0) points up.
         bool floor_up = false;
         for (uint32_t v = 0; v < 24; v++)
-            if (s.meshes[0].positions[3 * v + 1] == 0 && s.meshes[0].normals[3 * v + 1] == 1) floor_up = true;
+            if (s.meshes[0].positions[3 * v + 1] == 0 && s.meshes[0].normals[3 * v + 1] == 1)
+                floor_up = true;
         CHECK(floor_up, "inward box floor normal is +y");
         CHECK(s.meshes[1].num_triangles == 2 && s.meshes[1].albedo[0] == 0.75f &&
                   s.meshes[1].emission[0] == 0 && !s.meshes[1].double_sided,
@@ -71,7 +75,8 @@ static void test_valid(void) {
         CHECK(s.meshes[2].emission[0] == 1 && s.meshes[2].emission[1] == 2 &&
                   s.meshes[2].emission[2] == 3 && s.meshes[2].double_sided,
               "emitter material");
-        CHECK(s.meshes[3].num_triangles == 2 * 12 * 7, "sphere triangles %u", s.meshes[3].num_triangles);
+        CHECK(s.meshes[3].num_triangles == 2 * 12 * 7, "sphere triangles %u",
+              s.meshes[3].num_triangles);
         CHECK(s.meshes[3].uv1 == NULL && s.meshes[0].uv1 == NULL, "no uv1 on procedural shapes");
     }
     CHECK(st_scene_triangle_count(&s) == 12 + 2 + 2 + 168, "triangle count %llu",
@@ -103,13 +108,20 @@ static void test_valid(void) {
     CHECK(p && p->value.type == ST_VALUE_NUMBER && p->value.number == -0.05, "--set number");
     CHECK(st_scene_set(&s, "toth.integrator=hillaire", &e), "%s", e.msg);
     p = param(&s, "toth", "integrator");
-    CHECK(p && p->value.type == ST_VALUE_STRING && !strcmp(p->value.str, "hillaire"), "--set string");
+    CHECK(p && p->value.type == ST_VALUE_STRING && !strcmp(p->value.str, "hillaire"),
+          "--set string");
 
-    static const struct { const char *set, *needle; } bad_sets[] = {
-        {"sousa.taps=8", "'sousa'"},           {"shadow_map=1", "MODULE.PARAM=VALUE"},
-        {"shadow_map.resolution", "MODULE.PARAM=VALUE"}, {"shadow_map.=1", "shadow_map.=1"},
-        {"shadow_map.bias=inf", "shadow_map.bias"},  {"shadow_map.bias=", "shadow_map.bias"},
-        {"shadow_map.bias=nan", "not a finite number"}, {"shadow map.bias=1", "identifiers"},
+    static const struct {
+        const char *set, *needle;
+    } bad_sets[] = {
+        {"sousa.taps=8", "'sousa'"},
+        {"shadow_map=1", "MODULE.PARAM=VALUE"},
+        {"shadow_map.resolution", "MODULE.PARAM=VALUE"},
+        {"shadow_map.=1", "shadow_map.=1"},
+        {"shadow_map.bias=inf", "shadow_map.bias"},
+        {"shadow_map.bias=", "shadow_map.bias"},
+        {"shadow_map.bias=nan", "not a finite number"},
+        {"shadow map.bias=1", "identifiers"},
     };
     for (size_t i = 0; i < sizeof bad_sets / sizeof bad_sets[0]; i++) {
         memset(&e, 0, sizeof e);
@@ -132,7 +144,8 @@ static void test_defaults(void) {
     CHECK(s.camera.up[0] == 0 && s.camera.up[1] == 1 && s.camera.up[2] == 0, "default up");
     CHECK(s.camera.near_z == 0.05f && s.camera.far_z == 100, "default near/far");
     CHECK(s.num_lights == 0 && s.num_meshes == 0 && s.num_modules == 0, "empty lists");
-    CHECK(s.medium.phase == ST_PHASE_HG && s.medium.g == -0.999f, "g clamped to -0.999: %g", s.medium.g);
+    CHECK(s.medium.phase == ST_PHASE_HG && s.medium.g == -0.999f, "g clamped to -0.999: %g",
+          s.medium.g);
     CHECK(s.medium.sigma_a[0] == 0, "default sigma_a");
     st_scene_free(&s);
     CHECK(parse("{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"fov_y\": 30},"
@@ -141,7 +154,8 @@ static void test_defaults(void) {
               s.medium.phase == ST_PHASE_RAYLEIGH,
           "rayleigh: %s", e.msg);
     st_scene_free(&s);
-    CHECK(!parse("{}", &s, &e) && strstr(e.msg, FILE_NAME ": camera: required"), "no camera: %s", e.msg);
+    CHECK(!parse("{}", &s, &e) && strstr(e.msg, FILE_NAME ": camera: required"), "no camera: %s",
+          e.msg);
 }
 
 #define CAM "\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 40}"
@@ -152,11 +166,15 @@ static const struct bad {
 } bad[] = {
     // unknown keys, top level and nested
     {"{" CAM ", \"lighs\": []}", FILE_NAME ": lighs: unknown key"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fovy\": 40}}", "camera.fovy: unknown key"},
-    {"{" CAM ", \"geometry\": [{\"quad\": {\"corner\": [0,0,0], \"u\": [1,0,0], \"v\": [0,0,1], \"w\": 1}}]}",
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fovy\": 40}}",
+     "camera.fovy: unknown key"},
+    {"{" CAM ", \"geometry\": [{\"quad\": {\"corner\": [0,0,0], \"u\": [1,0,0], \"v\": [0,0,1], "
+             "\"w\": 1}}]}",
      "geometry[0].quad.w: unknown key"},
-    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"parms\": {}}]}", "modules[0].parms: unknown key"},
-    {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"phase\": {\"g\": 0.5}}}", "medium.phase.g: unknown key"},
+    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"parms\": {}}]}",
+     "modules[0].parms: unknown key"},
+    {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"phase\": {\"g\": 0.5}}}",
+     "medium.phase.g: unknown key"},
     // wrong types
     {"{" CAM ", \"image\": {\"width\": \"512\"}}", "image.width: expected a number"},
     {"{" CAM ", \"image\": {\"width\": 512.5}}", "image.width: expected an integer"},
@@ -171,11 +189,16 @@ static const struct bad {
     {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"phase\": \"mie\"}}", "medium.phase: expected"},
     {"[1, 2]", FILE_NAME ": expected a JSON object"},
     // NaN / Inf / float overflow
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 1e999}}", "camera.fov_y: number is not finite"},
-    {"{\"camera\": {\"position\": [0,1,-1e999], \"target\": [0,1,0], \"fov_y\": 40}}", "camera.position: element 2 is not finite"},
-    {"{\"camera\": {\"position\": [0,1,1e39], \"target\": [0,1,0], \"fov_y\": 40}}", "camera.position: 1e+39 is out of range"},
-    {"{\"camera\": {\"position\": [0,1,NaN], \"target\": [0,1,0], \"fov_y\": 40}}", FILE_NAME ": line 1, column"},
-    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"n\": -1e400}}]}", "modules[0].params.n: number is not finite"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 1e999}}",
+     "camera.fov_y: number is not finite"},
+    {"{\"camera\": {\"position\": [0,1,-1e999], \"target\": [0,1,0], \"fov_y\": 40}}",
+     "camera.position: element 2 is not finite"},
+    {"{\"camera\": {\"position\": [0,1,1e39], \"target\": [0,1,0], \"fov_y\": 40}}",
+     "camera.position: 1e+39 is out of range"},
+    {"{\"camera\": {\"position\": [0,1,NaN], \"target\": [0,1,0], \"fov_y\": 40}}",
+     FILE_NAME ": line 1, column"},
+    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"n\": -1e400}}]}",
+     "modules[0].params.n: number is not finite"},
     // wrong array lengths
     {"{" CAM ", " QUAD("[1,0]") "}", "geometry[0].quad.u: expected an array of 3 numbers"},
     {"{" CAM ", " QUAD("[1,0,0,0]") "}", "geometry[0].quad.u: expected an array of 3 numbers"},
@@ -183,65 +206,99 @@ static const struct bad {
     // out of range
     {"{" CAM ", \"image\": {\"height\": 0}}", "image.height: 0 is out of range"},
     {"{" CAM ", \"image\": {\"width\": 16385}}", "image.width: 16385 is out of range"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 180}}", "camera.fov_y: 180 is out of range"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 40, \"near\": 0}}", "camera.near: expected > 0"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 40, \"near\": 1, \"far\": 1}}", "camera.far: 1 is not greater"},
-    {"{" CAM ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"intensity\": [1,-1,1]}]}",
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 180}}",
+     "camera.fov_y: 180 is out of range"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 40, \"near\": 0}}",
+     "camera.near: expected > 0"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fov_y\": 40, \"near\": 1, "
+     "\"far\": 1}}",
+     "camera.far: 1 is not greater"},
+    {"{" CAM
+     ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"intensity\": [1,-1,1]}]}",
      "lights[0].intensity: element 1 is -1"},
     {"{" CAM ", \"lights\": [{\"type\": \"area\", \"position\": [0,1,0], \"intensity\": [1,1,1]}]}",
      "lights[0].type: 'area': expected \"point\", \"directional\" or \"spot\""},
     {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"intensity\": [1,1,1]}]}",
      "lights[0].direction: required key missing"},
-    {"{" CAM ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"irradiance\": [1,1,1]}]}",
+    {"{" CAM
+     ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"irradiance\": [1,1,1]}]}",
      "lights[0].irradiance: unknown key (expected one of: type, position, intensity)"},
-    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,0,0], \"irradiance\": [1,1,1]}]}",
+    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,0,0], \"irradiance\": "
+             "[1,1,1]}]}",
      "lights[0].direction: must be a non-zero vector"},
-    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": [1,-1,1]}]}",
+    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": "
+             "[1,-1,1]}]}",
      "lights[0].irradiance: element 1 is -1"},
     {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
-     "\"intensity\": [1,1,1], \"outer_angle\": 91}]}", "lights[0].outer_angle: 91 is out of range (0, 90]"},
+     "\"intensity\": [1,1,1], \"outer_angle\": 91}]}",
+     "lights[0].outer_angle: 91 is out of range (0, 90]"},
     {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
-     "\"intensity\": [1,1,1], \"inner_angle\": 30, \"outer_angle\": 30}]}", "lights[0].inner_angle: 30 must be in [0, outer_angle = 30)"},
+     "\"intensity\": [1,1,1], \"inner_angle\": 30, \"outer_angle\": 30}]}",
+     "lights[0].inner_angle: 30 must be in [0, outer_angle = 30)"},
     {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
-     "\"intensity\": [1,1,1], \"cone\": 30}]}", "lights[0].cone: unknown key"},
-    {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"albedo\": [0.5,1.5,0.5]}]}",
+     "\"intensity\": [1,1,1], \"cone\": 30}]}",
+     "lights[0].cone: unknown key"},
+    {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"albedo\": "
+             "[0.5,1.5,0.5]}]}",
      "geometry[0].albedo: element 1 is 1.5"},
-    {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"emission\": [0,0,-0.1]}]}",
+    {"{" CAM
+     ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"emission\": [0,0,-0.1]}]}",
      "geometry[0].emission: element 2"},
-    {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"sigma_a\": [0,-1,0]}}", "medium.sigma_a: element 1"},
-    {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"phase\": {\"hg\": 1.5}}}", "medium.phase.hg: 1.5 is out of range"},
-    {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 0}}]}", "geometry[0].sphere.radius: expected > 0"},
-    {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 1, \"rings\": 1}}]}", "geometry[0].sphere.rings: 1 is out of range"},
-    {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 1, \"rings\": 16384, \"segments\": 16384}}]}",
+    {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"sigma_a\": [0,-1,0]}}",
+     "medium.sigma_a: element 1"},
+    {"{" CAM ", \"medium\": {\"sigma_s\": [1,1,1], \"phase\": {\"hg\": 1.5}}}",
+     "medium.phase.hg: 1.5 is out of range"},
+    {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 0}}]}",
+     "geometry[0].sphere.radius: expected > 0"},
+    {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 1, \"rings\": 1}}]}",
+     "geometry[0].sphere.rings: 1 is out of range"},
+    {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 1, \"rings\": 16384, "
+             "\"segments\": 16384}}]}",
      "geometry[0].sphere: the scene would have"},
     // degenerate geometry and camera
     {"{" CAM ", " QUAD("[0,0,0]") "}", "geometry[0].quad.u: zero-length edge"},
     {"{" CAM ", " QUAD("[0,0,2]") "}", "geometry[0].quad: u and v are parallel"},
-    {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,0,1]}}]}", "geometry[0].box: zero or negative volume"},
-    {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [3e38,1,1]}, \"inward\": false}, "
-     "{\"box\": {\"min\": [-3e38,0,0], \"max\": [3e38,1,1]}}]}", "geometry[1].box: coordinates overflow"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,3], \"fov_y\": 40}}", "camera.target: equals position"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,2,3], \"fov_y\": 40}}", "camera.up: parallel"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"up\": [0,0,0], \"fov_y\": 40}}", "camera.up: zero vector"},
-    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0]}}", "camera.fov_y: required key missing"},
+    {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,0,1]}}]}",
+     "geometry[0].box: zero or negative volume"},
+    {"{" CAM
+     ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [3e38,1,1]}, \"inward\": false}, "
+     "{\"box\": {\"min\": [-3e38,0,0], \"max\": [3e38,1,1]}}]}",
+     "geometry[1].box: coordinates overflow"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,3], \"fov_y\": 40}}",
+     "camera.target: equals position"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,2,3], \"fov_y\": 40}}",
+     "camera.up: parallel"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"up\": [0,0,0], \"fov_y\": 40}}",
+     "camera.up: zero vector"},
+    {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0]}}",
+     "camera.fov_y: required key missing"},
     // geometry entry shape rules
     {"{" CAM ", \"geometry\": [{\"albedo\": [1,1,1]}]}", "geometry[0]: expected one of the keys"},
-    {"{" CAM ", \"geometry\": [{\"gltf\": \"a.glb\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}]}", "geometry[0]: has both"},
-    {"{" CAM ", \"geometry\": [{\"quad\": {\"corner\": [0,0,0], \"u\": [1,0,0], \"v\": [0,0,1]}, \"inward\": true}]}",
+    {"{" CAM
+     ", \"geometry\": [{\"gltf\": \"a.glb\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}]}",
+     "geometry[0]: has both"},
+    {"{" CAM ", \"geometry\": [{\"quad\": {\"corner\": [0,0,0], \"u\": [1,0,0], \"v\": [0,0,1]}, "
+             "\"inward\": true}]}",
      "geometry[0].inward: only valid for a box"},
     // missing assets (relative to the scene folder)
-    {"{" CAM ", \"geometry\": [{\"gltf\": \"assets/missing.glb\"}]}", "geometry[0].gltf: cannot open 'scenes/assets/missing.glb'"},
+    {"{" CAM ", \"geometry\": [{\"gltf\": \"assets/missing.glb\"}]}",
+     "geometry[0].gltf: cannot open 'scenes/assets/missing.glb'"},
     {"{" CAM ", \"geometry\": [{\"gltf\": \"/\"}]}", "geometry[0].gltf: '/' is not a regular file"},
     {"{" CAM ", \"geometry\": [{\"gltf\": \"\"}]}", "geometry[0].gltf: empty string"},
     // modules
-    {"{" CAM ", \"modules\": [{\"name\": \"toth\"}, {\"name\": \"toth\"}]}", "modules[1].name: module 'toth' is listed twice"},
-    {"{" CAM ", \"modules\": [{\"name\": \"sh adow\"}]}", "modules[0].name: 'sh adow' is not an identifier"},
+    {"{" CAM ", \"modules\": [{\"name\": \"toth\"}, {\"name\": \"toth\"}]}",
+     "modules[1].name: module 'toth' is listed twice"},
+    {"{" CAM ", \"modules\": [{\"name\": \"sh adow\"}]}",
+     "modules[0].name: 'sh adow' is not an identifier"},
     {"{" CAM ", \"modules\": [{\"name\": \"\"}]}", "modules[0].name: empty string"},
-    {"{" CAM ", \"modules\": [{\"name\": \"m123456789012345678901234567890123456789012345678901234567890123\"}]}",
+    {"{" CAM ", \"modules\": [{\"name\": "
+             "\"m123456789012345678901234567890123456789012345678901234567890123\"}]}",
      "modules[0].name: string longer than 63"},
     {"{" CAM ", \"modules\": [{\"params\": {}}]}", "modules[0].name: required key missing"},
-    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"a.b\": 1}}]}", "modules[0].params.a.b: parameter names"},
-    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"n\": 1, \"n\": 2}}]}", "modules[0].params.n: key given twice"},
+    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"a.b\": 1}}]}",
+     "modules[0].params.a.b: parameter names"},
+    {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"n\": 1, \"n\": 2}}]}",
+     "modules[0].params.n: key given twice"},
     // syntax
     {"{" CAM ", \"image\": {\"width\": 5}} trailing", FILE_NAME ": line 1, column"},
     {"{" CAM ",\n \"image\": {\"width\": 5,}}", FILE_NAME ": line 2, column"},
@@ -258,8 +315,10 @@ static void test_bad(void) {
         CHECK(!ok && e.kind == ST_ERR_INPUT, "case %zu accepted: %s", i, bad[i].json);
         CHECK(strstr(e.msg, bad[i].needle) != NULL, "case %zu: message '%s' lacks '%s'", i, e.msg,
               bad[i].needle);
-        CHECK(!strncmp(e.msg, FILE_NAME ": ", strlen(FILE_NAME) + 2), "case %zu: no file prefix: %s", i, e.msg);
-        CHECK(s.meshes == NULL && s.lights == NULL && s.modules == NULL, "case %zu left data behind", i);
+        CHECK(!strncmp(e.msg, FILE_NAME ": ", strlen(FILE_NAME) + 2),
+              "case %zu: no file prefix: %s", i, e.msg);
+        CHECK(s.meshes == NULL && s.lights == NULL && s.modules == NULL,
+              "case %zu left data behind", i);
         if (ok) st_scene_free(&s);
     }
 }

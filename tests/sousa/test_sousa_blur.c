@@ -14,8 +14,8 @@
 static st_shader *blur, *compose, *mask_sh;
 static double worst;
 
-static void draw_pass(st_shader *sh, GLuint src, st_target *dst, const float light[2], int taps, float step,
-                      float brightness) {
+static void draw_pass(st_shader *sh, GLuint src, st_target *dst, const float light[2], int taps,
+                      float step, float brightness) {
     st_target_bind(dst);
     st_shader_use(sh);
     st_shader_texture(sh, "u_src", GL_TEXTURE_2D, src);
@@ -26,8 +26,8 @@ static void draw_pass(st_shader *sh, GLuint src, st_target *dst, const float lig
     st_shader_set_float(sh, "u_brightness", brightness);
 }
 
-static void run_case(const char *what, const gimg *mask, const gimg *hdr, const float light[2], int taps,
-                     float brightness, const float tint[3], float fade) {
+static void run_case(const char *what, const gimg *mask, const gimg *hdr, const float light[2],
+                     int taps, float brightness, const float tint[3], float fade) {
     st_err err = {0};
     st_target t1 = {0}, t2 = {0}, out = {0};
     // Same as the module: R32F intermediate targets with a zero border.
@@ -58,8 +58,10 @@ static void run_case(const char *what, const gimg *mask, const gimg *hdr, const 
     ref_sousa_pass(mask, light, taps, (float)pow(taps, -1), brightness, &r1);
     double d = gimg_max_err(&gpu, &ref, 3), d1 = gimg_max_err(&g1, &r1, 1), effect = 0;
     for (int i = 0; i < ref.w * ref.h; i++)
-        for (int c = 0; c < 3; c++) effect = fmax(effect, ref.px[4 * i + c] - hdr->px[4 * i + c]);
-    printf("%-42s pass 1 err %.3g, chain err %.3g (largest shaft value %.3g)\n", what, d1, d, effect);
+        for (int c = 0; c < 3; c++)
+            effect = fmax(effect, ref.px[4 * i + c] - hdr->px[4 * i + c]);
+    printf("%-42s pass 1 err %.3g, chain err %.3g (largest shaft value %.3g)\n", what, d1, d,
+           effect);
     worst = fmax(worst, fmax(d, d1));
     CHECK(d <= 1e-3 && d1 <= 1e-3, "%s: |gpu - C| / max(1, |C|): chain %g, pass 1 %g", what, d, d1);
     CHECK(gimg_nonfinite(&gpu) == 0, "%s: non-finite output", what);
@@ -72,14 +74,22 @@ static void run_case(const char *what, const gimg *mask, const gimg *hdr, const 
 // mask.frag on a synthetic G-buffer of a camera with known pose.
 static void test_mask(int ms) {
     const int W = 48, H = 36;
-    st_camera cam = {.position = {0.3f, 1.2f, 4}, .target = {0, 0.8f, 0}, .up = {0, 1, 0}, .fov_y = 50,
-                     .near_z = 0.05f, .far_z = 20, .width = W, .height = H};
+    st_camera cam = {.position = {0.3f, 1.2f, 4},
+                     .target = {0, 0.8f, 0},
+                     .up = {0, 1, 0},
+                     .fov_y = 50,
+                     .near_z = 0.05f,
+                     .far_z = 20,
+                     .width = W,
+                     .height = H};
     st_camera_update(&cam);
     gimg gb = gimg_new(W, H, 4);
     uint32_t seed = 99;
     for (int i = 0; i < W * H; i++) {
         float r = gt_rand(&seed);
-        gb.px[4 * i + 3] = r < 0.2f ? -1.0f : r < 0.25f ? 30.0f : 0.5f + 15 * gt_rand(&seed); // -1: no surface
+        gb.px[4 * i + 3] = r < 0.2f    ? -1.0f
+                           : r < 0.25f ? 30.0f
+                                       : 0.5f + 15 * gt_rand(&seed); // -1: no surface
     }
     GLuint gtex = gl_texture_from(&gb);
     int mw = W / ms, mh = H / ms;
@@ -98,7 +108,8 @@ static void test_mask(int ms) {
     st_draw_fullscreen();
     gimg got = gl_read(t.color[0], mw, mh, 1);
     // C: z = distance * dot(ray through the pixel centre, view axis).
-    double f[3] = {cam.target[0] - cam.position[0], cam.target[1] - cam.position[1], cam.target[2] - cam.position[2]};
+    double f[3] = {cam.target[0] - cam.position[0], cam.target[1] - cam.position[1],
+                   cam.target[2] - cam.position[2]};
     st_v_norm(f);
     const double pos[3] = {cam.position[0], cam.position[1], cam.position[2]},
                  tgt[3] = {cam.target[0], cam.target[1], cam.target[2]}, up[3] = {0, 1, 0};
@@ -121,8 +132,8 @@ static void test_mask(int ms) {
             worst_mask = fmax(worst_mask, fabs(g - m));
             lo = fmin(lo, m), hi = fmax(hi, m);
         }
-    printf("mask at 1/%d resolution (%dx%d): max |gpu - C| = %.3g, values %.3f..%.3f\n", ms, mw, mh, worst_mask, lo,
-           hi);
+    printf("mask at 1/%d resolution (%dx%d): max |gpu - C| = %.3g, values %.3f..%.3f\n", ms, mw, mh,
+           worst_mask, lo, hi);
     CHECK(worst_mask < 1e-5, "mask 1/%d: %g", ms, worst_mask);
     free(got.px);
     free(gb.px);
@@ -134,8 +145,11 @@ int main(void) {
     st_err err = {0};
     st_context *ctx = st_test_context();
     blur = st_shader_load("common/fullscreen.vert", "sousa/blur.frag", NULL, &err);
-    compose = blur ? st_shader_load("common/fullscreen.vert", "sousa/blur.frag", "SOUSA_COMPOSE 1", &err) : NULL;
-    mask_sh = compose ? st_shader_load("common/fullscreen.vert", "sousa/mask.frag", NULL, &err) : NULL;
+    compose =
+        blur ? st_shader_load("common/fullscreen.vert", "sousa/blur.frag", "SOUSA_COMPOSE 1", &err)
+             : NULL;
+    mask_sh =
+        compose ? st_shader_load("common/fullscreen.vert", "sousa/mask.frag", NULL, &err) : NULL;
     CHECK(mask_sh != NULL, "load sousa shaders: %s", err.msg);
     if (!mask_sh) return st_test_summary("test_sousa_blur");
 
@@ -150,16 +164,17 @@ int main(void) {
     for (int y = 0; y < MH; y++)
         for (int x = 0; x < MW; x++) {
             float m = 1.0f;
-            if (y < 8) m = 0.05f + 0.02f * x / MW; // floor
-            if (x > 10 && x < 14 && !(y > 15 && y < 18)) m = 0.08f; // a post with a gap
+            if (y < 8) m = 0.05f + 0.02f * x / MW;                         // floor
+            if (x > 10 && x < 14 && !(y > 15 && y < 18)) m = 0.08f;        // a post with a gap
             if ((x - 28) * (x - 28) + (y - 20) * (y - 20) < 16) m = 0.12f; // a ball
             gimg_at(&mask, x, y)[0] = m * (0.9f + 0.1f * gt_rand(&seed));
         }
     for (int i = 0; i < W * H; i++)
-        for (int c = 0; c < 4; c++) hdr.px[4 * i + c] = c == 3 ? 1 : 0.5f * gt_rand(&seed);
+        for (int c = 0; c < 4; c++)
+            hdr.px[4 * i + c] = c == 3 ? 1 : 0.5f * gt_rand(&seed);
     const float white[3] = {1, 1, 1}, warm[3] = {1, 0.7f, 0.4f};
-    const float inside[2] = {0.57f, 0.71f}, centre[2] = {37.5f / W, 44.5f / H}, off[2] = {1.25f, 0.62f},
-                off2[2] = {-0.3f, -0.2f};
+    const float inside[2] = {0.57f, 0.71f}, centre[2] = {37.5f / W, 44.5f / H},
+                off[2] = {1.25f, 0.62f}, off2[2] = {-0.3f, -0.2f};
     run_case("thesis defaults (TAPS 6, brightness 0.19)", &mask, &hdr, inside, 6, 0.19f, white, 1);
     run_case("light at a pixel centre", &mask, &hdr, centre, 6, 0.19f, warm, 1);
     run_case("light off screen (uv 1.25, 0.62), fade 0.4", &mask, &hdr, off, 6, 0.19f, warm, 0.4f);

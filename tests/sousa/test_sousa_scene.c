@@ -19,16 +19,18 @@
 static char json[8192];
 static const char *MEDIUM = "{\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 0.01, 0.01]}";
 
-static const char *scene_json(const char *lights, const char *geometry, const char *medium, const char *params,
-                              const char *camera_pos) {
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": %d, \"height\": %d},\n"
-             " \"camera\": {\"position\": [%s], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40,"
-             " \"near\": 0.05, \"far\": 100},\n \"lights\": [%s],\n \"geometry\": [%s],\n%s%s%s"
-             " \"modules\": [%s%s%s]}\n",
-             RES, RES, camera_pos ? camera_pos : "0, 0, 5", lights, geometry, medium ? " \"medium\": " : "",
-             medium ? medium : "", medium ? ",\n" : "", params ? "{\"name\": \"sousa\", \"params\": {" : "",
-             params ? params : "", params ? "}}" : ""); // params NULL: no module
+static const char *scene_json(const char *lights, const char *geometry, const char *medium,
+                              const char *params, const char *camera_pos) {
+    snprintf(
+        json, sizeof json,
+        "{\"image\": {\"width\": %d, \"height\": %d},\n"
+        " \"camera\": {\"position\": [%s], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40,"
+        " \"near\": 0.05, \"far\": 100},\n \"lights\": [%s],\n \"geometry\": [%s],\n%s%s%s"
+        " \"modules\": [%s%s%s]}\n",
+        RES, RES, camera_pos ? camera_pos : "0, 0, 5", lights, geometry,
+        medium ? " \"medium\": " : "", medium ? medium : "", medium ? ",\n" : "",
+        params ? "{\"name\": \"sousa\", \"params\": {" : "", params ? params : "",
+        params ? "}}" : ""); // params NULL: no module
     return json;
 }
 
@@ -51,7 +53,8 @@ static void free_pair(render_pair *r) {
     st_image_free(&r->effect);
 }
 
-static bool render_effect(const char *lights, const char *geometry, const char *params, render_pair *r) {
+static bool render_effect(const char *lights, const char *geometry, const char *params,
+                          render_pair *r) {
     memset(r, 0, sizeof *r);
     st_scene a, b;
     gt_scene(scene_json(lights, geometry, MEDIUM, params, NULL), &a);
@@ -68,15 +71,18 @@ static bool render_effect(const char *lights, const char *geometry, const char *
     if (!ok) return false;
     st_err err = {0};
     st_image_alloc(&r->effect, RES, RES, 3, &err);
-    for (int i = 0; i < RES * RES * 3; i++) r->effect.data[i] = r->with.data[i] - r->without.data[i];
+    for (int i = 0; i < RES * RES * 3; i++)
+        r->effect.data[i] = r->with.data[i] - r->without.data[i];
     CHECK(st_test_all_finite(&r->with), "finite output");
     return true;
 }
 
 static void test_end_to_end(int taps, float brightness) {
-    const char *light = "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [2, 1.6, 1]}";
+    const char *light =
+        "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [2, 1.6, 1]}";
     char params[128];
-    snprintf(params, sizeof params, "\"taps\": %d, \"brightness\": %g, \"resolution\": 1", taps, brightness);
+    snprintf(params, sizeof params, "\"taps\": %d, \"brightness\": %g, \"resolution\": 1", taps,
+             brightness);
     render_pair r;
     if (!render_effect(light, WALL, params, &r)) return;
     // The mask the plugin should see: 8/far on the wall, 1 in the hole
@@ -86,7 +92,8 @@ static void test_end_to_end(int taps, float brightness) {
     int hole = 0;
     for (int y = 0; y < RES; y++)
         for (int x = 0; x < RES; x++) {
-            double wx = (2.0 * (x + 0.5) / RES - 1) * t * 8, wy = (2.0 * (y + 0.5) / RES - 1) * t * 8;
+            double wx = (2.0 * (x + 0.5) / RES - 1) * t * 8,
+                   wy = (2.0 * (y + 0.5) / RES - 1) * t * 8;
             bool in = wx > -0.5 && wx < 0.5 && wy > 0.3 && wy < 1.0;
             hole += in;
             gimg_at(&mask, x, y)[0] = in ? 1.0f : 8.0f / 100.0f;
@@ -101,9 +108,10 @@ static void test_end_to_end(int taps, float brightness) {
                 worst = fmax(worst, fabs(e - x) / fmax(1, fabs(x)));
                 peak = fmax(peak, x);
             }
-    printf("end to end, TAPS %d, brightness %.2f: %d hole pixels, light uv (%.3f, %.3f), fade %.2f, "
-           "largest shaft %.3f, max |gpu - C| / max(1, |C|) = %.3g\n",
-           taps, brightness, hole, r.light_uv[0], r.light_uv[1], r.fade, peak, worst);
+    printf(
+        "end to end, TAPS %d, brightness %.2f: %d hole pixels, light uv (%.3f, %.3f), fade %.2f, "
+        "largest shaft %.3f, max |gpu - C| / max(1, |C|) = %.3g\n",
+        taps, brightness, hole, r.light_uv[0], r.light_uv[1], r.fade, peak, worst);
     CHECK(hole > 20 && r.fade == 1, "setup: %d hole pixels, fade %g", hole, r.fade);
     CHECK(peak > 0.1, "shafts visible: %g", peak);
     CHECK(worst < 1e-3, "end to end vs C: %g", worst);
@@ -112,8 +120,10 @@ static void test_end_to_end(int taps, float brightness) {
 }
 
 static void test_additive(void) {
-    const char *l1 = "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [1, 1, 1]}";
-    const char *l2 = "{\"type\": \"point\", \"position\": [-1.5, -0.8, -6], \"intensity\": [1, 0.5, 0.2]}";
+    const char *l1 =
+        "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [1, 1, 1]}";
+    const char *l2 =
+        "{\"type\": \"point\", \"position\": [-1.5, -0.8, -6], \"intensity\": [1, 0.5, 0.2]}";
     char both[512];
     snprintf(both, sizeof both, "%s, %s", l1, l2);
     render_pair a, b, ab;
@@ -126,7 +136,8 @@ static void test_additive(void) {
         worst = fmax(worst, fabs(ab.effect.data[i] - a.effect.data[i] - b.effect.data[i]));
         peak = fmax(peak, ab.effect.data[i]);
     }
-    printf("two lights: max |shafts(1+2) - shafts(1) - shafts(2)| = %.3g (peak %.3g)\n", worst, peak);
+    printf("two lights: max |shafts(1+2) - shafts(1) - shafts(2)| = %.3g (peak %.3g)\n", worst,
+           peak);
     CHECK(peak > 0.05, "shafts visible: %g", peak);
     CHECK(worst < 1e-5 * fmax(1, peak), "lights add up: %g", worst);
     free_pair(&a), free_pair(&b), free_pair(&ab);
@@ -152,7 +163,8 @@ static void test_fade(void) {
 
 // ---- nothing runs that the scene does not need ----------------------------------
 
-static void expect_idle(const char *what, const char *lights, const char *medium, const char *params) {
+static void expect_idle(const char *what, const char *lights, const char *medium,
+                        const char *params) {
     st_scene sc, base;
     gt_scene(scene_json(lights, WALL, medium, params, NULL), &sc);
     gt_scene(scene_json(lights, WALL, medium, NULL, NULL), &base);
@@ -161,13 +173,13 @@ static void expect_idle(const char *what, const char *lights, const char *medium
     if (gt_frames(w, 3, &a) && gt_frames(wb, 1, &b)) {
         unsigned runs, skipped, culled;
         int n = gt_stats(w, "sousa", "blur3", &runs, &skipped, &culled);
-        CHECK(n == sc.num_lights && runs == 0 && skipped == 3u * n, "%s: blur3 runs %u skipped %u", what, runs,
-              skipped);
+        CHECK(n == sc.num_lights && runs == 0 && skipped == 3u * n, "%s: blur3 runs %u skipped %u",
+              what, runs, skipped);
         const char *culled_passes[3] = {"mask", "blur1", "blur2"};
         for (int k = 0; k < 3; k++) {
             n = gt_stats(w, "sousa", culled_passes[k], &runs, &skipped, &culled);
-            CHECK(n > 0 && runs == 0 && culled == 3u * n, "%s: %s runs %u culled %u", what, culled_passes[k], runs,
-                  culled);
+            CHECK(n > 0 && runs == 0 && culled == 3u * n, "%s: %s runs %u culled %u", what,
+                  culled_passes[k], runs, culled);
         }
         CHECK(gt_image_max_diff(&a, &b) == 0, "%s: image unchanged", what);
         printf("idle (%s): blur3 skipped; mask, blur1, blur2 culled; image identical\n", what);
@@ -178,16 +190,20 @@ static void expect_idle(const char *what, const char *lights, const char *medium
 }
 
 static void test_idle(void) {
-    const char *light = "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [1, 1, 1]}";
+    const char *light =
+        "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [1, 1, 1]}";
     expect_idle("no medium", light, NULL, "");
     expect_idle("sigma_s = 0", light, "{\"sigma_s\": [0, 0, 0]}", "");
     expect_idle("brightness 0", light, MEDIUM, "\"brightness\": 0");
-    expect_idle("light behind the camera", "{\"type\": \"point\", \"position\": [0, 0, 9], \"intensity\": [1, 1, 1]}",
-                MEDIUM, "");
-    expect_idle("black light", "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [0, 0, 0]}", MEDIUM,
+    expect_idle("light behind the camera",
+                "{\"type\": \"point\", \"position\": [0, 0, 9], \"intensity\": [1, 1, 1]}", MEDIUM,
                 "");
+    expect_idle("black light",
+                "{\"type\": \"point\", \"position\": [0.1, 0.7, -6], \"intensity\": [0, 0, 0]}",
+                MEDIUM, "");
     char two[512];
-    snprintf(two, sizeof two, "%s, {\"type\": \"point\", \"position\": [0, 0, 9], \"intensity\": [1, 1, 1]}", light);
+    snprintf(two, sizeof two,
+             "%s, {\"type\": \"point\", \"position\": [0, 0, 9], \"intensity\": [1, 1, 1]}", light);
     {
         // One light on screen, one behind: only the second chain is idle.
         st_scene sc;
@@ -204,8 +220,9 @@ static void test_idle(void) {
                         runs[k] = s->runs, skipped[k] = s->skipped, culled[k] = s->culled;
             }
             CHECK(culled[0] == 1 && culled[1] == 1 && skipped[2] == 1 && runs[3] == 1,
-                  "light behind: its chain is culled/skipped (%u %u %u), the visible light's runs (%u)", culled[0],
-                  culled[1], skipped[2], runs[3]);
+                  "light behind: its chain is culled/skipped (%u %u %u), the visible light's runs "
+                  "(%u)",
+                  culled[0], culled[1], skipped[2], runs[3]);
         }
         st_image_free(&img);
         st_world_destroy(w);
@@ -220,17 +237,19 @@ static void test_idle(void) {
     if (gt_frames(w, 1, &first) && gt_frames(w, 2, &img)) {
         unsigned runs[4], skipped, culled;
         const char *names[4] = {"mask", "blur1", "blur2", "blur3"};
-        for (int k = 0; k < 4; k++) gt_stats(w, "sousa", names[k], &runs[k], &skipped, &culled);
+        for (int k = 0; k < 4; k++)
+            gt_stats(w, "sousa", names[k], &runs[k], &skipped, &culled);
         CHECK(runs[0] == 1 && runs[1] == 1 && runs[2] == 1 && runs[3] == 3,
-              "static view over 3 frames: mask %u, blur1 %u, blur2 %u (1 each), blur3 %u (3)", runs[0], runs[1],
-              runs[2], runs[3]);
+              "static view over 3 frames: mask %u, blur1 %u, blur2 %u (1 each), blur3 %u (3)",
+              runs[0], runs[1], runs[2], runs[3]);
         CHECK(gt_image_max_diff(&first, &img) == 0, "reused passes give the same image");
         const float p[3] = {0.1f, 0, 5}, t[3] = {0.1f, 0, 0}, up[3] = {0, 1, 0};
         st_world_set_camera(w, p, t, up);
         gt_frames(w, 1, &img);
-        for (int k = 0; k < 4; k++) gt_stats(w, "sousa", names[k], &runs[k], &skipped, &culled);
-        CHECK(runs[0] == 2 && runs[1] == 2 && runs[2] == 2, "camera moved: mask/blur1/blur2 rerun (%u %u %u)", runs[0],
-              runs[1], runs[2]);
+        for (int k = 0; k < 4; k++)
+            gt_stats(w, "sousa", names[k], &runs[k], &skipped, &culled);
+        CHECK(runs[0] == 2 && runs[1] == 2 && runs[2] == 2,
+              "camera moved: mask/blur1/blur2 rerun (%u %u %u)", runs[0], runs[1], runs[2]);
         printf("static view: mask, blur1, blur2 ran once in 3 frames, again after a camera move\n");
     }
     st_image_free(&first), st_image_free(&img);
@@ -251,7 +270,8 @@ static void test_idle(void) {
     cJSON_ArrayForEach(p, passes) {
         if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, "sousa")) continue;
         const char *pass = cJSON_GetObjectItem(p, "pass")->valuestring;
-        int runs = cJSON_GetObjectItem(p, "runs")->valueint, skipped = cJSON_GetObjectItem(p, "skipped")->valueint,
+        int runs = cJSON_GetObjectItem(p, "runs")->valueint,
+            skipped = cJSON_GetObjectItem(p, "skipped")->valueint,
             culled = cJSON_GetObjectItem(p, "culled")->valueint;
         seen++;
         if (!strcmp(pass, "blur3")) {
@@ -268,7 +288,8 @@ static void test_idle(void) {
 
 static void stress_scene(const char *what, const char *light_pos, const char *camera_pos) {
     char light[256];
-    snprintf(light, sizeof light, "{\"type\": \"point\", \"position\": [%s], \"intensity\": [4, 2, 1]}", light_pos);
+    snprintf(light, sizeof light,
+             "{\"type\": \"point\", \"position\": [%s], \"intensity\": [4, 2, 1]}", light_pos);
     st_scene sc;
     gt_scene(scene_json(light, WALL, MEDIUM, "", camera_pos), &sc);
     st_world *w = gt_world(&sc);
@@ -279,14 +300,16 @@ static void stress_scene(const char *what, const char *light_pos, const char *ca
     for (int k = 0; k < p->num_params && bad == 0; k++) {
         double def = mi.params[k];
         for (int end = 0; end < 2 && bad == 0; end++) {
-            st_world_set_param(w, "sousa", p->params[k].name, end ? p->params[k].max : p->params[k].min, NULL);
+            st_world_set_param(w, "sousa", p->params[k].name,
+                               end ? p->params[k].max : p->params[k].min, NULL);
             bad = gt_frames(w, 1, &img) ? (int)st_image_count_nonfinite(&img) : -1;
         }
         st_world_set_param(w, "sousa", p->params[k].name, def, NULL);
     }
     for (int end = 0; end < 2 && bad == 0; end++) {
         for (int k = 0; k < p->num_params; k++)
-            st_world_set_param(w, "sousa", p->params[k].name, end ? p->params[k].max : p->params[k].min, NULL);
+            st_world_set_param(w, "sousa", p->params[k].name,
+                               end ? p->params[k].max : p->params[k].min, NULL);
         bad = gt_frames(w, 1, &img) ? (int)st_image_count_nonfinite(&img) : -1;
     }
     printf("stress %-34s %d parameter limits + all-min + all-max: %s\n", what, p->num_params,

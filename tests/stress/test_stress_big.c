@@ -9,10 +9,12 @@ static const double LIGHT[3] = {0.3, 1, -0.2}, I = 2, RHO = 0.6;
 
 static const char *SCENE =
     "{\"image\": {\"width\": 64, \"height\": 64},"
-    " \"camera\": {\"position\": [0, 2.5, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 50,"
+    " \"camera\": {\"position\": [0, 2.5, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": "
+    "50,"
     " \"near\": 0.05, \"far\": 100},"
     " \"lights\": [{\"type\": \"point\", \"position\": [0.3, 1, -0.2], \"intensity\": [2, 2, 2]}],"
-    " \"geometry\": [{\"quad\": {\"corner\": [-50, 0, -50], \"u\": [0, 0, 100], \"v\": [100, 0, 0]},"
+    " \"geometry\": [{\"quad\": {\"corner\": [-50, 0, -50], \"u\": [0, 0, 100], \"v\": [100, 0, "
+    "0]},"
     " \"albedo\": [0.6, 0.6, 0.6]}]}";
 
 // Worst relative error against rho/pi I cos / d^2 over every `step`-th
@@ -54,8 +56,8 @@ int main(void) {
         int checked;
         double e = floor_error(&img, cases[k].step, &checked);
         stress_stats s = stress_image_stats(&img);
-        printf("  %-16s %dx%d in %.1f s, max %.4g, analytic error %.2e over %d pixels\n", name, img.width, img.height,
-               t, s.max, e, checked);
+        printf("  %-16s %dx%d in %.1f s, max %.4g, analytic error %.2e over %d pixels\n", name,
+               img.width, img.height, t, s.max, e, checked);
         CHECK(checked >= 20, "%s: %d pixels checked", name, checked);
         CHECK(e < 0.01, "%s: worst relative error against the analytic floor %.3g", name, e);
         CHECK(s.negative == 0, "%s: %zu negative values", name, s.negative);

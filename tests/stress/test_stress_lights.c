@@ -32,10 +32,13 @@ static void room_hit(int i, int j, double p[3], double n[3]) {
     int axis = 0, side = 0;
     st_test_ray(&cam, i, j, d);
     for (int k = 0; k < 3; k++) {
-        double tk = d[k] > 0 ? (BMAX[k] - CAM[k]) / d[k] : d[k] < 0 ? (BMIN[k] - CAM[k]) / d[k] : INFINITY;
+        double tk = d[k] > 0   ? (BMAX[k] - CAM[k]) / d[k]
+                    : d[k] < 0 ? (BMIN[k] - CAM[k]) / d[k]
+                               : INFINITY;
         if (tk < t) t = tk, axis = k, side = d[k] > 0;
     }
-    for (int k = 0; k < 3; k++) p[k] = CAM[k] + t * d[k], n[k] = 0;
+    for (int k = 0; k < 3; k++)
+        p[k] = CAM[k] + t * d[k], n[k] = 0;
     n[axis] = side ? -1 : 1;
 }
 
@@ -44,7 +47,8 @@ static void room_hit(int i, int j, double p[3], double n[3]) {
 static double direct(const double light[3], int i, int j, double *dist) {
     double p[3], n[3], l[3], d2 = 0, ln = 0;
     room_hit(i, j, p, n);
-    for (int k = 0; k < 3; k++) l[k] = light[k] - p[k], d2 += l[k] * l[k], ln += l[k] * n[k];
+    for (int k = 0; k < 3; k++)
+        l[k] = light[k] - p[k], d2 += l[k] * l[k], ln += l[k] * n[k];
     *dist = sqrt(d2);
     return ln <= 0 ? 0 : RHO / S_PI * I * ln / (d2 * *dist);
 }
@@ -55,22 +59,26 @@ static void room_scene(const double light[3], const stress_config *c) {
              "{\"image\": {\"width\": %d, \"height\": %d},"
              " \"camera\": {\"position\": [%.17g, %.17g, %.17g], \"target\": [%.17g, %.17g, %.17g],"
              " \"up\": [0, 1, 0], \"fov_y\": %g, \"near\": 0.05, \"far\": 100},"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%.17g, %.17g, %.17g], \"intensity\": [%g, %g, %g]}],"
-             " \"geometry\": [{\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}, \"inward\": true,"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%.17g, %.17g, %.17g], "
+             "\"intensity\": [%g, %g, %g]}],"
+             " \"geometry\": [{\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}, "
+             "\"inward\": true,"
              " \"albedo\": [%g, %g, %g]}],%s",
-             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, light[0], light[1], light[2], I, I, I,
-             BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], RHO, RHO, RHO, tail);
+             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, light[0], light[1],
+             light[2], I, I, I, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], RHO, RHO, RHO,
+             tail);
 }
 
 // Compares an image with the analytic direct light: pixels whose surface
 // point is farther than `keep_out` from the light (the singular spot) and,
 // with visibility, those the light reaches. Returns the worst relative error
 // above an absolute floor of 1e-4 of the image's analytic maximum.
-static double direct_error(const st_image *img, const light_case *lc, int visibility, int skip_floor,
-                           double keep_out) {
+static double direct_error(const st_image *img, const light_case *lc, int visibility,
+                           int skip_floor, double keep_out) {
     double peak = 0, worst = 0, dist, p[3], n[3];
     for (int j = 0; j < N; j++)
-        for (int i = 0; i < N; i++) peak = fmax(peak, direct(lc->pos, i, j, &dist));
+        for (int i = 0; i < N; i++)
+            peak = fmax(peak, direct(lc->pos, i, j, &dist));
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++) {
             double want = lc->outside && visibility ? 0 : direct(lc->pos, i, j, &dist);
@@ -89,15 +97,18 @@ static void room_lights(int n, const double pos[3], double intensity) {
     size_t k = 0;
     for (int i = 0; i < n; i++)
         k += (size_t)snprintf(lights + k, sizeof lights - k,
-                              "%s{\"type\": \"point\", \"position\": [%.17g, %.17g, %.17g], \"intensity\": [%g, %g, %g]}",
-                              i ? ", " : "", pos[0], pos[1], pos[2], intensity / n, intensity / n, intensity / n);
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": %d, \"height\": %d},"
-             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"fov_y\": %g},"
-             " \"lights\": [%s],"
-             " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": true}],"
-             " \"modules\": [" STRESS_SHADOW "]}",
-             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, lights);
+                              "%s{\"type\": \"point\", \"position\": [%.17g, %.17g, %.17g], "
+                              "\"intensity\": [%g, %g, %g]}",
+                              i ? ", " : "", pos[0], pos[1], pos[2], intensity / n, intensity / n,
+                              intensity / n);
+    snprintf(
+        json, sizeof json,
+        "{\"image\": {\"width\": %d, \"height\": %d},"
+        " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"fov_y\": %g},"
+        " \"lights\": [%s],"
+        " \"geometry\": [{\"box\": {\"min\": [-1, 0, -1], \"max\": [1, 2, 1]}, \"inward\": true}],"
+        " \"modules\": [" STRESS_SHADOW "]}",
+        N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, lights);
 }
 
 // ST_MAX_LIGHTS (8) coincident lights sum to one light of their total
@@ -120,7 +131,8 @@ static void test_light_count_and_intensity(void) {
     stress_refused("render", "lights_9", json, NULL, "lights");
     room_lights(1, pos, 0);
     if (stress_render("lights_zero", json, NULL, &zero))
-        CHECK(stress_image_stats(&zero).max == 0, "zero intensity: max %g", stress_image_stats(&zero).max);
+        CHECK(stress_image_stats(&zero).max == 0, "zero intensity: max %g",
+              stress_image_stats(&zero).max);
     const double near_wall[3] = {0, 1, -0.9};
     room_lights(1, near_wall, 3e38);
     char out[512];
@@ -151,13 +163,16 @@ int main(void) {
     int nc = (int)(sizeof cases / sizeof cases[0]);
     double d[3], p[3], n[3];
     // 0.02 m in front of the camera, inside its 0.05 m near plane.
-    for (int k = 0; k < 3; k++) cases[1].pos[k] = CAM[k] + 0.02 * cam.f[k];
+    for (int k = 0; k < 3; k++)
+        cases[1].pos[k] = CAM[k] + 0.02 * cam.f[k];
     // 0.8 m along the centre ray of pixel (11, 7).
     st_test_ray(&cam, 11, 7, d);
-    for (int k = 0; k < 3; k++) cases[6].pos[k] = CAM[k] + 0.8 * d[k];
+    for (int k = 0; k < 3; k++)
+        cases[6].pos[k] = CAM[k] + 0.8 * d[k];
     // Where the centre ray of pixel (16, 16) meets the back wall.
     room_hit(16, 16, p, n);
-    for (int k = 0; k < 3; k++) cases[7].pos[k] = p[k];
+    for (int k = 0; k < 3; k++)
+        cases[7].pos[k] = p[k];
 
     char name[96];
     for (int l = 0; l < nc; l++) {
@@ -181,11 +196,13 @@ int main(void) {
                 // is checked on the walls there.
                 double e = direct_error(&img, lc, m == 1, m == 1 && lc->grazing, keep_out);
                 printf("  %-30s max %-10.4g analytic error %.2e\n", name, s.max, e);
-                CHECK(e < 0.02, "%s: worst relative error against the analytic direct light %.3g", name, e);
+                CHECK(e < 0.02, "%s: worst relative error against the analytic direct light %.3g",
+                      name, e);
             } else {
                 printf("  %-30s max %.4g\n", name, s.max);
             }
-            if (lc->outside && m == 1) CHECK(s.max == 0, "%s: light behind a wall, max %g, want 0", name, s.max);
+            if (lc->outside && m == 1)
+                CHECK(s.max == 0, "%s: light behind a wall, max %g, want 0", name, s.max);
             st_image_free(&img);
         }
         // The reference's direct light has exact visibility.
@@ -195,7 +212,8 @@ int main(void) {
         if (stress_ok("reference", name, json, "--spp 1 --aov direct --seed 3", &ref)) {
             double e = direct_error(&ref, lc, 1, 0, keep_out);
             printf("  %-30s analytic error %.2e\n", name, e);
-            CHECK(e < 0.02, "%s: worst relative error against the analytic direct light %.3g", name, e);
+            CHECK(e < 0.02, "%s: worst relative error against the analytic direct light %.3g", name,
+                  e);
         }
         st_image_free(&ref);
     }

@@ -24,8 +24,8 @@ typedef struct base_param {
     double value;
 } base_param;
 static const base_param BASE[] = {
-    {"shadow_map", "resolution", 128}, {"toth", "samples", 16},   {"atlas_gi", "atlas_size", 64},
-    {"atlas_gi", "samples", 16},       {"ssgi", "samples", 16},   {"mitchell", "n", 32},
+    {"shadow_map", "resolution", 128}, {"toth", "samples", 16}, {"atlas_gi", "atlas_size", 64},
+    {"atlas_gi", "samples", 16},       {"ssgi", "samples", 16}, {"mitchell", "n", 32},
 };
 
 // Values that switch an effect off: the image must equal the one without
@@ -38,7 +38,8 @@ static const neutral NEUTRAL[] = {
 
 static int is_neutral(const char *module, const char *param, const char *value) {
     for (size_t k = 0; k < sizeof NEUTRAL / sizeof NEUTRAL[0]; k++)
-        if (!strcmp(NEUTRAL[k].module, module) && !strcmp(NEUTRAL[k].param, param) && !strcmp(NEUTRAL[k].value, value))
+        if (!strcmp(NEUTRAL[k].module, module) && !strcmp(NEUTRAL[k].param, param) &&
+            !strcmp(NEUTRAL[k].value, value))
             return 1;
     return 0;
 }
@@ -69,9 +70,11 @@ static double num(const cJSON *o, const char *key) {
 static int list_has(const char *list, const char *name) {
     size_t n = strlen(name);
     for (const char *p = list; p && *p;) {
-        while (*p == ' ' || *p == ',') p++;
+        while (*p == ' ' || *p == ',')
+            p++;
         const char *e = p;
-        while (*e && *e != ',') e++;
+        while (*e && *e != ',')
+            e++;
         size_t l = (size_t)(e - p);
         if (l && p[l - 1] == '?') l--;
         if (l == n && !strncmp(p, name, n)) return 1;
@@ -100,15 +103,17 @@ static int table_checks(const cJSON *mods) {
             if (!strcmp(type, "float") || !strcmp(type, "int")) {
                 double lo = num(p, "min"), hi = num(p, "max"), def = num(p, "default");
                 CHECK(lo < hi, "%s.%s: range [%g, %g]", name, pn, lo, hi);
-                CHECK(def >= lo && def <= hi, "%s.%s: default %g outside [%g, %g]", name, pn, def, lo, hi);
+                CHECK(def >= lo && def <= hi, "%s.%s: default %g outside [%g, %g]", name, pn, def,
+                      lo, hi);
                 if (!strcmp(type, "int"))
-                    CHECK(lo == floor(lo) && hi == floor(hi) && def == floor(def), "%s.%s: int with fractions",
-                          name, pn);
+                    CHECK(lo == floor(lo) && hi == floor(hi) && def == floor(def),
+                          "%s.%s: int with fractions", name, pn);
             } else if (!strcmp(type, "enum")) {
                 const char *choices = str(p, "choices"), *def = str(p, "default");
-                CHECK(strchr(choices, '|') != NULL, "%s.%s: enum with one choice '%s'", name, pn, choices);
-                CHECK(list_has(choices, def) || strstr(choices, def), "%s.%s: default '%s' not in %s", name, pn,
-                      def, choices);
+                CHECK(strchr(choices, '|') != NULL, "%s.%s: enum with one choice '%s'", name, pn,
+                      choices);
+                CHECK(list_has(choices, def) || strstr(choices, def),
+                      "%s.%s: default '%s' not in %s", name, pn, def, choices);
             } else {
                 CHECK(!strcmp(type, "bool"), "%s.%s: unknown type '%s'", name, pn, type);
             }
@@ -137,9 +142,11 @@ static void scene_modules(const cJSON *m, const char *param, const char *value, 
         if (!strcmp(on, name) || !req[0]) continue;
         int provides = 0;
         for (const char *p = str(o, "provides"); *p;) {
-            while (*p == ' ' || *p == ',') p++;
+            while (*p == ' ' || *p == ',')
+                p++;
             const char *e = p;
-            while (*e && *e != ',') e++;
+            while (*e && *e != ',')
+                e++;
             char cap[64];
             snprintf(cap, sizeof cap, "%.*s", (int)(e - p), p);
             if (cap[0] && list_has(req, cap)) provides = 1;
@@ -150,8 +157,8 @@ static void scene_modules(const cJSON *m, const char *param, const char *value, 
         int first = 1;
         for (size_t b = 0; b < sizeof BASE / sizeof BASE[0]; b++)
             if (!strcmp(BASE[b].module, on))
-                n += (size_t)snprintf(mods + n, sizeof mods - n, "%s\"%s\": %g", first ? "" : ", ", BASE[b].param,
-                                      BASE[b].value),
+                n += (size_t)snprintf(mods + n, sizeof mods - n, "%s\"%s\": %g", first ? "" : ", ",
+                                      BASE[b].param, BASE[b].value),
                     first = 0;
         n += (size_t)snprintf(mods + n, sizeof mods - n, "}}, ");
     }
@@ -167,28 +174,38 @@ static void scene_modules(const cJSON *m, const char *param, const char *value, 
             int has = 0;
             cJSON_ArrayForEach(p, params) has |= !strcmp(str(p, "name"), BASE[b].param);
             if (!has) continue;
-            n += (size_t)snprintf(mods + n, sizeof mods - n, "%s\"%s\": %g", first ? "" : ", ", BASE[b].param,
-                                  BASE[b].value);
+            n += (size_t)snprintf(mods + n, sizeof mods - n, "%s\"%s\": %g", first ? "" : ", ",
+                                  BASE[b].param, BASE[b].value);
             first = 0;
         }
-        if (param) n += (size_t)snprintf(mods + n, sizeof mods - n, "%s\"%s\": %s", first ? "" : ", ", param, value);
+        if (param)
+            n += (size_t)snprintf(mods + n, sizeof mods - n, "%s\"%s\": %s", first ? "" : ", ",
+                                  param, value);
         snprintf(mods + n, sizeof mods - n, "}}");
     }
     // A room with a pillar, a light in view and an emitting panel: shadows,
     // shafts, indirect light and a medium for every technique to work on.
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": %d, \"height\": %d},"
-             " \"camera\": {\"position\": [0, 1.2, 1.8], \"target\": [0, 1.4, -1], \"up\": [0, 1, 0], \"fov_y\": 60},"
-             " \"lights\": [{\"type\": \"point\", \"position\": [0.4, 1.7, -1.2], \"intensity\": [4, 3.5, 3]}],"
-             " \"geometry\": [{\"box\": {\"min\": [-2, 0, -2], \"max\": [2, 3, 2]}, \"inward\": true},"
-             "  {\"box\": {\"min\": [-0.1, 0, -0.7], \"max\": [0.1, 2.5, -0.5]}, \"albedo\": [0.6, 0.3, 0.2]},"
-             "  {\"quad\": {\"corner\": [1.99, 0.5, -1], \"u\": [0, 0, 1], \"v\": [0, 1, 0]}, \"emission\": [0.5, 0.5, 0.5]}],"
-             " \"medium\": {\"sigma_s\": [0.1, 0.12, 0.14], \"sigma_a\": [0.01, 0.01, 0.01], \"phase\": {\"hg\": 0.4}},"
-             " \"modules\": [%s]}",
-             N, N, mods);
+    snprintf(
+        json, sizeof json,
+        "{\"image\": {\"width\": %d, \"height\": %d},"
+        " \"camera\": {\"position\": [0, 1.2, 1.8], \"target\": [0, 1.4, -1], \"up\": [0, 1, 0], "
+        "\"fov_y\": 60},"
+        " \"lights\": [{\"type\": \"point\", \"position\": [0.4, 1.7, -1.2], \"intensity\": [4, "
+        "3.5, 3]}],"
+        " \"geometry\": [{\"box\": {\"min\": [-2, 0, -2], \"max\": [2, 3, 2]}, \"inward\": true},"
+        "  {\"box\": {\"min\": [-0.1, 0, -0.7], \"max\": [0.1, 2.5, -0.5]}, \"albedo\": [0.6, 0.3, "
+        "0.2]},"
+        "  {\"quad\": {\"corner\": [1.99, 0.5, -1], \"u\": [0, 0, 1], \"v\": [0, 1, 0]}, "
+        "\"emission\": [0.5, 0.5, 0.5]}],"
+        " \"medium\": {\"sigma_s\": [0.1, 0.12, 0.14], \"sigma_a\": [0.01, 0.01, 0.01], \"phase\": "
+        "{\"hg\": 0.4}},"
+        " \"modules\": [%s]}",
+        N, N, mods);
 }
 
-static void scene_for(const cJSON *m, const char *param, const char *value) { scene_modules(m, param, value, 1); }
+static void scene_for(const cJSON *m, const char *param, const char *value) {
+    scene_modules(m, param, value, 1);
+}
 
 static int renders, refusals_in_range, neutral_checked;
 
@@ -206,7 +223,8 @@ static void limit(const char *module, const char *param, const char *value, cons
         // A value inside the declared range that this scene cannot take.
         refusals_in_range++;
         printf("  %-44s refused: %s", name, stress_msg);
-        CHECK(strstr(stress_msg, param) != NULL, "%s: the refusal names %s: %s", name, param, stress_msg);
+        CHECK(strstr(stress_msg, param) != NULL, "%s: the refusal names %s: %s", name, param,
+              stress_msg);
         CHECK(stress_msg_lines() == 1, "%s: one message line, got %d", name, stress_msg_lines());
         CHECK(!st_test_exists(out), "%s: no output file", name);
         return;
@@ -222,13 +240,15 @@ static void limit(const char *module, const char *param, const char *value, cons
     printf("  %-44s mean %-10.4g max %-10.4g vs plain: L1 %.3g\n", name, s.mean, s.max, d);
     if (is_neutral(module, param, value)) {
         neutral_checked++;
-        CHECK(d < 1e-5, "%s switches the effect off: relative L1 from the plain image %.3g", name, d);
+        CHECK(d < 1e-5, "%s switches the effect off: relative L1 from the plain image %.3g", name,
+              d);
     }
     st_image_free(&img);
     unlink(out);
 }
 
-static void refused(const char *module, const char *param, const char *value, int via_set, const cJSON *m) {
+static void refused(const char *module, const char *param, const char *value, int via_set,
+                    const cJSON *m) {
     char name[160], set[256], qualified[160];
     snprintf(name, sizeof name, "%s_%s_bad_%d", module, param, via_set);
     snprintf(qualified, sizeof qualified, "%s.%s", module, param);
@@ -300,7 +320,8 @@ static void module_limits(const cJSON *m) {
         if (strcmp(NEUTRAL[k].module, name)) continue;
         cJSON_ArrayForEach(p, params) want += !strcmp(str(p, "name"), NEUTRAL[k].param);
     }
-    CHECK(neutral_checked == want, "%s: %d of %d neutral values checked", name, neutral_checked, want);
+    CHECK(neutral_checked == want, "%s: %d of %d neutral values checked", name, neutral_checked,
+          want);
 }
 
 int main(int argc, char **argv) {
@@ -316,8 +337,8 @@ int main(int argc, char **argv) {
         cJSON_ArrayForEach(m, mods) if (!strcmp(str(m, "name"), argv[1])) found = m;
         CHECK(found != NULL, "module '%s' is not installed", argv[1]);
         if (found) module_limits(found);
-        printf("  %d renders at limits, %d refused in range, %d neutral, %.1f s\n", renders, refusals_in_range,
-               neutral_checked, stress_now() - t0);
+        printf("  %d renders at limits, %d refused in range, %d neutral, %.1f s\n", renders,
+               refusals_in_range, neutral_checked, stress_now() - t0);
     }
     cJSON_Delete(mods);
     return st_test_summary(argc < 2 ? "test_stress_params" : argv[1]);

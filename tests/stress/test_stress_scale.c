@@ -17,36 +17,45 @@ static void cornell(double s, const stress_config *c, const char *module_params)
         {-1, 0, -1, 0, 0, 2, 2, 0, 0}, {-1, 2, -1, 2, 0, 0, 0, 0, 2}, {-1, 0, -1, 2, 0, 0, 0, 2, 0},
         {-1, 0, -1, 0, 2, 0, 0, 0, 2}, {1, 0, -1, 0, 0, 2, 0, 2, 0},
     };
-    static const double albedo[5][3] = {{0.75, 0.75, 0.75}, {0.75, 0.75, 0.75}, {0.75, 0.75, 0.75},
-                                        {0.75, 0.1, 0.1},   {0.1, 0.75, 0.1}};
-    static const double blocks[2][6] = {{0.1, 0, -0.1, 0.7, 0.6, 0.5}, {-0.7, 0, -0.7, -0.1, 1.2, -0.1}};
+    static const double albedo[5][3] = {{0.75, 0.75, 0.75},
+                                        {0.75, 0.75, 0.75},
+                                        {0.75, 0.75, 0.75},
+                                        {0.75, 0.1, 0.1},
+                                        {0.1, 0.75, 0.1}};
+    static const double blocks[2][6] = {{0.1, 0, -0.1, 0.7, 0.6, 0.5},
+                                        {-0.7, 0, -0.7, -0.1, 1.2, -0.1}};
     char geo[4096] = "", med[256] = "";
     size_t n = 0;
     for (int q = 0; q < 5; q++) {
         const double *v = quads[q];
-        n += (size_t)snprintf(geo + n, sizeof geo - n,
-                              "%s{\"quad\": {\"corner\": [%.17g, %.17g, %.17g], \"u\": [%.17g, %.17g, %.17g],"
-                              " \"v\": [%.17g, %.17g, %.17g]}, \"albedo\": [%g, %g, %g]}",
-                              q ? ", " : "", s * v[0], s * v[1], s * v[2], s * v[3], s * v[4], s * v[5], s * v[6],
-                              s * v[7], s * v[8], albedo[q][0], albedo[q][1], albedo[q][2]);
+        n += (size_t)snprintf(
+            geo + n, sizeof geo - n,
+            "%s{\"quad\": {\"corner\": [%.17g, %.17g, %.17g], \"u\": [%.17g, %.17g, %.17g],"
+            " \"v\": [%.17g, %.17g, %.17g]}, \"albedo\": [%g, %g, %g]}",
+            q ? ", " : "", s * v[0], s * v[1], s * v[2], s * v[3], s * v[4], s * v[5], s * v[6],
+            s * v[7], s * v[8], albedo[q][0], albedo[q][1], albedo[q][2]);
     }
     for (int b = 0; b < 2; b++) {
         const double *v = blocks[b];
-        n += (size_t)snprintf(geo + n, sizeof geo - n,
-                              ", {\"box\": {\"min\": [%.17g, %.17g, %.17g], \"max\": [%.17g, %.17g, %.17g]}}",
-                              s * v[0], s * v[1], s * v[2], s * v[3], s * v[4], s * v[5]);
+        n += (size_t)snprintf(
+            geo + n, sizeof geo - n,
+            ", {\"box\": {\"min\": [%.17g, %.17g, %.17g], \"max\": [%.17g, %.17g, %.17g]}}",
+            s * v[0], s * v[1], s * v[2], s * v[3], s * v[4], s * v[5]);
     }
     if (c->medium)
-        snprintf(med, sizeof med,
-                 " \"medium\": {\"sigma_s\": [%.17g, %.17g, %.17g], \"sigma_a\": [%.17g, %.17g, %.17g],"
-                 " \"phase\": {\"hg\": 0.3}},",
-                 0.3 / s, 0.2 / s, 0.1 / s, 0.02 / s, 0.02 / s, 0.02 / s);
+        snprintf(
+            med, sizeof med,
+            " \"medium\": {\"sigma_s\": [%.17g, %.17g, %.17g], \"sigma_a\": [%.17g, %.17g, %.17g],"
+            " \"phase\": {\"hg\": 0.3}},",
+            0.3 / s, 0.2 / s, 0.1 / s, 0.02 / s, 0.02 / s, 0.02 / s);
     double I = 3 * s * s;
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},"
-             " \"camera\": {\"position\": [0, %.17g, %.17g], \"target\": [0, %.17g, 0], \"up\": [0, 1, 0],"
+             " \"camera\": {\"position\": [0, %.17g, %.17g], \"target\": [0, %.17g, 0], \"up\": "
+             "[0, 1, 0],"
              " \"fov_y\": 40, \"near\": %.17g, \"far\": %.17g},"
-             " \"lights\": [{\"type\": \"point\", \"position\": [0, %.17g, 0], \"intensity\": [%.17g, %.17g, %.17g]}],"
+             " \"lights\": [{\"type\": \"point\", \"position\": [0, %.17g, 0], \"intensity\": "
+             "[%.17g, %.17g, %.17g]}],"
              " \"geometry\": [%s],%s \"modules\": %s}",
              N, N, s * 1, s * 3.4, s * 1, s * 0.05, s * 100, s * 1.9, I, I, I, geo, med,
              module_params ? module_params : c->modules);
@@ -68,9 +77,11 @@ int main(void) {
             char base_mods[512], mods[512];
             double r = s < 1 ? 1.0 : 0.005;
             snprintf(base_mods, sizeof base_mods,
-                     "[{\"name\": \"mitchell\", \"params\": {\"n\": 32, \"light_radius\": %.17g}}]", r);
+                     "[{\"name\": \"mitchell\", \"params\": {\"n\": 32, \"light_radius\": %.17g}}]",
+                     r);
             snprintf(mods, sizeof mods,
-                     "[{\"name\": \"mitchell\", \"params\": {\"n\": 32, \"light_radius\": %.17g}}]", r * s);
+                     "[{\"name\": \"mitchell\", \"params\": {\"n\": 32, \"light_radius\": %.17g}}]",
+                     r * s);
             st_image base = {0}, img = {0};
             cornell(1, c, mitchell ? base_mods : NULL);
             snprintf(name, sizeof name, "scale_1_%s_%d", c->name, k);
@@ -80,7 +91,8 @@ int main(void) {
             if (stress_render(name, json, NULL, &img)) {
                 stress_stats a = stress_image_stats(&img), b = stress_image_stats(&base);
                 double d = stress_rel_l1(&img, &base);
-                printf("  %-26s mean %.6g (unscaled %.6g), relative L1 difference %.2e\n", name, a.mean, b.mean, d);
+                printf("  %-26s mean %.6g (unscaled %.6g), relative L1 difference %.2e\n", name,
+                       a.mean, b.mean, d);
                 CHECK(a.negative == 0, "%s: %zu negative values", name, a.negative);
                 CHECK(d < 0.03, "%s: relative L1 difference from the unscaled image %.3g", name, d);
                 CHECK_REL(a.mean, b.mean, 0.01, 0);

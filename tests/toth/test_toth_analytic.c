@@ -15,11 +15,12 @@ typedef struct {
 
 // Renders the room and compares every pixel and channel with the oracle
 // (0: atan, 1: Sun et al., 2: quadrature).
-static err_stats run(const double ss[3], const double sa[3], const char *phase, st_phase_kind kind, double g,
-                     int oracle, const char *toth_params) {
+static err_stats run(const double ss[3], const double sa[3], const char *phase, st_phase_kind kind,
+                     double g, int oracle, const char *toth_params) {
     char medium[256];
-    snprintf(medium, sizeof medium, "\"sigma_s\": [%g, %g, %g], \"sigma_a\": [%g, %g, %g], \"phase\": %s", ss[0],
-             ss[1], ss[2], sa[0], sa[1], sa[2], phase);
+    snprintf(medium, sizeof medium,
+             "\"sigma_s\": [%g, %g, %g], \"sigma_a\": [%g, %g, %g], \"phase\": %s", ss[0], ss[1],
+             ss[2], sa[0], sa[1], sa[2], phase);
     toth_write_room(scene, N, LIGHT, I, 0.0, medium, toth_params);
     err_stats e = {1e9, 1e9};
     st_image img = {0};
@@ -28,7 +29,8 @@ static err_stats run(const double ss[3], const double sa[3], const char *phase, 
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             for (int c = 0; c < 3; c++) {
-                st_inscatter_problem p = toth_room_problem(&cam, i, j, LIGHT, I[c], ss[c], ss[c] + sa[c], kind, g);
+                st_inscatter_problem p =
+                    toth_room_problem(&cam, i, j, LIGHT, I[c], ss[c], ss[c] + sa[c], kind, g);
                 double want = oracle == 0   ? toth_atan_oracle(&p)
                               : oracle == 1 ? st_inscatter_sun_problem(&p)
                                             : toth_quad_oracle(&p);
@@ -54,8 +56,10 @@ static const char *EXACT;
 // the march.
 static void test_zero_extinction(void) {
     const double ss[3] = {1e-4, 1e-4, 1e-4}, sa[3] = {0, 0, 0};
-    st_inscatter_problem p = toth_room_problem(&cam, 0, 0, LIGHT, I[0], ss[0], ss[0], ST_PHASE_ISOTROPIC, 0);
-    CHECK(fabs(toth_atan_oracle(&p) / toth_quad_oracle(&p) - 1) < 1e-3, "the atan form is the sigma_t -> 0 limit");
+    st_inscatter_problem p =
+        toth_room_problem(&cam, 0, 0, LIGHT, I[0], ss[0], ss[0], ST_PHASE_ISOTROPIC, 0);
+    CHECK(fabs(toth_atan_oracle(&p) / toth_quad_oracle(&p) - 1) < 1e-3,
+          "the atan form is the sigma_t -> 0 limit");
     err_stats e = run(ss, sa, "\"isotropic\"", ST_PHASE_ISOTROPIC, 0, 0, EXACT);
     CHECK(e.worst < 0.01, "zero extinction vs atan form: worst %.4g", e.worst);
 }
@@ -78,11 +82,12 @@ static void test_extinction(void) {
 // fraction: exact here, where nothing casts a shadow into the medium)
 // against the sum of their Sun et al. integrals.
 static void test_lights(int n) {
-    const double L5[5][3] = {{0.8, 2.9, -0.5}, {-1.5, 0.4, 1.8}, {1.2, 1.0, 0.5}, {-0.5, 2.0, -1.5}, {0.0, 0.3, 0.0}};
+    const double L5[5][3] = {
+        {0.8, 2.9, -0.5}, {-1.5, 0.4, 1.8}, {1.2, 1.0, 0.5}, {-0.5, 2.0, -1.5}, {0.0, 0.3, 0.0}};
     const double I5[5][3] = {{10, 10, 10}, {1, 4, 8}, {3, 2, 1}, {5, 5, 5}, {2, 1, 3}};
     const double ss[3] = {0.1, 0.2, 0.3}, sa[3] = {0.2, 0.1, 0.05};
-    toth_write_room_n(scene, N, n, L5, I5, 0.0, "\"sigma_s\": [0.1, 0.2, 0.3], \"sigma_a\": [0.2, 0.1, 0.05]",
-                      EXACT);
+    toth_write_room_n(scene, N, n, L5, I5, 0.0,
+                      "\"sigma_s\": [0.1, 0.2, 0.3], \"sigma_a\": [0.2, 0.1, 0.05]", EXACT);
     st_image img = {0};
     if (!toth_render(scene, out, NULL, &img)) return;
     double worst = 0;
@@ -91,8 +96,8 @@ static void test_lights(int n) {
             for (int c = 0; c < 3; c++) {
                 double want = 0;
                 for (int k = 0; k < n; k++) {
-                    st_inscatter_problem p = toth_room_problem(&cam, i, j, L5[k], I5[k][c], ss[c], ss[c] + sa[c],
-                                                               ST_PHASE_ISOTROPIC, 0);
+                    st_inscatter_problem p = toth_room_problem(
+                        &cam, i, j, L5[k], I5[k][c], ss[c], ss[c] + sa[c], ST_PHASE_ISOTROPIC, 0);
                     want += st_inscatter_sun_problem(&p);
                 }
                 worst = fmax(worst, fabs(st_image_px(&img, i, j)[c] - want) / want);
@@ -115,13 +120,14 @@ static void test_convergence(void) {
         const int n[3] = {8, 32, 128};
         for (int k = 0; k < 3; k++) {
             char params[256];
-            snprintf(params, sizeof params, "\"samples\": %d%s%s", n[k], modes[m][0] ? ", " : "", modes[m]);
+            snprintf(params, sizeof params, "\"samples\": %d%s%s", n[k], modes[m][0] ? ", " : "",
+                     modes[m]);
             e[k] = run(ss, sa, "\"isotropic\"", ST_PHASE_ISOTROPIC, 0, 1, params);
         }
-        CHECK(e[0].mean > e[1].mean && e[1].mean > e[2].mean, "mode %d: mean error falls: %.3g %.3g %.3g", m,
-              e[0].mean, e[1].mean, e[2].mean);
-        CHECK(e[0].worst > e[1].worst && e[1].worst > e[2].worst, "mode %d: worst error falls: %.3g %.3g %.3g", m,
-              e[0].worst, e[1].worst, e[2].worst);
+        CHECK(e[0].mean > e[1].mean && e[1].mean > e[2].mean,
+              "mode %d: mean error falls: %.3g %.3g %.3g", m, e[0].mean, e[1].mean, e[2].mean);
+        CHECK(e[0].worst > e[1].worst && e[1].worst > e[2].worst,
+              "mode %d: worst error falls: %.3g %.3g %.3g", m, e[0].worst, e[1].worst, e[2].worst);
     }
 }
 
@@ -146,10 +152,11 @@ static void test_compose(void) {
                 double d[3];
                 st_test_ray(&cam, i, j, d);
                 double s = toth_box_exit(cam.pos, d, ROOM_MIN, ROOM_MAX), dl2 = 0;
-                for (int k = 0; k < 3; k++) dl2 += pow(LIGHT[k] - (cam.pos[k] + s * d[k]), 2);
+                for (int k = 0; k < 3; k++)
+                    dl2 += pow(LIGHT[k] - (cam.pos[k] + s * d[k]), 2);
                 for (int c = 0; c < 3; c++) {
-                    double want =
-                        st_image_px(&surf, i, j)[c] * exp(-st[c] * (s + sqrt(dl2))) + st_image_px(&black, i, j)[c];
+                    double want = st_image_px(&surf, i, j)[c] * exp(-st[c] * (s + sqrt(dl2))) +
+                                  st_image_px(&black, i, j)[c];
                     worst = fmax(worst, fabs(st_image_px(&both, i, j)[c] - want) / want);
                     mean_surf += st_image_px(&surf, i, j)[c] / (3.0 * N * N);
                 }

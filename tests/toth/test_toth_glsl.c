@@ -15,7 +15,8 @@ static GLuint build(const char *file, const char *before, const char *after) {
     char names[32][128];
     int num = 0;
     st_err err = {0};
-    char *src = st_shader_preprocess_stage(file, "ST_MAX_LIGHTS 8\n", GL_COMPUTE_SHADER, names, &num, &err);
+    char *src =
+        st_shader_preprocess_stage(file, "ST_MAX_LIGHTS 8\n", GL_COMPUTE_SHADER, names, &num, &err);
     CHECK(src != NULL, "preprocess %s: %s", file, err.msg);
     if (!src) return 0;
     // The preprocessor's output starts with #version and #defines; the
@@ -107,7 +108,8 @@ static void test_phase(void) {
     const struct {
         int kind;
         double g;
-    } cases[] = {{0, 0}, {1, 0}, {2, -0.9}, {2, 0}, {2, 0.5}, {2, 0.9}, {2, 0.999}, {2, -0.999}, {2, 1.5}};
+    } cases[] = {{0, 0},   {1, 0},     {2, -0.9},   {2, 0},  {2, 0.5},
+                 {2, 0.9}, {2, 0.999}, {2, -0.999}, {2, 1.5}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         glUniform1i(glGetUniformLocation(prog, "kind"), cases[c].kind);
         glUniform1f(glGetUniformLocation(prog, "g"), (float)cases[c].g);
@@ -123,10 +125,11 @@ static void test_phase(void) {
             double want = st_phase_eval((st_phase_kind)cases[c].kind, mu[i], (float)cases[c].g);
             worst = fmax(worst, fabs(val[i] - want) / want);
         }
-        printf("  phase kind %d g %6.3f: integral %.7f, worst rel. difference to C %.2e\n", cases[c].kind,
-               cases[c].g, integral, worst);
+        printf("  phase kind %d g %6.3f: integral %.7f, worst rel. difference to C %.2e\n",
+               cases[c].kind, cases[c].g, integral, worst);
         CHECK(finite, "kind %d g %g: finite and >= 0", cases[c].kind, cases[c].g);
-        CHECK(fabs(integral - 1.0) < 1e-3, "kind %d g %g integrates to %.6f", cases[c].kind, cases[c].g, integral);
+        CHECK(fabs(integral - 1.0) < 1e-3, "kind %d g %g integrates to %.6f", cases[c].kind,
+              cases[c].g, integral);
         CHECK(worst < 1e-4, "kind %d g %g: GLSL vs C worst %.3g", cases[c].kind, cases[c].g, worst);
     }
     // g > 0 is brightest looking into the light: cos = +1.
@@ -159,7 +162,8 @@ static const char *MARCH_MAIN =
     "    ivec4 a = ji[i];\n"
     "    vec4 b = jf[i];\n"
     "    float u = b.x < 0.0 ? st_step_sample_offset(a.w) : b.x;\n"
-    "    res[i] = vec4(toth_march(vec3(0.0), vec3(0.0, 0.0, -1.0), b.y, a.x, a.y, a.z, u, a.w, vec3(b.z)), 0.0);\n"
+    "    res[i] = vec4(toth_march(vec3(0.0), vec3(0.0, 0.0, -1.0), b.y, a.x, a.y, a.z, u, a.w, "
+    "vec3(b.z)), 0.0);\n"
     "}\n";
 
 typedef struct {
@@ -168,10 +172,11 @@ typedef struct {
 } job;
 
 static void run_jobs(GLuint prog, const job *jobs, int count, float (*res)[4]) {
-    int (*ji)[4] = malloc(sizeof *ji * (size_t)count);
-    float (*jf)[4] = malloc(sizeof *jf * (size_t)count);
+    int(*ji)[4] = malloc(sizeof *ji * (size_t)count);
+    float(*jf)[4] = malloc(sizeof *jf * (size_t)count);
     for (int i = 0; i < count; i++) {
-        ji[i][0] = jobs[i].n, ji[i][1] = jobs[i].first, ji[i][2] = jobs[i].stride, ji[i][3] = jobs[i].integrator;
+        ji[i][0] = jobs[i].n, ji[i][1] = jobs[i].first, ji[i][2] = jobs[i].stride,
+        ji[i][3] = jobs[i].integrator;
         jf[i][0] = jobs[i].u, jf[i][1] = jobs[i].length, jf[i][2] = jobs[i].sigma_t, jf[i][3] = 0;
     }
     GLuint a = ssbo(sizeof *ji * (size_t)count, ji, 0), b = ssbo(sizeof *jf * (size_t)count, jf, 2);
@@ -202,11 +207,12 @@ static void test_march(void) {
         double c = st_march_constant((st_integrator)k, 1.0, 0.5, 10.0, 4);
         printf("  constant source, %s, 4 steps: GPU %.6f, C %.6f, documented %.6f\n",
                st_integrator_name((st_integrator)k), res[k][0], c, want[k]);
-        CHECK(fabs(res[k][0] - c) < 2e-6 * c, "%s: GPU %.7f vs C %.7f", st_integrator_name((st_integrator)k),
-              res[k][0], c);
-        CHECK(fabs(res[k][0] - want[k]) < 5e-4, "%s: %.6f vs documented %.6f", st_integrator_name((st_integrator)k),
-              res[k][0], want[k]);
-        for (int ch = 1; ch < 3; ch++) CHECK_REL(res[k][ch], res[k][0] * src[ch], 1e-6, 0);
+        CHECK(fabs(res[k][0] - c) < 2e-6 * c, "%s: GPU %.7f vs C %.7f",
+              st_integrator_name((st_integrator)k), res[k][0], c);
+        CHECK(fabs(res[k][0] - want[k]) < 5e-4, "%s: %.6f vs documented %.6f",
+              st_integrator_name((st_integrator)k), res[k][0], want[k]);
+        for (int ch = 1; ch < 3; ch++)
+            CHECK_REL(res[k][ch], res[k][0] * src[ch], 1e-6, 0);
     }
     // The energy step is exact for a constant source at any step count, any
     // jitter offset and any density, the sigma_t -> 0 limit included.
@@ -214,11 +220,13 @@ static void test_march(void) {
     static job many[NJ];
     static float r[NJ][4];
     const int ns[5] = {1, 2, 4, 7, 64};
-    const float us[4] = {0.0f, 0.25f, 0.5f, 0.999f}, sts[6] = {0.0f, 1e-7f, 1e-3f, 0.5f, 3.0f, 1000.0f};
+    const float us[4] = {0.0f, 0.25f, 0.5f, 0.999f},
+                sts[6] = {0.0f, 1e-7f, 1e-3f, 0.5f, 3.0f, 1000.0f};
     int m = 0;
     for (int a = 0; a < 5; a++)
         for (int b = 0; b < 4; b++)
-            for (int c = 0; c < 6; c++) many[m++] = (job){ns[a], 0, 1, ST_INTEGRATOR_ENERGY, us[b], 10, sts[c], 0};
+            for (int c = 0; c < 6; c++)
+                many[m++] = (job){ns[a], 0, 1, ST_INTEGRATOR_ENERGY, us[b], 10, sts[c], 0};
     run_jobs(prog, many, NJ, r);
     double worst = 0;
     for (int i = 0; i < NJ; i++) {
@@ -232,11 +240,13 @@ static void test_march(void) {
     for (int M = 2; M <= 4; M++) {
         job parts[17];
         float pr[17][4];
-        for (int k = 0; k < M * M; k++) parts[k] = (job){64, k, M * M, ST_INTEGRATOR_THESIS, 0.3f, 10, 0.5f, 0};
+        for (int k = 0; k < M * M; k++)
+            parts[k] = (job){64, k, M * M, ST_INTEGRATOR_THESIS, 0.3f, 10, 0.5f, 0};
         parts[M * M] = (job){64, 0, 1, ST_INTEGRATOR_THESIS, 0.3f, 10, 0.5f, 0};
         run_jobs(prog, parts, M * M + 1, pr);
         double sum = 0;
-        for (int k = 0; k < M * M; k++) sum += pr[k][0];
+        for (int k = 0; k < M * M; k++)
+            sum += pr[k][0];
         CHECK_REL(sum, pr[M * M][0], 1e-5, 0);
     }
     glDeleteProgram(prog);
@@ -245,11 +255,11 @@ static void test_march(void) {
 // ---- the step transfer against C --------------------------------------------
 
 static void test_transfer(void) {
-    const char *main_src =
-        "layout(local_size_x = 1) in;\n"
-        "layout(std430, binding = 0) readonly buffer In { vec2 arg[]; };\n"
-        "layout(std430, binding = 1) writeonly buffer Out { float val[]; };\n"
-        "void main() { uint i = gl_GlobalInvocationID.x; val[i] = st_step_transfer(vec3(arg[i].x), arg[i].y).x; }\n";
+    const char *main_src = "layout(local_size_x = 1) in;\n"
+                           "layout(std430, binding = 0) readonly buffer In { vec2 arg[]; };\n"
+                           "layout(std430, binding = 1) writeonly buffer Out { float val[]; };\n"
+                           "void main() { uint i = gl_GlobalInvocationID.x; val[i] = "
+                           "st_step_transfer(vec3(arg[i].x), arg[i].y).x; }\n";
     GLuint prog = build("common/physics.glsl", "", main_src);
     if (!prog) return;
     const float st[] = {0.0f, 1e-9f, 1e-6f, 1e-4f, 5e-3f, 1e-2f, 2e-2f, 0.3f, 7.0f, 1e3f, 1e6f};
@@ -257,7 +267,8 @@ static void test_transfer(void) {
     enum { NS = sizeof st / sizeof st[0], ND = sizeof dt / sizeof dt[0] };
     float arg[NS * ND][2], val[NS * ND];
     for (int i = 0; i < NS; i++)
-        for (int j = 0; j < ND; j++) arg[i * ND + j][0] = st[i], arg[i * ND + j][1] = dt[j];
+        for (int j = 0; j < ND; j++)
+            arg[i * ND + j][0] = st[i], arg[i * ND + j][1] = dt[j];
     GLuint a = ssbo(sizeof arg, arg, 0), o = ssbo(sizeof val, NULL, 1);
     glUseProgram(prog);
     glDispatchCompute(NS * ND, 1, 1);

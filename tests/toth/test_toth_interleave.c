@@ -20,15 +20,19 @@ static void write_scene(const char *params) {
     snprintf(toth_params, sizeof toth_params, "\"sampling\": \"%s\", %s", sampling, params);
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},\n"
-             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [0, 1, 0], \"fov_y\": %g},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, %g, %g]}],\n"
-             " \"geometry\": [{\"box\": {\"min\": [-2, 0, -2], \"max\": [2, 3, 2]}, \"inward\": true, \"albedo\": [0, 0, 0]},\n"
-             "   {\"box\": {\"min\": [-0.4, 0.6, -0.3], \"max\": [0.4, 1.6, 0.1]}, \"albedo\": [0, 0, 0]}],\n"
+             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [0, 1, "
+             "0], \"fov_y\": %g},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, "
+             "%g, %g]}],\n"
+             " \"geometry\": [{\"box\": {\"min\": [-2, 0, -2], \"max\": [2, 3, 2]}, \"inward\": "
+             "true, \"albedo\": [0, 0, 0]},\n"
+             "   {\"box\": {\"min\": [-0.4, 0.6, -0.3], \"max\": [0.4, 1.6, 0.1]}, \"albedo\": [0, "
+             "0, 0]}],\n"
              " \"medium\": {\"sigma_s\": [0.3, 0.3, 0.3], \"sigma_a\": [0.05, 0.05, 0.05]},\n"
              " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}},"
              " {\"name\": \"toth\", \"params\": {%s}}]}\n",
-             N, N, ROOM_CAM[0], ROOM_CAM[1], ROOM_CAM[2], ROOM_TGT[0], ROOM_TGT[1], ROOM_TGT[2], ROOM_FOV, LIGHT[0],
-             LIGHT[1], LIGHT[2], I[0], I[1], I[2], toth_params);
+             N, N, ROOM_CAM[0], ROOM_CAM[1], ROOM_CAM[2], ROOM_TGT[0], ROOM_TGT[1], ROOM_TGT[2],
+             ROOM_FOV, LIGHT[0], LIGHT[1], LIGHT[2], I[0], I[1], I[2], toth_params);
     st_test_write(scene, json);
 }
 
@@ -102,12 +106,18 @@ static void run_cases(void) {
         int M;
         double mean, edge, spread; // bounds
     } cases[] = {
-        {"\"samples\": 128, \"interleave\": 2, \"jitter\": false, \"resolution\": \"full\"", 2, 0.02, 0.05, 0.005},
-        {"\"samples\": 128, \"interleave\": 4, \"jitter\": false, \"resolution\": \"full\"", 4, 0.03, 0.08, 0.005},
-        {"\"samples\": 128, \"interleave\": 4, \"jitter\": true, \"resolution\": \"full\"", 4, 0.03, 0.08, 0.005},
-        {"\"samples\": 128, \"interleave\": 1, \"resolution\": \"half\", \"jitter\": false", 2, 0.02, 0.05, 0.01},
-        {"\"samples\": 128, \"interleave\": 1, \"resolution\": \"quarter\", \"jitter\": false", 4, 0.04, 0.08, 0.02},
-        {"\"samples\": 128, \"interleave\": 2, \"resolution\": \"half\", \"jitter\": true", 4, 0.04, 0.08, 0.02},
+        {"\"samples\": 128, \"interleave\": 2, \"jitter\": false, \"resolution\": \"full\"", 2,
+         0.02, 0.05, 0.005},
+        {"\"samples\": 128, \"interleave\": 4, \"jitter\": false, \"resolution\": \"full\"", 4,
+         0.03, 0.08, 0.005},
+        {"\"samples\": 128, \"interleave\": 4, \"jitter\": true, \"resolution\": \"full\"", 4, 0.03,
+         0.08, 0.005},
+        {"\"samples\": 128, \"interleave\": 1, \"resolution\": \"half\", \"jitter\": false", 2,
+         0.02, 0.05, 0.01},
+        {"\"samples\": 128, \"interleave\": 1, \"resolution\": \"quarter\", \"jitter\": false", 4,
+         0.04, 0.08, 0.02},
+        {"\"samples\": 128, \"interleave\": 2, \"resolution\": \"half\", \"jitter\": true", 4, 0.04,
+         0.08, 0.02},
     };
     double edge_default[2] = {0, 0};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -115,28 +125,31 @@ static void run_cases(void) {
         write_scene(cases[k].params);
         if (!toth_render(scene, out, NULL, &img)) continue;
         cmp e = compare(&img, &ref, cases[k].M);
-        printf("  %-72s mean %.4f edge %.4f block spread %.5f\n", cases[k].params, e.mean, e.edge_mean,
-               e.block_spread);
+        printf("  %-72s mean %.4f edge %.4f block spread %.5f\n", cases[k].params, e.mean,
+               e.edge_mean, e.block_spread);
         CHECK(e.mean < cases[k].mean, "%s: mean rel. error %.4f", cases[k].params, e.mean);
-        CHECK(e.edge_mean < cases[k].edge, "%s: silhouette rel. error %.4f", cases[k].params, e.edge_mean);
-        CHECK(e.block_spread < cases[k].spread, "%s: no block pattern, class means spread %.5f", cases[k].params,
-              e.block_spread);
+        CHECK(e.edge_mean < cases[k].edge, "%s: silhouette rel. error %.4f", cases[k].params,
+              e.edge_mean);
+        CHECK(e.block_spread < cases[k].spread, "%s: no block pattern, class means spread %.5f",
+              cases[k].params, e.block_spread);
         if (k == 1) edge_default[0] = e.edge_mean;
         if (k == 4) edge_default[1] = e.edge_mean;
         st_image_free(&img);
     }
     // The same without the geometry test: the silhouettes bleed.
-    const char *blind[2] = {"\"samples\": 128, \"interleave\": 4, \"jitter\": false, \"resolution\": \"full\", \"edge_tolerance\": 10",
-                            "\"samples\": 128, \"interleave\": 1, \"resolution\": \"quarter\", \"jitter\": false, "
-                            "\"edge_tolerance\": 10"};
+    const char *blind[2] = {
+        "\"samples\": 128, \"interleave\": 4, \"jitter\": false, \"resolution\": \"full\", "
+        "\"edge_tolerance\": 10",
+        "\"samples\": 128, \"interleave\": 1, \"resolution\": \"quarter\", \"jitter\": false, "
+        "\"edge_tolerance\": 10"};
     for (int k = 0; k < 2 && !strcmp(sampling, "uniform"); k++) {
         st_image img = {0};
         write_scene(blind[k]);
         if (!toth_render(scene, out, NULL, &img)) continue;
         cmp e = compare(&img, &ref, 4);
         printf("  %-72s mean %.4f edge %.4f\n", blind[k], e.mean, e.edge_mean);
-        CHECK(e.edge_mean > 3 * edge_default[k], "geometry-blind silhouette error %.4f vs %.4f", e.edge_mean,
-              edge_default[k]);
+        CHECK(e.edge_mean > 3 * edge_default[k], "geometry-blind silhouette error %.4f vs %.4f",
+              e.edge_mean, edge_default[k]);
         st_image_free(&img);
     }
     st_image_free(&ref);

@@ -16,7 +16,8 @@ typedef struct {
 static toth_stats stats(const char *extra) {
     toth_stats t = {0};
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json %s 2>/dev/null", ST_TEST_STRAHL, scene, out, extra);
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json %s 2>/dev/null", ST_TEST_STRAHL,
+             scene, out, extra);
     int rc = st_test_capture(buf, sizeof buf, cmd);
     CHECK(rc == 0, "stats render rc %d", rc);
     cJSON *j = cJSON_Parse(buf);
@@ -53,10 +54,12 @@ int main(void) {
     write_room(2, med, "\"interleave\": 2");
     toth_stats t = stats("--frames 3");
     CHECK(t.passes == 3 && t.march == 3 && t.gather == 3 && t.compose == 3,
-          "medium: passes %d, march %d gather %d compose %d runs", t.passes, t.march, t.gather, t.compose);
+          "medium: passes %d, march %d gather %d compose %d runs", t.passes, t.march, t.gather,
+          t.compose);
     // Not interleaved: no gather pass at all.
     t = stats("--frames 2 --set toth.interleave=1");
-    CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0, "interleave 1: %d passes", t.passes);
+    CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0,
+          "interleave 1: %d passes", t.passes);
     write_room(2, med, "");
     t = stats("--frames 2");
     CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0,
@@ -76,11 +79,12 @@ int main(void) {
     // No lights: nothing to march, but surfaces still fade with distance.
     write_room(0, med, "");
     t = stats("");
-    CHECK(t.march == 0 && t.gather == 0 && t.compose == 1, "no lights: march %d gather %d compose %d", t.march,
-          t.gather, t.compose);
+    CHECK(t.march == 0 && t.gather == 0 && t.compose == 1,
+          "no lights: march %d gather %d compose %d", t.march, t.gather, t.compose);
 
     // shadow_map is required; bad parameter values are refused.
-    toth_write_room(scene, 32, (const double[3]){0, 1, 0}, (const double[3]){1, 1, 1}, 0.5, med, "");
+    toth_write_room(scene, 32, (const double[3]){0, 1, 0}, (const double[3]){1, 1, 1}, 0.5, med,
+                    "");
     char json[4096];
     FILE *f = fopen(scene, "r");
     size_t n = f ? fread(json, 1, sizeof json - 1, f) : 0;
@@ -96,8 +100,8 @@ int main(void) {
         snprintf(cmd, sizeof cmd, "%s render %s -o %s", ST_TEST_STRAHL, scene, out);
         unlink(out);
         int rc = st_test_capture(buf, sizeof buf, cmd);
-        CHECK(rc == 2 && strstr(buf, "toth") && strstr(buf, "shadow_map"), "toth without shadow_map: rc %d: %s", rc,
-              buf);
+        CHECK(rc == 2 && strstr(buf, "toth") && strstr(buf, "shadow_map"),
+              "toth without shadow_map: rc %d: %s", rc, buf);
         CHECK(!st_test_exists(out), "no output written");
     }
     write_room(1, med, "\"samples\": 0");

@@ -25,7 +25,8 @@ static double ray_end(const double o[3], const double d[3], double n[3]) {
     double p[3];
     if (tb > 0 && tb < s) {
         s = tb;
-        for (int k = 0; k < 3; k++) p[k] = o[k] + s * d[k];
+        for (int k = 0; k < 3; k++)
+            p[k] = o[k] + s * d[k];
         for (int k = 0; k < 3; k++) {
             n[k] = 0;
             if (fabs(p[k] - BOX_MIN[k]) < 1e-6) n[k] = -1;
@@ -33,7 +34,8 @@ static double ray_end(const double o[3], const double d[3], double n[3]) {
         }
         return s;
     }
-    for (int k = 0; k < 3; k++) p[k] = o[k] + s * d[k];
+    for (int k = 0; k < 3; k++)
+        p[k] = o[k] + s * d[k];
     for (int k = 0; k < 3; k++) {
         n[k] = 0;
         if (fabs(p[k] - mn[k]) < 1e-6) n[k] = 1;
@@ -51,17 +53,20 @@ static double cpu_pixel(const double o[3], const double d[3], double *inscatter)
     double L = 0;
     if (toth_lit_interval(light, Y0, Y1, o, d, s, HOLE, &t0, &t1)) {
         st_inscatter_problem p;
-        for (int k = 0; k < 3; k++) p.origin[k] = o[k], p.dir[k] = d[k], p.light[k] = light[k];
+        for (int k = 0; k < 3; k++)
+            p.origin[k] = o[k], p.dir[k] = d[k], p.light[k] = light[k];
         p.length = s, p.intensity = intensity, p.sigma_s = sigma_s, p.sigma_t = sigma_t;
         p.phase = ST_PHASE_ISOTROPIC, p.g = 0;
         *inscatter = st_integrate(toth_integrand_cb, &p, t0, t1, 1e-300, 1e-10);
         if (t1 >= s * (1 - 1e-12)) { // the surface point itself is lit
             double x[3], l[3];
-            for (int k = 0; k < 3; k++) x[k] = o[k] + s * d[k], l[k] = light[k] - x[k];
+            for (int k = 0; k < 3; k++)
+                x[k] = o[k] + s * d[k], l[k] = light[k] - x[k];
             double d2 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
             double c = (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]) / sqrt(d2);
             // light -> surface and surface -> camera both through the medium
-            if (c > 0) L = st_direct_point(ALBEDO, intensity, c, sqrt(d2), sigma_t) * exp(-sigma_t * s);
+            if (c > 0)
+                L = st_direct_point(ALBEDO, intensity, c, sqrt(d2), sigma_t) * exp(-sigma_t * s);
         }
     }
     return L + *inscatter;
@@ -75,15 +80,18 @@ static void test_hidden_hole(void) {
     CHECK(st_scene_load(path, &sc, &err), "load %s: %s", path, err.msg);
     if (!sc.num_lights) return;
     // The oracle's geometry is hard-coded above; the light, medium and camera come from the file.
-    CHECK(sc.num_lights == 1 && sc.num_meshes == 10, "scene layout changed: %d lights, %d meshes", sc.num_lights,
-          sc.num_meshes);
-    for (int k = 0; k < 3; k++) light[k] = sc.lights[0].position[k];
+    CHECK(sc.num_lights == 1 && sc.num_meshes == 10, "scene layout changed: %d lights, %d meshes",
+          sc.num_lights, sc.num_meshes);
+    for (int k = 0; k < 3; k++)
+        light[k] = sc.lights[0].position[k];
     intensity = sc.lights[0].intensity[0];
     sigma_s = sc.medium.sigma_s[0];
     sigma_t = sc.medium.sigma_s[0] + sc.medium.sigma_a[0];
-    CHECK(light[1] > Y1 && sc.medium.phase == ST_PHASE_ISOTROPIC, "light above the slab, isotropic medium");
+    CHECK(light[1] > Y1 && sc.medium.phase == ST_PHASE_ISOTROPIC,
+          "light above the slab, isotropic medium");
     double pos[3], tgt[3], up[3];
-    for (int k = 0; k < 3; k++) pos[k] = sc.camera.position[k], tgt[k] = sc.camera.target[k], up[k] = sc.camera.up[k];
+    for (int k = 0; k < 3; k++)
+        pos[k] = sc.camera.position[k], tgt[k] = sc.camera.target[k], up[k] = sc.camera.up[k];
     st_test_cam c = st_test_camera(pos, tgt, up, sc.camera.fov_y, N, N);
 
     // The camera sees neither the light nor the opening: no ray through any
@@ -91,8 +99,10 @@ static void test_hidden_hole(void) {
     int sees_hole = 0;
     for (int j = 0; j <= N; j++)
         for (int i = 0; i <= N; i++) {
-            double x = (2.0 * i / N - 1.0) * c.tan_half, y = (1.0 - 2.0 * j / N) * c.tan_half, d[3], n[3];
-            for (int k = 0; k < 3; k++) d[k] = c.f[k] + x * c.r[k] + y * c.u[k];
+            double x = (2.0 * i / N - 1.0) * c.tan_half, y = (1.0 - 2.0 * j / N) * c.tan_half, d[3],
+                   n[3];
+            for (int k = 0; k < 3; k++)
+                d[k] = c.f[k] + x * c.r[k] + y * c.u[k];
             st_v_norm(d);
             double s = ray_end(c.pos, d, n);
             double p[3] = {c.pos[0] + s * d[0], c.pos[1] + s * d[1], c.pos[2] + s * d[2]};
@@ -116,10 +126,12 @@ static void test_hidden_hole(void) {
             cx += i * ins[j][i], cy += j * ins[j][i];
         }
     cx /= total_ins, cy /= total_ins;
-    CHECK(total_ins > 0.1 * total, "the shaft is a large part of the image: %.3g of %.3g", total_ins, total);
+    CHECK(total_ins > 0.1 * total, "the shaft is a large part of the image: %.3g of %.3g",
+          total_ins, total);
 
     char size[160];
-    snprintf(size, sizeof size, "--size %dx%d --set toth.samples=256 --set toth.interleave=1 --set toth.jitter=false "
+    snprintf(size, sizeof size,
+             "--size %dx%d --set toth.samples=256 --set toth.interleave=1 --set toth.jitter=false "
              "--set toth.resolution=full",
              N, N);
     st_image img = {0};
@@ -140,12 +152,15 @@ static void test_hidden_hole(void) {
         }
     gx /= got_ins, gy /= got_ins;
     mean_rel /= shaft ? shaft : 1;
-    printf("  hidden hole: total %.5f vs CPU %.5f, in-scatter %.5f vs %.5f, centroid (%.2f %.2f) vs (%.2f %.2f), "
+    printf("  hidden hole: total %.5f vs CPU %.5f, in-scatter %.5f vs %.5f, centroid (%.2f %.2f) "
+           "vs (%.2f %.2f), "
            "%d shaft pixels mean rel %.4f\n",
            got, total, got_ins, total_ins, gx, gy, cx, cy, shaft, mean_rel);
     CHECK(fabs(got / total - 1) < 0.02, "image total %.5f vs CPU %.5f", got, total);
-    CHECK(fabs(got_ins / total_ins - 1) < 0.02, "in-scattered total %.5f vs CPU %.5f", got_ins, total_ins);
-    CHECK(fabs(gx - cx) < 0.25 && fabs(gy - cy) < 0.25, "shaft centroid (%.2f %.2f) vs (%.2f %.2f)", gx, gy, cx, cy);
+    CHECK(fabs(got_ins / total_ins - 1) < 0.02, "in-scattered total %.5f vs CPU %.5f", got_ins,
+          total_ins);
+    CHECK(fabs(gx - cx) < 0.25 && fabs(gy - cy) < 0.25, "shaft centroid (%.2f %.2f) vs (%.2f %.2f)",
+          gx, gy, cx, cy);
     CHECK(shaft > 200 && mean_rel < 0.03, "%d shaft pixels, mean rel. error %.4f", shaft, mean_rel);
     st_image_free(&img);
     st_scene_free(&sc);
@@ -192,7 +207,8 @@ static void test_scene(const char *name) {
         double e8 = relmse(&img[1], &img[0]), e32 = relmse(&img[2], &img[0]),
                ed = relmse(&img[3], &img[4]);
         double mean = 0;
-        for (size_t k = 0; k < (size_t)NS * NS * 3; k++) mean += img[0].data[k] / (NS * NS * 3);
+        for (size_t k = 0; k < (size_t)NS * NS * 3; k++)
+            mean += img[0].data[k] / (NS * NS * 3);
         printf("  %-12s mean %.4f, relmse vs 256 samples: 8: %.3g, 32: %.3g, defaults: %.3g\n",
                name, mean, e8, e32, ed);
         CHECK(mean > 0, "%s: not black", name);
@@ -204,7 +220,8 @@ static void test_scene(const char *name) {
         st_image_free(&img[k]);
     // toth and shadow_map both run.
     char cmd[2048], buf[1 << 14];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --size 16x16 --stats=json 2>/dev/null", ST_TEST_STRAHL, path, out);
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --size 16x16 --stats=json 2>/dev/null",
+             ST_TEST_STRAHL, path, out);
     int rc = st_test_capture(buf, sizeof buf, cmd);
     CHECK(rc == 0 && strstr(buf, "\"module\": \"toth\", \"pass\": \"march\", \"runs\": 1") &&
               strstr(buf, "\"module\": \"shadow_map\", \"pass\": \"cube\", \"runs\": 1"),
@@ -214,7 +231,8 @@ static void test_scene(const char *name) {
 int main(void) {
     snprintf(out, sizeof out, "%s/scene.exr", ST_TEST_SCRATCH);
     const char *names[] = {"window", "colonnade", "hidden_hole", "light_front"};
-    for (int k = 0; k < 4; k++) test_scene(names[k]);
+    for (int k = 0; k < 4; k++)
+        test_scene(names[k]);
     test_hidden_hole();
     return st_test_summary("toth_scenes");
 }

@@ -16,14 +16,21 @@ static void write_scene(const char *path, const char *toth_params) {
     char json[4096];
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},\n"
-             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [0, 1, 0], \"fov_y\": %g},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, %g, %g]}],\n"
+             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [0, 1, "
+             "0], \"fov_y\": %g},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, "
+             "%g, %g]}],\n"
              " \"geometry\": [\n"
-             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, \"albedo\": [0, 0, 0]},\n"
-             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [8, 0, 0], \"v\": [0, 2, 0]}, \"albedo\": [0, 0, 0]},\n"
-             "  {\"quad\": {\"corner\": [-4, 0, 4], \"u\": [0, 2, 0], \"v\": [8, 0, 0]}, \"albedo\": [0, 0, 0]},\n"
-             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 2, 0], \"v\": [0, 0, 8]}, \"albedo\": [0, 0, 0]},\n"
-             "  {\"quad\": {\"corner\": [4, 0, -4], \"u\": [0, 0, 8], \"v\": [0, 2, 0]}, \"albedo\": [0, 0, 0]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, "
+             "\"albedo\": [0, 0, 0]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [8, 0, 0], \"v\": [0, 2, 0]}, "
+             "\"albedo\": [0, 0, 0]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, 4], \"u\": [0, 2, 0], \"v\": [8, 0, 0]}, "
+             "\"albedo\": [0, 0, 0]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 2, 0], \"v\": [0, 0, 8]}, "
+             "\"albedo\": [0, 0, 0]},\n"
+             "  {\"quad\": {\"corner\": [4, 0, -4], \"u\": [0, 0, 8], \"v\": [0, 2, 0]}, "
+             "\"albedo\": [0, 0, 0]},\n"
              "  {\"box\": {\"min\": [-4, %g, -4], \"max\": [4, %g, %g]}, \"albedo\": [0, 0, 0]},\n"
              "  {\"box\": {\"min\": [-4, %g, %g], \"max\": [4, %g, 4]}, \"albedo\": [0, 0, 0]},\n"
              "  {\"box\": {\"min\": [-4, %g, %g], \"max\": [%g, %g, %g]}, \"albedo\": [0, 0, 0]},\n"
@@ -31,9 +38,9 @@ static void write_scene(const char *path, const char *toth_params) {
              " \"medium\": {\"sigma_s\": [%g, %g, %g], \"sigma_a\": [%g, %g, %g]},\n"
              " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 1024}},"
              " {\"name\": \"toth\", \"params\": {%s}}]}\n",
-             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, LIGHT[0], LIGHT[1], LIGHT[2], INTENSITY,
-             INTENSITY, INTENSITY, Y0, Y1, -HOLE, Y0, HOLE, Y1, Y0, -HOLE, -HOLE, Y1, HOLE, HOLE, Y0, -HOLE, Y1, HOLE,
-             SS, SS, SS, SA, SA, SA, toth_params);
+             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, LIGHT[0], LIGHT[1],
+             LIGHT[2], INTENSITY, INTENSITY, INTENSITY, Y0, Y1, -HOLE, Y0, HOLE, Y1, Y0, -HOLE,
+             -HOLE, Y1, HOLE, HOLE, Y0, -HOLE, Y1, HOLE, SS, SS, SS, SA, SA, SA, toth_params);
     st_test_write(path, json);
 }
 
@@ -51,8 +58,10 @@ static double cpu_inscatter(const st_test_cam *c, int i, int j, double *lit_len)
     if (!toth_lit_interval(LIGHT, Y0, Y1, c->pos, d, s, HOLE, &t0, &t1)) return 0;
     *lit_len = t1 - t0;
     st_inscatter_problem p;
-    for (int k = 0; k < 3; k++) p.origin[k] = c->pos[k], p.dir[k] = d[k], p.light[k] = LIGHT[k];
-    p.length = s, p.intensity = INTENSITY, p.sigma_s = SS, p.sigma_t = SS + SA, p.phase = ST_PHASE_ISOTROPIC, p.g = 0;
+    for (int k = 0; k < 3; k++)
+        p.origin[k] = c->pos[k], p.dir[k] = d[k], p.light[k] = LIGHT[k];
+    p.length = s, p.intensity = INTENSITY, p.sigma_s = SS, p.sigma_t = SS + SA,
+    p.phase = ST_PHASE_ISOTROPIC, p.g = 0;
     return st_integrate(toth_integrand_cb, &p, t0, t1, 1e-300, 1e-10);
 }
 
@@ -67,9 +76,12 @@ static int robust(const st_test_cam *c, int i, int j, double margin, int lit) {
         double x = (2.0 * (i + 0.5 + sx) / c->w - 1.0) * c->tan_half * c->aspect;
         double y = (1.0 - 2.0 * (j + 0.5 + sy) / c->h) * c->tan_half;
         double d[3], t0, t1;
-        for (int q = 0; q < 3; q++) d[q] = c->f[q] + x * c->r[q] + y * c->u[q];
+        for (int q = 0; q < 3; q++)
+            d[q] = c->f[q] + x * c->r[q] + y * c->u[q];
         st_v_norm(d);
-        if (toth_lit_interval(LIGHT, Y0, Y1, c->pos, d, room_exit(c->pos, d), HOLE + (lit ? -0.02 : 0.02), &t0, &t1) != lit) return 0;
+        if (toth_lit_interval(LIGHT, Y0, Y1, c->pos, d, room_exit(c->pos, d),
+                              HOLE + (lit ? -0.02 : 0.02), &t0, &t1) != lit)
+            return 0;
     }
     return 1;
 }
@@ -143,24 +155,28 @@ int main(void) {
                     double rel = fabs(v - ref[j][i]) / ref[j][i];
                     worst_rel = fmax(worst_rel, rel);
                     mean_rel += rel;
-                    if (robust(&c, i, j, settings[m].margin, 1)) lit_robust++, missing += v < 0.5 * ref[j][i];
+                    if (robust(&c, i, j, settings[m].margin, 1))
+                        lit_robust++, missing += v < 0.5 * ref[j][i];
                 }
             }
         mean_rel /= shaft > 0 ? shaft : 1;
         gx /= sum, gy /= sum;
         const char *name = settings[m].params[0] ? settings[m].params : "defaults";
-        printf("  %s: dark %d (max %.3g), shaft %d (mean rel %.4f, worst %.4f), total %.5f vs %.5f, "
-               "centroid (%.2f, %.2f) vs (%.2f, %.2f)\n",
-               name, dark, worst_dark, shaft, mean_rel, worst_rel, sum, ref_sum, gx, gy, cx, cy);
-        CHECK(dark > 1000 && shaft > 150 && lit_robust > 100, "the view holds dark rays (%d) and the shaft (%d, %d)",
-              dark, shaft, lit_robust);
-        CHECK(worst_dark == 0, "%s: rays entirely in shadow get no light, max %.3g", name, worst_dark);
+        printf(
+            "  %s: dark %d (max %.3g), shaft %d (mean rel %.4f, worst %.4f), total %.5f vs %.5f, "
+            "centroid (%.2f, %.2f) vs (%.2f, %.2f)\n",
+            name, dark, worst_dark, shaft, mean_rel, worst_rel, sum, ref_sum, gx, gy, cx, cy);
+        CHECK(dark > 1000 && shaft > 150 && lit_robust > 100,
+              "the view holds dark rays (%d) and the shaft (%d, %d)", dark, shaft, lit_robust);
+        CHECK(worst_dark == 0, "%s: rays entirely in shadow get no light, max %.3g", name,
+              worst_dark);
         CHECK(missing <= settings[m].max_missing, "%s: %d shaft pixels missing", name, missing);
         CHECK(fabs(sum / ref_sum - 1) < settings[m].total, "%s: total in-scatter %.5f vs CPU %.5f",
               name, sum, ref_sum);
         CHECK(fabs(gx - cx) < settings[m].centroid && fabs(gy - cy) < settings[m].centroid,
               "%s: shaft centroid (%.2f, %.2f) vs (%.2f, %.2f)", name, gx, gy, cx, cy);
-        CHECK(mean_rel < settings[m].mean_rel, "%s: mean rel. error in the shaft %.4f", name, mean_rel);
+        CHECK(mean_rel < settings[m].mean_rel, "%s: mean rel. error in the shaft %.4f", name,
+              mean_rel);
         mean_rel_of[m] = mean_rel;
         st_image_free(&img);
     }

@@ -18,13 +18,15 @@ static void run(const double light[3], const char *medium, const char *params) {
     renders++;
     int ok = toth_render(scene, out, NULL, &img);
     float lo = 0;
-    for (size_t k = 0; ok && k < (size_t)N * N * 3; k++) lo = fminf(lo, img.data[k]);
+    for (size_t k = 0; ok && k < (size_t)N * N * 3; k++)
+        lo = fminf(lo, img.data[k]);
     if (!ok || !st_test_all_finite(&img) || lo < 0) {
         // Keep the scene for a post-mortem.
         bad++;
         st_test_sh("cp %s %s/stress_failed_%d.json", scene, ST_TEST_SCRATCH, bad);
     }
-    CHECK(lo >= 0, "light (%g %g %g), %s, %s: negative radiance %g", light[0], light[1], light[2], medium, params, lo);
+    CHECK(lo >= 0, "light (%g %g %g), %s, %s: negative radiance %g", light[0], light[1], light[2],
+          medium, params, lo);
     st_image_free(&img);
 }
 
@@ -37,10 +39,12 @@ int main(void) {
     // the camera; 0.5 m behind it; on the back wall where pixel (20, 13) looks.
     double on_ray[3], on_wall[3], behind[3], d[3];
     st_test_ray(&c, 11, 7, d);
-    for (int k = 0; k < 3; k++) on_ray[k] = c.pos[k] + 1.7 * d[k];
+    for (int k = 0; k < 3; k++)
+        on_ray[k] = c.pos[k] + 1.7 * d[k];
     st_test_ray(&c, 20, 13, d);
     double s = toth_box_exit(c.pos, d, ROOM_MIN, ROOM_MAX);
-    for (int k = 0; k < 3; k++) on_wall[k] = c.pos[k] + s * d[k], behind[k] = c.pos[k] - 0.5 * c.f[k];
+    for (int k = 0; k < 3; k++)
+        on_wall[k] = c.pos[k] + s * d[k], behind[k] = c.pos[k] - 0.5 * c.f[k];
     const double *lights[4] = {on_ray, ROOM_CAM, behind, on_wall};
 
     const char *media[] = {
@@ -68,10 +72,12 @@ int main(void) {
     // Every light with every medium at default settings, then every setting
     // with every light in the first two media.
     for (int l = 0; l < 4; l++)
-        for (size_t m = 0; m < sizeof media / sizeof media[0]; m++) run(lights[l], media[m], "");
+        for (size_t m = 0; m < sizeof media / sizeof media[0]; m++)
+            run(lights[l], media[m], "");
     for (int l = 0; l < 4; l++)
         for (size_t p = 0; p < sizeof params / sizeof params[0]; p++)
-            for (int m = 0; m < 3; m += 2) run(lights[l], media[m], params[p]);
+            for (int m = 0; m < 3; m += 2)
+                run(lights[l], media[m], params[p]);
     printf("  %d renders, %d failed or non-finite\n", renders, bad);
     CHECK(bad == 0, "%d of %d stress renders failed", bad, renders);
     return st_test_summary("toth_stress");

@@ -14,15 +14,23 @@ static void write_scene(const char *path, const char *modules) {
     char json[4096];
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},\n"
-             " \"camera\": {\"position\": [0, 1, 3.2], \"target\": [0, 0.9, 0], \"up\": [0, 1, 0], \"fov_y\": 45},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [0.4, 1.6, 0.3], \"intensity\": [3, 3, 3]}],\n"
+             " \"camera\": {\"position\": [0, 1, 3.2], \"target\": [0, 0.9, 0], \"up\": [0, 1, 0], "
+             "\"fov_y\": 45},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [0.4, 1.6, 0.3], \"intensity\": "
+             "[3, 3, 3]}],\n"
              " \"geometry\": [\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}, \"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}, \"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}, \"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": [0.75, 0.1, 0.1]},\n"
-             "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, \"albedo\": [0.1, 0.75, 0.1]},\n"
-             "  {\"box\": {\"min\": [-0.6, 0, -0.6], \"max\": [-0.1, 1.1, -0.1]}, \"albedo\": [0.75, 0.75, 0.75]}],\n"
+             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}, "
+             "\"albedo\": [0.75, 0.75, 0.75]},\n"
+             "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}, "
+             "\"albedo\": [0.75, 0.75, 0.75]},\n"
+             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}, "
+             "\"albedo\": [0.75, 0.75, 0.75]},\n"
+             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, "
+             "\"albedo\": [0.75, 0.1, 0.1]},\n"
+             "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, "
+             "\"albedo\": [0.1, 0.75, 0.1]},\n"
+             "  {\"box\": {\"min\": [-0.6, 0, -0.6], \"max\": [-0.1, 1.1, -0.1]}, \"albedo\": "
+             "[0.75, 0.75, 0.75]}],\n"
              " \"modules\": [%s]}\n",
              N, N, modules);
     st_test_write(path, json);
@@ -39,7 +47,10 @@ int main(int argc, char **argv) {
     snprintf(script, sizeof script, "%s/gi.script", D);
     write_scene(scene, "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 256}}");
     snprintf(tmp, sizeof tmp, "%s/gi_ref.json", D);
-    snprintf(mods, sizeof mods, "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 256}}, {\"name\": \"atlas_gi\", \"params\": {%s}}", GI);
+    snprintf(mods, sizeof mods,
+             "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 256}}, {\"name\": "
+             "\"atlas_gi\", \"params\": {%s}}",
+             GI);
     write_scene(tmp, mods);
     snprintf(path, sizeof path, "%s/ref_combined.exr", D);
     CHECK(st_test_render(tmp, path, NULL) == 0, "render atlas_gi combined");
@@ -53,11 +64,14 @@ int main(int argc, char **argv) {
             "set atlas_gi.atlas_size 128\nset atlas_gi.samples 64\nset atlas_gi.progressive false\n"
             "frames 1\nstats %s/s_direct.json\nscreenshot %s/direct\n"
             "frames 1\nstats %s/s_static.json\n"
-            "key I\nexpect-message GI display: indirect\nframes 1\nstats %s/s_indirect.json\nscreenshot %s/indirect\n"
+            "key I\nexpect-message GI display: indirect\nframes 1\nstats "
+            "%s/s_indirect.json\nscreenshot %s/indirect\n"
             "key I\nexpect-message GI display: combined\nframes 1\nscreenshot %s/combined\n"
             "orbit 20 5\nframes 1\nstats %s/s_cam.json\nscreenshot %s/cam\nkey R\n"
-            "key I\nexpect-message GI display: atlas\nframes 1\nscreenshot %s/atlas\nstats %s/s_atlas.json\n"
-            "key I\nexpect-message GI display: off\nexpect-module atlas_gi off\nframes 1\nscreenshot %s/off\n"
+            "key I\nexpect-message GI display: atlas\nframes 1\nscreenshot %s/atlas\nstats "
+            "%s/s_atlas.json\n"
+            "key I\nexpect-message GI display: off\nexpect-module atlas_gi off\nframes "
+            "1\nscreenshot %s/off\n"
             "# back on: the parameters set before come back\n"
             "key I\nexpect-param atlas_gi.samples 64\nexpect-param atlas_gi.progressive 0\n",
             D, D, D, D, D, D, D, D, D, D, D, D);
@@ -66,30 +80,40 @@ int main(int argc, char **argv) {
     int rc = st_view_run(scene, script, NULL, log, sizeof log);
     CHECK(rc == 0, "strahl view --script exit code %d", rc);
 
-    st_image none = {0}, direct = {0}, indirect = {0}, combined = {0}, atlas = {0}, off = {0}, ref = {0};
-    st_view_read(D, "none", &none), st_view_read(D, "direct", &direct), st_view_read(D, "indirect", &indirect);
-    st_view_read(D, "combined", &combined), st_view_read(D, "atlas", &atlas), st_view_read(D, "off", &off);
+    st_image none = {0}, direct = {0}, indirect = {0}, combined = {0}, atlas = {0}, off = {0},
+             ref = {0};
+    st_view_read(D, "none", &none), st_view_read(D, "direct", &direct),
+        st_view_read(D, "indirect", &indirect);
+    st_view_read(D, "combined", &combined), st_view_read(D, "atlas", &atlas),
+        st_view_read(D, "off", &off);
     st_view_read(D, "ref_combined", &ref);
 
-    CHECK(st_view_max_diff(&combined, &ref) <= 1e-4, "viewer vs render, combined: %g", st_view_max_diff(&combined, &ref));
-    CHECK(st_view_max_diff(&direct, &none) <= 1e-4, "direct display = the image without GI: %g", st_view_max_diff(&direct, &none));
-    CHECK(st_view_max_diff(&off, &none) <= 1e-6, "GI off again = without GI: %g", st_view_max_diff(&off, &none));
+    CHECK(st_view_max_diff(&combined, &ref) <= 1e-4, "viewer vs render, combined: %g",
+          st_view_max_diff(&combined, &ref));
+    CHECK(st_view_max_diff(&direct, &none) <= 1e-4, "direct display = the image without GI: %g",
+          st_view_max_diff(&direct, &none));
+    CHECK(st_view_max_diff(&off, &none) <= 1e-6, "GI off again = without GI: %g",
+          st_view_max_diff(&off, &none));
     // combined = direct + indirect, per pixel.
     double worst = combined.data && direct.data && indirect.data ? 0 : INFINITY;
     int shadowed_lit = 0;
     for (int j = 0; worst < INFINITY && j < N; j++)
         for (int i = 0; i < N; i++)
             for (int c = 0; c < 3; c++) {
-                double a = st_image_px(&combined, i, j)[c], b = st_image_px(&direct, i, j)[c] + st_image_px(&indirect, i, j)[c];
+                double a = st_image_px(&combined, i, j)[c],
+                       b = st_image_px(&direct, i, j)[c] + st_image_px(&indirect, i, j)[c];
                 worst = fmax(worst, fabs(a - b) / (1e-3 + fabs(b)));
-                if (c == 0) shadowed_lit += st_image_px(&direct, i, j)[0] == 0 && st_image_px(&indirect, i, j)[0] > 1e-3;
+                if (c == 0)
+                    shadowed_lit += st_image_px(&direct, i, j)[0] == 0 &&
+                                    st_image_px(&indirect, i, j)[0] > 1e-3;
             }
     CHECK(worst <= 1e-4, "combined vs direct + indirect: worst relative %g", worst);
     // Indirect light reaches where the light does not (under and behind the box).
     CHECK(shadowed_lit > 20, "pixels without direct light lit indirectly: %d", shadowed_lit);
     double m_dir = st_view_mean(&direct, 0, 0, N, N), m_ind = st_view_mean(&indirect, 0, 0, N, N);
     double m_comb = st_view_mean(&combined, 0, 0, N, N), m_atlas = st_view_mean(&atlas, 0, 0, N, N);
-    CHECK(m_ind > 0.05 * m_dir && m_ind < m_dir, "indirect mean %g vs direct mean %g", m_ind, m_dir);
+    CHECK(m_ind > 0.05 * m_dir && m_ind < m_dir, "indirect mean %g vs direct mean %g", m_ind,
+          m_dir);
     // Every mode shows something different.
     const st_image *modes[4] = {&direct, &indirect, &combined, &atlas};
     const char *names[4] = {"direct", "indirect", "combined", "atlas"};
@@ -99,9 +123,12 @@ int main(int argc, char **argv) {
             CHECK(n > N * N / 20, "%s vs %s: %d pixels differ", names[a], names[b], n);
         }
     // The atlas view shows the same light at atlas resolution.
-    CHECK(fabs(m_atlas - m_comb) < 0.2 * m_comb, "atlas view mean %g vs combined %g", m_atlas, m_comb);
-    printf("means: direct %g indirect %g combined %g atlas %g; combined-(direct+indirect) worst rel %g; "
-           "indirect-only pixels %d\n", m_dir, m_ind, m_comb, m_atlas, worst, shadowed_lit);
+    CHECK(fabs(m_atlas - m_comb) < 0.2 * m_comb, "atlas view mean %g vs combined %g", m_atlas,
+          m_comb);
+    printf("means: direct %g indirect %g combined %g atlas %g; combined-(direct+indirect) worst "
+           "rel %g; "
+           "indirect-only pixels %d\n",
+           m_dir, m_ind, m_comb, m_atlas, worst, shadowed_lit);
 
     // Atlas passes: on the first frame only; not for a display switch or a camera move.
     const char *files[5] = {"s_direct", "s_static", "s_indirect", "s_cam", "s_atlas"};
@@ -109,9 +136,12 @@ int main(int argc, char **argv) {
     for (int k = 0; k < 5; k++) {
         snprintf(path, sizeof path, "%s/%s.json", D, files[k]);
         cJSON *s = st_view_json(path);
-        const char *gb = st_view_pass_state(s, "atlas_gi", "gbuffer"), *ga = st_view_pass_state(s, "atlas_gi", "gather");
-        CHECK(!strcmp(gb, want[k]) && !strcmp(ga, want[k]), "%s: atlas gbuffer %s, gather %s, expected %s", files[k], gb, ga, want[k]);
-        CHECK(!strcmp(st_view_pass_state(s, "world", "regular"), "ran"), "%s: regular pass ran", files[k]);
+        const char *gb = st_view_pass_state(s, "atlas_gi", "gbuffer"),
+                   *ga = st_view_pass_state(s, "atlas_gi", "gather");
+        CHECK(!strcmp(gb, want[k]) && !strcmp(ga, want[k]),
+              "%s: atlas gbuffer %s, gather %s, expected %s", files[k], gb, ga, want[k]);
+        CHECK(!strcmp(st_view_pass_state(s, "world", "regular"), "ran"), "%s: regular pass ran",
+              files[k]);
         if (k == 0) {
             double g = st_view_pass_num(s, "atlas_gi", "gather", "gpu_ms");
             CHECK(g > 0, "atlas gather GPU time %g ms", g);
@@ -119,6 +149,7 @@ int main(int argc, char **argv) {
         cJSON_Delete(s);
     }
     st_image *imgs[] = {&none, &direct, &indirect, &combined, &atlas, &off, &ref};
-    for (size_t i = 0; i < sizeof imgs / sizeof imgs[0]; i++) st_image_free(imgs[i]);
+    for (size_t i = 0; i < sizeof imgs / sizeof imgs[0]; i++)
+        st_image_free(imgs[i]);
     return st_test_summary("test_view_gi");
 }

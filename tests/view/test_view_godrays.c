@@ -15,22 +15,30 @@ static void write_scene(const char *path, const char *modules) {
     char json[4096];
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": %d, \"height\": %d},\n"
-             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [0, 1, 0], \"fov_y\": %g},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [20, 20, 20]}],\n"
+             " \"camera\": {\"position\": [%g, %g, %g], \"target\": [%g, %g, %g], \"up\": [0, 1, "
+             "0], \"fov_y\": %g},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [20, "
+             "20, 20]}],\n"
              " \"geometry\": [\n"
-             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, \"albedo\": [0.5, 0.5, 0.5]},\n"
-             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [8, 0, 0], \"v\": [0, 2, 0]}, \"albedo\": [0.5, 0.5, 0.5]},\n"
-             "  {\"quad\": {\"corner\": [-4, 0, 4], \"u\": [0, 2, 0], \"v\": [8, 0, 0]}, \"albedo\": [0.5, 0.5, 0.5]},\n"
-             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 2, 0], \"v\": [0, 0, 8]}, \"albedo\": [0.5, 0.5, 0.5]},\n"
-             "  {\"quad\": {\"corner\": [4, 0, -4], \"u\": [0, 0, 8], \"v\": [0, 2, 0]}, \"albedo\": [0.5, 0.5, 0.5]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, "
+             "\"albedo\": [0.5, 0.5, 0.5]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [8, 0, 0], \"v\": [0, 2, 0]}, "
+             "\"albedo\": [0.5, 0.5, 0.5]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, 4], \"u\": [0, 2, 0], \"v\": [8, 0, 0]}, "
+             "\"albedo\": [0.5, 0.5, 0.5]},\n"
+             "  {\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 2, 0], \"v\": [0, 0, 8]}, "
+             "\"albedo\": [0.5, 0.5, 0.5]},\n"
+             "  {\"quad\": {\"corner\": [4, 0, -4], \"u\": [0, 0, 8], \"v\": [0, 2, 0]}, "
+             "\"albedo\": [0.5, 0.5, 0.5]},\n"
              "  {\"box\": {\"min\": [-4, %g, -4], \"max\": [4, %g, %g]}},\n"
              "  {\"box\": {\"min\": [-4, %g, %g], \"max\": [4, %g, 4]}},\n"
              "  {\"box\": {\"min\": [-4, %g, %g], \"max\": [%g, %g, %g]}},\n"
              "  {\"box\": {\"min\": [%g, %g, %g], \"max\": [4, %g, %g]}}],\n"
              " \"medium\": {\"sigma_s\": [0.3, 0.3, 0.3], \"sigma_a\": [0.05, 0.05, 0.05]},\n"
              " \"modules\": [%s]}\n",
-             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, LIGHT[0], LIGHT[1], LIGHT[2], Y0, Y1, -HOLE,
-             Y0, HOLE, Y1, Y0, -HOLE, -HOLE, Y1, HOLE, HOLE, Y0, -HOLE, Y1, HOLE, modules);
+             N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, LIGHT[0], LIGHT[1],
+             LIGHT[2], Y0, Y1, -HOLE, Y0, HOLE, Y1, Y0, -HOLE, -HOLE, Y1, HOLE, HOLE, Y0, -HOLE, Y1,
+             HOLE, modules);
     st_test_write(path, json);
 }
 
@@ -63,7 +71,8 @@ static double lit_length(const double o[3], const double d[3], double grow) {
     const int steps = 800;
     double lit = 0;
     for (int s = 0; s < steps; s++) {
-        double t = (s + 0.5) * t_exit / steps, p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
+        double t = (s + 0.5) * t_exit / steps,
+               p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
         lit += sees_light(p, grow) * t_exit / steps;
     }
     return lit;
@@ -80,7 +89,8 @@ int main(int argc, char **argv) {
     write_scene(scene, "");
     CHECK(st_view_installed("toth"), "toth must be installed for this test");
     CHECK(st_view_installed("shadow_map"), "shadow_map must be installed for this test");
-    if (!st_view_installed("toth") || !st_view_installed("shadow_map")) return st_test_summary("test_view_godrays");
+    if (!st_view_installed("toth") || !st_view_installed("shadow_map"))
+        return st_test_summary("test_view_godrays");
 
     // Headless references: shadow_map + toth (default and samples = 8), shadow_map alone.
     snprintf(tmp, sizeof tmp, "%s/godrays_toth.json", D);
@@ -88,7 +98,8 @@ int main(int argc, char **argv) {
     snprintf(path, sizeof path, "%s/ref_toth.exr", D);
     CHECK(st_test_render(tmp, path, FULL_MARCH) == 0, "render toth");
     snprintf(path, sizeof path, "%s/ref_toth8.exr", D);
-    CHECK(st_test_render(tmp, path, FULL_MARCH " --set toth.samples=8") == 0, "render toth samples=8");
+    CHECK(st_test_render(tmp, path, FULL_MARCH " --set toth.samples=8") == 0,
+          "render toth samples=8");
     snprintf(tmp, sizeof tmp, "%s/godrays_sm.json", D);
     write_scene(tmp, "{\"name\": \"shadow_map\"}");
     snprintf(path, sizeof path, "%s/ref_sm.exr", D);
@@ -106,21 +117,24 @@ int main(int argc, char **argv) {
     for (int i = 0; i < 2; i++) {
         if (!st_view_installed(before_toth[i])) continue;
         // Each installed technique comes up on its own, the others off.
-        fprintf(f, "key G\nexpect-module %s on\nframes 1\nstats %s/s_step%d.json\n", before_toth[i], D, step++);
+        fprintf(f, "key G\nexpect-module %s on\nframes 1\nstats %s/s_step%d.json\n", before_toth[i],
+                D, step++);
     }
     fprintf(f, "key G\nexpect-module toth on\nexpect-module shadow_map on\n");
     for (int i = 0; i < 2; i++)
-        if (!st_view_installed(before_toth[i])) fprintf(f, "expect-module %s off\n", before_toth[i]);
+        if (!st_view_installed(before_toth[i]))
+            fprintf(f, "expect-module %s off\n", before_toth[i]);
     // Full-resolution march without interleaving: shadow edges in the
     // medium stay sharp, so shadowed rays get exactly nothing.
     fprintf(f, "set toth.resolution full\nset toth.interleave 1\n");
-    fprintf(f,
-            "frames 2\nscreenshot %s/toth\nstats %s/s_toth.json\n"
-            "set toth.samples 8\nframes 1\nscreenshot %s/toth8\nset toth.samples 64\n"
-            "key %c\nexpect-message required by 'toth'\nexpect-module shadow_map on\n"
-            "key G\nexpect-message god rays: off\nexpect-module toth off\nexpect-module shadow_map on\n"
-            "frames 1\nscreenshot %s/off\nstats %s/s_off.json\n",
-            D, D, D, smkey, D, D);
+    fprintf(
+        f,
+        "frames 2\nscreenshot %s/toth\nstats %s/s_toth.json\n"
+        "set toth.samples 8\nframes 1\nscreenshot %s/toth8\nset toth.samples 64\n"
+        "key %c\nexpect-message required by 'toth'\nexpect-module shadow_map on\n"
+        "key G\nexpect-message god rays: off\nexpect-module toth off\nexpect-module shadow_map on\n"
+        "frames 1\nscreenshot %s/off\nstats %s/s_off.json\n",
+        D, D, D, smkey, D, D);
     fclose(f);
     static char log[65536];
     int rc = st_view_run(scene, script, NULL, log, sizeof log);
@@ -136,8 +150,10 @@ int main(int argc, char **argv) {
         if (!st_view_installed(before_toth[i])) continue;
         snprintf(path, sizeof path, "%s/s_step%d.json", D, step++);
         cJSON *s = st_view_json(path);
-        CHECK(!strcmp(st_view_str(s, "god_rays"), before_toth[i]), "god_rays %s", st_view_str(s, "god_rays"));
-        int n = st_view_count(s, before_toth[i], "ran") + st_view_count(s, before_toth[i], "skipped") +
+        CHECK(!strcmp(st_view_str(s, "god_rays"), before_toth[i]), "god_rays %s",
+              st_view_str(s, "god_rays"));
+        int n = st_view_count(s, before_toth[i], "ran") +
+                st_view_count(s, before_toth[i], "skipped") +
                 st_view_count(s, before_toth[i], "culled");
         CHECK(n > 0, "%s passes in the frame: %d", before_toth[i], n);
         cJSON_Delete(s);
@@ -145,10 +161,14 @@ int main(int argc, char **argv) {
 
     st_image toth = {0}, toth8 = {0}, off = {0}, ref_toth = {0}, ref_toth8 = {0}, ref_sm = {0};
     st_view_read(D, "toth", &toth), st_view_read(D, "toth8", &toth8), st_view_read(D, "off", &off);
-    st_view_read(D, "ref_toth", &ref_toth), st_view_read(D, "ref_toth8", &ref_toth8), st_view_read(D, "ref_sm", &ref_sm);
-    CHECK(st_view_max_diff(&toth, &ref_toth) <= 1e-4, "viewer vs render, toth: %g", st_view_max_diff(&toth, &ref_toth));
-    CHECK(st_view_max_diff(&toth8, &ref_toth8) <= 1e-4, "viewer vs render, toth.samples=8 set live: %g", st_view_max_diff(&toth8, &ref_toth8));
-    CHECK(st_view_max_diff(&off, &ref_sm) <= 1e-4, "viewer vs render, toth off again: %g", st_view_max_diff(&off, &ref_sm));
+    st_view_read(D, "ref_toth", &ref_toth), st_view_read(D, "ref_toth8", &ref_toth8),
+        st_view_read(D, "ref_sm", &ref_sm);
+    CHECK(st_view_max_diff(&toth, &ref_toth) <= 1e-4, "viewer vs render, toth: %g",
+          st_view_max_diff(&toth, &ref_toth));
+    CHECK(st_view_max_diff(&toth8, &ref_toth8) <= 1e-4,
+          "viewer vs render, toth.samples=8 set live: %g", st_view_max_diff(&toth8, &ref_toth8));
+    CHECK(st_view_max_diff(&off, &ref_sm) <= 1e-4, "viewer vs render, toth off again: %g",
+          st_view_max_diff(&off, &ref_sm));
     int changed8 = st_view_count_diff(&toth8, &toth, 1e-4);
     CHECK(changed8 > 10, "pixels changed by toth.samples 64 -> 8: %d", changed8);
 
@@ -183,9 +203,11 @@ int main(int argc, char **argv) {
     CHECK(shaft > 50, "shaft pixels: %d", shaft);
     CHECK(dark > 500, "dark pixels: %d", dark);
     CHECK(shaft_mean > 1e-3, "toth adds in-scattered light along the shaft: mean %g", shaft_mean);
-    CHECK(dark_max < 0.02 * shaft_mean, "no in-scattering in the shadowed medium: max %g (shaft mean %g)", dark_max, shaft_mean);
-    printf("shaft: %d px, mean added %g; dark: %d px, mean %g, max %g; samples 64->8 changed %d px\n", shaft,
-           shaft_mean, dark, dark_mean, dark_max, changed8);
+    CHECK(dark_max < 0.02 * shaft_mean,
+          "no in-scattering in the shadowed medium: max %g (shaft mean %g)", dark_max, shaft_mean);
+    printf(
+        "shaft: %d px, mean added %g; dark: %d px, mean %g, max %g; samples 64->8 changed %d px\n",
+        shaft, shaft_mean, dark, dark_mean, dark_max, changed8);
 
     // Stats: toth's passes ran; none of them once it is off.
     snprintf(path, sizeof path, "%s/s_toth.json", D);
@@ -194,12 +216,18 @@ int main(int argc, char **argv) {
     cJSON *s_off = st_view_json(path);
     snprintf(path, sizeof path, "%s/s_none.json", D);
     cJSON *s_none = st_view_json(path);
-    CHECK(!strcmp(st_view_str(s_none, "god_rays"), "off"), "initially off: %s", st_view_str(s_none, "god_rays"));
-    CHECK(!strcmp(st_view_str(s_toth, "god_rays"), "toth"), "god_rays %s", st_view_str(s_toth, "god_rays"));
-    CHECK(!strcmp(st_view_pass_state(s_toth, "toth", "march"), "ran"), "toth march %s", st_view_pass_state(s_toth, "toth", "march"));
-    CHECK(!strcmp(st_view_pass_state(s_toth, "toth", "compose"), "ran"), "toth compose %s", st_view_pass_state(s_toth, "toth", "compose"));
-    CHECK(!strcmp(st_view_pass_state(s_toth, "shadow_map", "cube"), "skipped"), "static frame: shadow cube %s", st_view_pass_state(s_toth, "shadow_map", "cube"));
-    CHECK(st_view_count(s_off, "toth", "ran") == 0 && !strcmp(st_view_pass_state(s_off, "toth", "march"), "absent"),
+    CHECK(!strcmp(st_view_str(s_none, "god_rays"), "off"), "initially off: %s",
+          st_view_str(s_none, "god_rays"));
+    CHECK(!strcmp(st_view_str(s_toth, "god_rays"), "toth"), "god_rays %s",
+          st_view_str(s_toth, "god_rays"));
+    CHECK(!strcmp(st_view_pass_state(s_toth, "toth", "march"), "ran"), "toth march %s",
+          st_view_pass_state(s_toth, "toth", "march"));
+    CHECK(!strcmp(st_view_pass_state(s_toth, "toth", "compose"), "ran"), "toth compose %s",
+          st_view_pass_state(s_toth, "toth", "compose"));
+    CHECK(!strcmp(st_view_pass_state(s_toth, "shadow_map", "cube"), "skipped"),
+          "static frame: shadow cube %s", st_view_pass_state(s_toth, "shadow_map", "cube"));
+    CHECK(st_view_count(s_off, "toth", "ran") == 0 &&
+              !strcmp(st_view_pass_state(s_off, "toth", "march"), "absent"),
           "toth off: no toth pass");
     double g = st_view_pass_num(s_toth, "toth", "march", "gpu_ms");
     CHECK(g > 0, "toth march GPU time %g ms", g);
@@ -207,6 +235,7 @@ int main(int argc, char **argv) {
     cJSON_Delete(s_off);
     cJSON_Delete(s_none);
     st_image *imgs[] = {&toth, &toth8, &off, &ref_toth, &ref_toth8, &ref_sm};
-    for (size_t i = 0; i < sizeof imgs / sizeof imgs[0]; i++) st_image_free(imgs[i]);
+    for (size_t i = 0; i < sizeof imgs / sizeof imgs[0]; i++)
+        st_image_free(imgs[i]);
     return st_test_summary("test_view_godrays");
 }

@@ -2,7 +2,8 @@
 // events call: clicking a module row switches it, dragging a slider sets a
 // parameter from the pointer's position (its range from the descriptor),
 // clicking a bool toggles it, dragging over the image orbits the camera, the
-// wheel zooms, and the fly camera turns in place and moves along its view. The panel's control rectangles come from `stats`.
+// wheel zooms, and the fly camera turns in place and moves along its view. The panel's control
+// rectangles come from `stats`.
 #include "view_test.h"
 
 enum { W = 640, H = 400 };
@@ -15,7 +16,8 @@ static int widget(cJSON *stats, const char *module, const char *param, double r[
         const char *p = cJSON_GetStringValue(cJSON_GetObjectItem(w, "param"));
         if (m && p && !strcmp(m, module) && !strcmp(p, param)) {
             const char *keys[4] = {"x", "y", "w", "h"};
-            for (int k = 0; k < 4; k++) r[k] = cJSON_GetNumberValue(cJSON_GetObjectItem(w, keys[k]));
+            for (int k = 0; k < 4; k++)
+                r[k] = cJSON_GetNumberValue(cJSON_GetObjectItem(w, keys[k]));
             return 1;
         }
     }
@@ -27,7 +29,9 @@ static double param(cJSON *stats, const char *module, const char *name) {
     if (!stats) return NAN;
     cJSON_ArrayForEach(m, cJSON_GetObjectItem(stats, "modules")) {
         const char *n = cJSON_GetStringValue(cJSON_GetObjectItem(m, "name"));
-        if (n && !strcmp(n, module)) return cJSON_GetNumberValue(cJSON_GetObjectItem(cJSON_GetObjectItem(m, "params"), name));
+        if (n && !strcmp(n, module))
+            return cJSON_GetNumberValue(
+                cJSON_GetObjectItem(cJSON_GetObjectItem(m, "params"), name));
     }
     return NAN;
 }
@@ -35,14 +39,17 @@ static double param(cJSON *stats, const char *module, const char *name) {
 static void camera(cJSON *stats, double pos[3], double tgt[3]) {
     cJSON *c = stats ? cJSON_GetObjectItem(stats, "camera") : NULL;
     for (int k = 0; k < 3; k++) {
-        pos[k] = c ? cJSON_GetNumberValue(cJSON_GetArrayItem(cJSON_GetObjectItem(c, "position"), k)) : NAN;
-        tgt[k] = c ? cJSON_GetNumberValue(cJSON_GetArrayItem(cJSON_GetObjectItem(c, "target"), k)) : NAN;
+        pos[k] = c ? cJSON_GetNumberValue(cJSON_GetArrayItem(cJSON_GetObjectItem(c, "position"), k))
+                   : NAN;
+        tgt[k] =
+            c ? cJSON_GetNumberValue(cJSON_GetArrayItem(cJSON_GetObjectItem(c, "target"), k)) : NAN;
     }
 }
 
 // A press and release at (x, y) with frames between, as a click arrives.
 static void click(FILE *f, double x, double y) {
-    fprintf(f, "mouse %.1f %.1f\nframes 1\nbutton left down\nframes 1\nbutton left up\nframes 1\n", x, y);
+    fprintf(f, "mouse %.1f %.1f\nframes 1\nbutton left down\nframes 1\nbutton left up\nframes 1\n",
+            x, y);
 }
 
 int main(int argc, char **argv) {
@@ -55,9 +62,12 @@ int main(int argc, char **argv) {
     snprintf(size, sizeof size, "--size %dx%d", W, H);
     snprintf(json, sizeof json,
              "{\"image\": {\"width\": 64, \"height\": 64},\n"
-             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.8, 0], \"intensity\": [3, 3, 3]}],\n"
-             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, 0]}, \"albedo\": [0.75, 0.75, 0.75]},\n"
+             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
+             "\"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.8, 0], \"intensity\": [3, 3, "
+             "3]}],\n"
+             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
+             "0]}, \"albedo\": [0.75, 0.75, 0.75]},\n"
              "   {\"box\": {\"min\": [-0.3, 0.8, -0.3], \"max\": [0.3, 1.0, 0.3]}}],\n"
              " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 256}}]}\n");
     st_test_write(scene, json);
@@ -76,10 +86,12 @@ int main(int argc, char **argv) {
     int ok = widget(layout, "shadow_map", "", row) && widget(layout, "shadow_map", "bias", bias) &&
              widget(layout, "shadow_map", "pcf", pcf);
     CHECK(ok, "the panel lists shadow_map with its bias and pcf controls");
-    CHECK(layout && cJSON_GetArraySize(cJSON_GetObjectItem(layout, "widgets")) >= 6, "widgets: module rows and 5 parameters");
+    CHECK(layout && cJSON_GetArraySize(cJSON_GetObjectItem(layout, "widgets")) >= 6,
+          "widgets: module rows and 5 parameters");
     cJSON_Delete(layout);
     if (!ok) return st_test_summary("test_view_mouse");
-    CHECK(bias[0] + bias[2] <= W && bias[1] + bias[3] <= H && bias[0] > W / 3, "bias slider inside the window, right side: x %g w %g", bias[0], bias[2]);
+    CHECK(bias[0] + bias[2] <= W && bias[1] + bias[3] <= H && bias[0] > W / 3,
+          "bias slider inside the window, right side: x %g w %g", bias[0], bias[2]);
 
     // Run 2: the interactions.
     f = fopen(script, "w");
@@ -89,17 +101,19 @@ int main(int argc, char **argv) {
     click(f, row[0] + 0.5 * row[2], row[1] + 0.5 * row[3]);
     fprintf(f, "expect-module shadow_map on\n");
     // Slider: press at 25% of its width, drag to 75%, release.
-    fprintf(f, "mouse %.1f %.1f\nframes 1\nbutton left down\nframes 1\nstats %s/m_press.json\n", bias[0] + 0.25 * bias[2],
-            bias[1] + 0.5 * bias[3], D);
-    fprintf(f, "mouse %.1f %.1f\nframes 1\nbutton left up\nframes 1\nstats %s/m_drag.json\n", bias[0] + 0.75 * bias[2],
-            bias[1] + 0.5 * bias[3], D);
+    fprintf(f, "mouse %.1f %.1f\nframes 1\nbutton left down\nframes 1\nstats %s/m_press.json\n",
+            bias[0] + 0.25 * bias[2], bias[1] + 0.5 * bias[3], D);
+    fprintf(f, "mouse %.1f %.1f\nframes 1\nbutton left up\nframes 1\nstats %s/m_drag.json\n",
+            bias[0] + 0.75 * bias[2], bias[1] + 0.5 * bias[3], D);
     click(f, pcf[0] + 2, pcf[1] + 0.5 * pcf[3]);
     fprintf(f, "expect-param shadow_map.pcf 1\n");
     // Orbit: drag 40 px to the right over the image (left of the panel).
-    fprintf(f, "mouse 40 150\nframes 1\nbutton left down\nmouse 80 150\nframes 1\nbutton left up\nframes 1\n"
-               "stats %s/m_orbit.json\nwheel 2\nframes 1\nstats %s/m_wheel.json\n"
-               "key C\nexpect-message camera: fly\norbit 30 0\nframes 1\nstats %s/m_fly.json\n"
-               "move 0.5 0 0\nframes 1\nstats %s/m_move.json\n",
+    fprintf(f,
+            "mouse 40 150\nframes 1\nbutton left down\nmouse 80 150\nframes 1\nbutton left "
+            "up\nframes 1\n"
+            "stats %s/m_orbit.json\nwheel 2\nframes 1\nstats %s/m_wheel.json\n"
+            "key C\nexpect-message camera: fly\norbit 30 0\nframes 1\nstats %s/m_fly.json\n"
+            "move 0.5 0 0\nframes 1\nstats %s/m_move.json\n",
             D, D, D, D);
     fclose(f);
     int rc = st_view_run(scene, script, size, log, sizeof log);
@@ -117,7 +131,8 @@ int main(int argc, char **argv) {
     double slack = 64 * 0.6 / bias[2];
     CHECK_REL(param(press, "shadow_map", "bias"), 16, 0, slack);
     CHECK_REL(param(drag, "shadow_map", "bias"), 48, 0, slack);
-    CHECK(!strcmp(st_view_pass_state(drag, "shadow_map", "cube"), "ran"), "a parameter drag re-renders the cube: %s",
+    CHECK(!strcmp(st_view_pass_state(drag, "shadow_map", "cube"), "ran"),
+          "a parameter drag re-renders the cube: %s",
           st_view_pass_state(drag, "shadow_map", "cube"));
 
     double p0[3], t0[3], p1[3], t1[3], p2[3], t2[3];
@@ -135,8 +150,8 @@ int main(int argc, char **argv) {
     CHECK_REL(fabs(dyaw), 12.0, 1e-3, 0);
     CHECK_REL(r1, r0, 1e-5, 0);
     CHECK_REL(p1[1], p0[1], 1e-5, 1e-6);
-    CHECK(!strcmp(st_view_pass_state(orbit, "shadow_map", "cube"), "skipped"), "orbit: shadow cube %s",
-          st_view_pass_state(orbit, "shadow_map", "cube"));
+    CHECK(!strcmp(st_view_pass_state(orbit, "shadow_map", "cube"), "skipped"),
+          "orbit: shadow cube %s", st_view_pass_state(orbit, "shadow_map", "cube"));
     // Two wheel clicks toward the scene: distance x 0.9^2.
     CHECK_REL(r2, r0 * 0.81, 1e-5, 0);
     // Fly camera: turning keeps the position and swings the target around
@@ -161,9 +176,10 @@ int main(int argc, char **argv) {
     CHECK_REL(sqrt(step), 0.5, 1e-4, 0);
     CHECK_REL(dot / sqrt(n3 * step), 1.0, 1e-5, 0);
     CHECK(sqrt(n2) < 1e-5, "the target moves with the camera: %g", sqrt(n2));
-    printf("bias after press %g, after drag %g; orbit %g deg; zoom %g -> %g\n", param(press, "shadow_map", "bias"),
-           param(drag, "shadow_map", "bias"), dyaw, r1, r2);
+    printf("bias after press %g, after drag %g; orbit %g deg; zoom %g -> %g\n",
+           param(press, "shadow_map", "bias"), param(drag, "shadow_map", "bias"), dyaw, r1, r2);
     cJSON *all[] = {m0, press, drag, orbit, wheel, fly, move};
-    for (int i = 0; i < 7; i++) cJSON_Delete(all[i]);
+    for (int i = 0; i < 7; i++)
+        cJSON_Delete(all[i]);
     return st_test_summary("test_view_mouse");
 }

@@ -16,8 +16,9 @@
 static inline void st_view_under_xvfb(char **argv) {
     if (getenv("ST_VIEW_UNDER_XVFB")) return;
     if (system("command -v xvfb-run >/dev/null 2>&1") != 0) {
-        fprintf(stderr, "FAIL: xvfb-run not found. The viewer tests need a virtual X server: install the "
-                        "Debian package 'xvfb' (tools/setup.sh does). They are not skipped.\n");
+        fprintf(stderr,
+                "FAIL: xvfb-run not found. The viewer tests need a virtual X server: install the "
+                "Debian package 'xvfb' (tools/setup.sh does). They are not skipped.\n");
         exit(1);
     }
     setenv("ST_VIEW_UNDER_XVFB", "1", 1);
@@ -25,15 +26,18 @@ static inline void st_view_under_xvfb(char **argv) {
     // started together by ctest -j do not race for the same number.
     char num[16];
     snprintf(num, sizeof num, "%d", 100 + (int)(getpid() % 2000));
-    execlp("xvfb-run", "xvfb-run", "-a", "-n", num, "-s", "-screen 0 1024x768x24", argv[0], (char *)NULL);
+    execlp("xvfb-run", "xvfb-run", "-a", "-n", num, "-s", "-screen 0 1024x768x24", argv[0],
+           (char *)NULL);
     fprintf(stderr, "FAIL: cannot run xvfb-run: %s\n", strerror(errno));
     exit(1);
 }
 
 // Runs `strahl view SCENE --script SCRIPT EXTRA`, output captured in log.
-static inline int st_view_run(const char *scene, const char *script, const char *extra, char *log, size_t n) {
+static inline int st_view_run(const char *scene, const char *script, const char *extra, char *log,
+                              size_t n) {
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s view %s --script %s %s", ST_TEST_STRAHL, scene, script, extra ? extra : "");
+    snprintf(cmd, sizeof cmd, "%s view %s --script %s %s", ST_TEST_STRAHL, scene, script,
+             extra ? extra : "");
     return st_test_capture(log, n, cmd);
 }
 
@@ -80,7 +84,8 @@ static inline const char *st_view_pass_state(cJSON *stats, const char *module, c
         const char *m = cJSON_GetStringValue(cJSON_GetObjectItem(p, "module"));
         const char *ps = cJSON_GetStringValue(cJSON_GetObjectItem(p, "pass"));
         if (m && ps && !strcmp(m, module) && !strncmp(ps, pass, strlen(pass))) {
-            snprintf(state, sizeof state, "%s", cJSON_GetStringValue(cJSON_GetObjectItem(p, "state")));
+            snprintf(state, sizeof state, "%s",
+                     cJSON_GetStringValue(cJSON_GetObjectItem(p, "state")));
             return state;
         }
     }
@@ -100,7 +105,8 @@ static inline int st_view_count(cJSON *stats, const char *module, const char *st
     return n;
 }
 
-static inline double st_view_pass_num(cJSON *stats, const char *module, const char *pass, const char *key) {
+static inline double st_view_pass_num(cJSON *stats, const char *module, const char *pass,
+                                      const char *key) {
     cJSON *p;
     if (!stats) return NAN;
     cJSON_ArrayForEach(p, cJSON_GetObjectItem(stats, "passes")) {
@@ -119,7 +125,8 @@ static inline const char *st_view_str(cJSON *stats, const char *key) {
 
 // Largest |a - b| over all channels; +inf if the sizes differ.
 static inline double st_view_max_diff(const st_image *a, const st_image *b) {
-    if (!a->data || !b->data || a->width != b->width || a->height != b->height || a->channels != b->channels)
+    if (!a->data || !b->data || a->width != b->width || a->height != b->height ||
+        a->channels != b->channels)
         return INFINITY;
     double m = 0;
     for (size_t k = 0; k < (size_t)a->width * a->height * a->channels; k++) {

@@ -93,7 +93,8 @@ static void part_probes(void) {
     for (int k = 0; k < 3; k++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s.so", ST_TEST_PROBE_DIR, probes[k]);
-        void *h = handles[k] = dlopen(path, RTLD_NOW | RTLD_LOCAL); // the world's handle is the same
+        void *h = handles[k] =
+            dlopen(path, RTLD_NOW | RTLD_LOCAL); // the world's handle is the same
         CHECK(h != NULL, "dlopen %s: %s", path, dlerror());
         if (!h) return;
         *(void **)&seen[k] = dlsym(h, "probe_seen");

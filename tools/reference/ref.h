@@ -25,14 +25,14 @@ typedef enum { ST_REF_COMBINED = 0, ST_REF_DIRECT, ST_REF_INDIRECT, ST_REF_INSCA
 typedef enum { ST_REF_EST_AREA = 0, ST_REF_EST_THESIS } st_ref_estimator;
 
 typedef struct st_ref_options {
-    int spp;                  // samples per pixel (>= 1; 0 means 1)
+    int spp; // samples per pixel (>= 1; 0 means 1)
     st_ref_aov aov;
     uint64_t seed;
-    int bounces;              // diffuse bounces (0: no indirect light)
-    bool no_visibility;       // bounce without the sender-receiver visibility test
+    int bounces;        // diffuse bounces (0: no indirect light)
+    bool no_visibility; // bounce without the sender-receiver visibility test
     st_ref_estimator estimator;
-    int march_steps;          // strata per view ray for in-scattering (0: 256)
-    int threads;              // 0: all online cores
+    int march_steps; // strata per view ray for in-scattering (0: 256)
+    int threads;     // 0: all online cores
     // Called from the calling thread about every 10 ms with the rows done
     // (and once at the end with all of them); NULL: none.
     void (*progress)(void *user, int rows_done, int rows);
@@ -45,18 +45,18 @@ typedef struct st_ref_geometry {
     RTCScene scene;
     const st_scene *desc;
     int num_meshes;
-    double **pos;     // per mesh: 3 doubles per vertex, world space
-    double **nrm;     // per mesh: 3 doubles per vertex, world space, unit
-    double **ng;      // per mesh: unit geometric normal per triangle (CCW front)
+    double **pos; // per mesh: 3 doubles per vertex, world space
+    double **nrm; // per mesh: 3 doubles per vertex, world space, unit
+    double **ng;  // per mesh: unit geometric normal per triangle (CCW front)
     // Area sampling over every triangle of the scene.
-    double *cdf;      // cumulative area, one entry per triangle (global order)
-    int *tri_mesh;    // global triangle -> mesh
+    double *cdf;        // cumulative area, one entry per triangle (global order)
+    int *tri_mesh;      // global triangle -> mesh
     uint32_t *tri_prim; // global triangle -> triangle in its mesh
     uint64_t num_tris;
     double total_area;
-    double eps;       // ray offset, relative to the scene's size
-    double sigma_t[3]; // the medium's extinction, 0 without one (light paths)
-    double *light_entry; // per light: st_directional_entry (directional lights)
+    double eps;               // ray offset, relative to the scene's size
+    double sigma_t[3];        // the medium's extinction, 0 without one (light paths)
+    double *light_entry;      // per light: st_directional_entry (directional lights)
     double center[3], radius; // a sphere around the scene's bounds (shadow rays to infinity)
 } st_ref_geometry;
 
@@ -82,23 +82,24 @@ double st_ref_rng_uniform(st_ref_rng *r); // [0, 1)
 bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *err);
 void st_ref_geometry_free(st_ref_geometry *g);
 // Closest hit along o + t d for t in (tmin, tmax); d need not be unit.
-st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3], double tmin,
-                                double tmax);
+st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3],
+                                double tmin, double tmax);
 // Every surface along the ray (unit d), nearest first, at most `max`.
-int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const double d[3], double tmin, double tmax,
-                        st_ref_surface *out, int max);
+int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const double d[3],
+                         double tmin, double tmax, st_ref_surface *out, int max);
 // Whether the segment from surface-offset point `from` to `to` is blocked.
 bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const double to[3]);
 // Whether light `in` (st_light_incident at `from`) reaches `from` unblocked;
 // a directional light's shadow ray runs until it has left the scene's bounds.
 bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const st_incident *in);
 // A point uniform over the scene's area, seen from `viewer` (its side chosen).
-st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng, const double viewer[3]);
+st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,
+                                  const double viewer[3]);
 
 // Surface terms (ref_shade.c). Radiances are RGB.
 void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out[3]);
-void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s, int bounces,
-                     st_ref_rng *rng, double out[3]);
+void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s,
+                     int bounces, st_ref_rng *rng, double out[3]);
 
 // In-scattering along the view ray [0, s] (ref_medium.c).
 void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const double origin[3],

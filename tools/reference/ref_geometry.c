@@ -11,11 +11,14 @@ static void cross3(double o[3], const double a[3], const double b[3]) {
     o[1] = a[2] * b[0] - a[0] * b[2];
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 static double normalize3(double v[3]) {
     double l = sqrt(dot3(v, v));
     if (l > 0)
-        for (int k = 0; k < 3; k++) v[k] /= l;
+        for (int k = 0; k < 3; k++)
+            v[k] /= l;
     return l;
 }
 
@@ -29,7 +32,8 @@ static bool transform_mesh(const st_mesh *m, double *pos, double *nrm) {
     const float *M = m->model; // column major: M[col * 4 + row]
     double a[3][3];
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) a[r][c] = M[c * 4 + r];
+        for (int c = 0; c < 3; c++)
+            a[r][c] = M[c * 4 + r];
     double cof[3][3];
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) {
@@ -76,7 +80,8 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
     g->tri_prim = malloc(nt * sizeof *g->tri_prim);
     if (!g->pos || !g->nrm || !g->ng || !g->cdf || !g->tri_mesh || !g->tri_prim) {
         st_ref_geometry_free(g);
-        return st_fail(err, ST_ERR_RUNTIME, "out of memory for %llu triangles", (unsigned long long)g->num_tris);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for %llu triangles",
+                       (unsigned long long)g->num_tris);
     }
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     uint64_t tri = 0;
@@ -93,19 +98,20 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
         for (uint32_t k = 0; k < 3 * m->num_triangles; k++)
             if (m->indices[k] >= m->num_vertices) {
                 st_ref_geometry_free(g);
-                return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): vertex index %u out of range", i, m->name,
-                               m->indices[k]);
+                return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): vertex index %u out of range", i,
+                               m->name, m->indices[k]);
             }
         if (!transform_mesh(m, g->pos[i], g->nrm[i])) {
             st_ref_geometry_free(g);
-            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is not finite", i, m->name);
+            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is not finite", i,
+                           m->name);
         }
         if (m->num_triangles == 0) continue; // nothing to trace; mesh indices stay geomIDs
         RTCGeometry geo = rtcNewGeometry(g->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                            m->num_vertices);
-        unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                               m->num_triangles);
+        float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                            3 * sizeof(float), m->num_vertices);
+        unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                               3 * sizeof(unsigned), m->num_triangles);
         if (!vb || !ib) {
             rtcReleaseGeometry(geo);
             rtc_error_message(g->device, err, "vertex buffer");
@@ -119,10 +125,13 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
         }
         for (uint32_t t = 0; t < m->num_triangles; t++) {
             const uint32_t *ix = m->indices + 3 * t;
-            for (int k = 0; k < 3; k++) ib[3 * t + k] = ix[k];
-            const double *p0 = g->pos[i] + 3 * ix[0], *p1 = g->pos[i] + 3 * ix[1], *p2 = g->pos[i] + 3 * ix[2];
+            for (int k = 0; k < 3; k++)
+                ib[3 * t + k] = ix[k];
+            const double *p0 = g->pos[i] + 3 * ix[0], *p1 = g->pos[i] + 3 * ix[1],
+                         *p2 = g->pos[i] + 3 * ix[2];
             double e1[3], e2[3], *n = g->ng[i] + 3 * t;
-            for (int k = 0; k < 3; k++) e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
+            for (int k = 0; k < 3; k++)
+                e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
             cross3(n, e1, e2);
             area += 0.5 * normalize3(n); // degenerate triangles add nothing and are never picked
             g->cdf[tri] = area;
@@ -142,15 +151,18 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
     }
     g->total_area = area;
     double diag = 0.0;
-    for (int k = 0; k < 3; k++) diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    for (int k = 0; k < 3; k++)
+        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     diag = sqrt(diag);
     // Offsets for secondary rays: far above float rounding of positions
     // (~1e-7 relative) and far below any feature a test measures.
     g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
     st_medium_sigma_t(&scene->medium, g->sigma_t);
-    for (int k = 0; k < 3; k++) g->center[k] = 0.5 * (lo[k] + hi[k]);
+    for (int k = 0; k < 3; k++)
+        g->center[k] = 0.5 * (lo[k] + hi[k]);
     g->radius = 0.5 * diag;
-    g->light_entry = calloc(scene->num_lights ? (size_t)scene->num_lights : 1, sizeof *g->light_entry);
+    g->light_entry =
+        calloc(scene->num_lights ? (size_t)scene->num_lights : 1, sizeof *g->light_entry);
     if (!g->light_entry) {
         st_ref_geometry_free(g);
         return st_fail(err, ST_ERR_RUNTIME, "out of memory");
@@ -181,7 +193,8 @@ void st_ref_geometry_free(st_ref_geometry *g) {
 
 // A surface record for triangle `prim` of mesh `mi` at barycentrics (u, v)
 // (p = (1-u-v) p0 + u p1 + v p2), normals as on its front side.
-static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t prim, double u, double v) {
+static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t prim, double u,
+                                   double v) {
     st_ref_surface s = {0};
     const st_mesh *m = &g->desc->meshes[mi];
     const uint32_t *ix = m->indices + 3 * prim;
@@ -207,12 +220,13 @@ static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t pr
 static void face_viewer(st_ref_surface *s, const double toward_viewer[3]) {
     bool front = dot3(s->ng, toward_viewer) > 0.0;
     if (!front)
-        for (int k = 0; k < 3; k++) s->n[k] = -s->n[k], s->ng[k] = -s->ng[k];
+        for (int k = 0; k < 3; k++)
+            s->n[k] = -s->n[k], s->ng[k] = -s->ng[k];
     s->lit_side = front || s->mesh->double_sided;
 }
 
-st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3], double tmin,
-                                double tmax) {
+st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3],
+                                double tmin, double tmax) {
     st_ref_surface none = {0};
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -232,13 +246,14 @@ st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], con
     face_viewer(&s, back);
     // The distance in the ray's units, from the double position on the triangle.
     double dd = dot3(d, d), t = 0.0;
-    for (int k = 0; k < 3; k++) t += (s.p[k] - o[k]) * d[k];
+    for (int k = 0; k < 3; k++)
+        t += (s.p[k] - o[k]) * d[k];
     s.t = t / dd;
     return s;
 }
 
-int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const double d[3], double tmin, double tmax,
-                        st_ref_surface *out, int max) {
+int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const double d[3],
+                         double tmin, double tmax, st_ref_surface *out, int max) {
     int n = 0;
     double t = tmin;
     while (n < max) {
@@ -276,11 +291,13 @@ bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const 
         len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + g->radius + 2.0 * g->eps + 1.0;
     }
     double to[3];
-    for (int k = 0; k < 3; k++) to[k] = from[k] + len * in->to_light[k];
+    for (int k = 0; k < 3; k++)
+        to[k] = from[k] + len * in->to_light[k];
     return !st_ref_occluded(g, from, to);
 }
 
-st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng, const double viewer[3]) {
+st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,
+                                  const double viewer[3]) {
     st_ref_surface none = {0};
     if (g->num_tris == 0 || !(g->total_area > 0)) return none;
     double x = st_ref_rng_uniform(rng) * g->total_area;

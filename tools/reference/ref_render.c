@@ -29,11 +29,14 @@ static void cross3(double o[3], const double a[3], const double b[3]) {
     o[1] = a[2] * b[0] - a[0] * b[2];
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 static bool normalize3(double v[3]) {
     double l = sqrt(dot3(v, v));
     if (!(l > 0) || !isfinite(l)) return false;
-    for (int k = 0; k < 3; k++) v[k] /= l;
+    for (int k = 0; k < 3; k++)
+        v[k] /= l;
     return true;
 }
 
@@ -47,7 +50,9 @@ static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
     }
     cross3(c->r, c->f, up);
     if (!normalize3(c->f) || !normalize3(c->r))
-        return st_fail(err, ST_ERR_INPUT, "%s: camera: target equals position or up is parallel to the view", sc->path);
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: camera: target equals position or up is parallel to the view",
+                       sc->path);
     cross3(c->u, c->r, c->f);
     c->tan_half = tan(0.5 * d->fov_y * ST_PI / 180.0);
     c->aspect = (double)sc->width / sc->height;
@@ -58,7 +63,8 @@ static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
 static void camera_ray(const ref_camera *c, int i, int j, int w, int h, double dir[3]) {
     double x = (2.0 * (i + 0.5) / w - 1.0) * c->tan_half * c->aspect;
     double y = (1.0 - 2.0 * (j + 0.5) / h) * c->tan_half;
-    for (int k = 0; k < 3; k++) dir[k] = c->f[k] + x * c->r[k] + y * c->u[k];
+    for (int k = 0; k < 3; k++)
+        dir[k] = c->f[k] + x * c->r[k] + y * c->u[k];
     normalize3(dir);
 }
 
@@ -78,13 +84,15 @@ static void render_pixel(const ref_job *job, int i, int j) {
     double s = x.hit ? x.t : t_far;
 
     const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
-    const bool want_indirect = (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) && o->bounces > 0 &&
-                               x.hit && x.lit_side;
-    const bool want_inscatter = (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
+    const bool want_indirect = (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) &&
+                               o->bounces > 0 && x.hit && x.lit_side;
+    const bool want_inscatter =
+        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
     double direct[3] = {0, 0, 0}, T[3] = {1, 1, 1};
     if (want_direct) st_ref_direct(g, &x, direct);
     if (sc->medium.present)
-        for (int c = 0; c < 3; c++) T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * s);
+        for (int c = 0; c < 3; c++)
+            T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * s);
 
     st_ref_rng rng;
     st_ref_rng_seed(&rng, o->seed, (uint64_t)j * (uint64_t)w + (uint64_t)i);
@@ -99,11 +107,19 @@ static void render_pixel(const ref_job *job, int i, int j) {
         if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, dir, s, &rng, ins);
         for (int c = 0; c < 3; c++) {
             switch (o->aov) {
-            case ST_REF_DIRECT: v[c] = direct[c]; break;
-            case ST_REF_INDIRECT: v[c] = ind[c]; break;
-            case ST_REF_INSCATTER: v[c] = ins[c]; break;
+            case ST_REF_DIRECT:
+                v[c] = direct[c];
+                break;
+            case ST_REF_INDIRECT:
+                v[c] = ind[c];
+                break;
+            case ST_REF_INSCATTER:
+                v[c] = ins[c];
+                break;
             case ST_REF_COMBINED:
-            default: v[c] = (direct[c] + ind[c]) * T[c] + ins[c]; break;
+            default:
+                v[c] = (direct[c] + ind[c]) * T[c] + ins[c];
+                break;
             }
             double delta = v[c] - mean[c];
             mean[c] += delta / (k + 1);
@@ -123,7 +139,8 @@ static void *worker(void *arg) {
     for (;;) {
         int j = atomic_fetch_add(&job->next_row, 1);
         if (j >= job->out->height) break;
-        for (int i = 0; i < job->out->width; i++) render_pixel(job, i, j);
+        for (int i = 0; i < job->out->width; i++)
+            render_pixel(job, i, j);
         atomic_fetch_add(&job->rows_done, 1);
     }
     return NULL;
@@ -163,10 +180,12 @@ bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out
         if (pthread_create(&th[started], NULL, worker, &job)) break;
     if (started == 0) worker(&job); // no threads to be had: render here
     while (atomic_load(&job.rows_done) < scene->height) {
-        nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL); // cheap; keeps small renders snappy
+        nanosleep(&(struct timespec){0, 10 * 1000 * 1000},
+                  NULL); // cheap; keeps small renders snappy
         if (o->progress) o->progress(o->progress_user, atomic_load(&job.rows_done), scene->height);
     }
-    for (int k = 0; k < started; k++) pthread_join(th[k], NULL);
+    for (int k = 0; k < started; k++)
+        pthread_join(th[k], NULL);
     if (o->progress) o->progress(o->progress_user, scene->height, scene->height);
     st_ref_geometry_free(&geo);
     return true;

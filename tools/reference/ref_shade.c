@@ -31,18 +31,22 @@
 #include <math.h>
 #include <string.h>
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 // p moved off its surface along the geometric normal (the side seen), so
 // secondary rays do not hit the surface they leave.
 static void offset_point(const st_ref_geometry *g, const st_ref_surface *s, double out[3]) {
-    for (int k = 0; k < 3; k++) out[k] = s->p[k] + g->eps * s->ng[k];
+    for (int k = 0; k < 3; k++)
+        out[k] = s->p[k] + g->eps * s->ng[k];
 }
 
 void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out[3]) {
     out[0] = out[1] = out[2] = 0.0;
     if (!s->hit || !s->lit_side) return; // back faces are black but occlude
-    for (int c = 0; c < 3; c++) out[c] = s->mesh->emission[c];
+    for (int c = 0; c < 3; c++)
+        out[c] = s->mesh->emission[c];
     const st_scene *sc = g->desc;
     double from[3];
     offset_point(g, s, from);
@@ -60,13 +64,14 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out
 }
 
 // Outgoing radiance of y toward its viewer with `bounces` bounces of indirect.
-static void outgoing(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *y, int bounces,
-                     st_ref_rng *rng, double out[3]) {
+static void outgoing(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *y,
+                     int bounces, st_ref_rng *rng, double out[3]) {
     st_ref_direct(g, y, out);
     if (bounces <= 0 || !y->hit || !y->lit_side) return;
     double ind[3];
     st_ref_indirect(g, o, y, bounces, rng, ind);
-    for (int c = 0; c < 3; c++) out[c] += ind[c];
+    for (int c = 0; c < 3; c++)
+        out[c] += ind[c];
 }
 
 // Cosine-weighted direction around unit n (Malley), with the branchless
@@ -79,11 +84,12 @@ static void cosine_direction(const double n[3], st_ref_rng *rng, double out[3]) 
     double a = -1.0 / (sign + n[2]), b = n[0] * n[1] * a;
     double t[3] = {1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]};
     double bt[3] = {b, sign + n[1] * n[1] * a, -n[1]};
-    for (int k = 0; k < 3; k++) out[k] = x * t[k] + y * bt[k] + z * n[k];
+    for (int k = 0; k < 3; k++)
+        out[k] = x * t[k] + y * bt[k] + z * n[k];
 }
 
-static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *x,
-                            int bounces, st_ref_rng *rng, double out[3]) {
+static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o,
+                            const st_ref_surface *x, int bounces, st_ref_rng *rng, double out[3]) {
     double dir[3], from[3];
     cosine_direction(x->n, rng, dir);
     if (dot3(dir, x->ng) <= 0.0) return; // below the geometric surface (smooth normals)
@@ -93,14 +99,16 @@ static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o, c
     double L[3], T[3];
     outgoing(g, o, &y, bounces - 1, rng, L);
     st_transmittance(g->sigma_t, y.t, T); // dir is unit: t is the distance
-    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] * L[c] * T[c];
+    for (int c = 0; c < 3; c++)
+        out[c] = x->mesh->albedo[c] * L[c] * T[c];
 }
 
 // The MIS score of the unoccluded bounce for y seen from x (see the top of
 // the file). The direction technique's density turns into area measure with
 // the geometric cosine at y; the integrand uses the shading cosines.
 static void mis_score(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *x,
-                      const st_ref_surface *y, int bounces, double scale, st_ref_rng *rng, double out[3]) {
+                      const st_ref_surface *y, int bounces, double scale, st_ref_rng *rng,
+                      double out[3]) {
     if (!y->hit || !y->lit_side) return;
     double w[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
     double d2 = dot3(w, w);
@@ -112,13 +120,15 @@ static void mis_score(const st_ref_geometry *g, const st_ref_options *o, const s
     outgoing(g, o, y, bounces - 1, rng, L);
     st_transmittance(g->sigma_t, d, T);
     double k = scale * 2.0 * cos_x * cos_y / (cos_x * cos_yg + ST_PI * d2 / g->total_area);
-    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] * k * L[c] * T[c];
+    for (int c = 0; c < 3; c++)
+        out[c] = x->mesh->albedo[c] * k * L[c] * T[c];
 }
 
 enum { MAX_CROSSINGS = 64 }; // surfaces counted along one unoccluded ray
 
-static void indirect_unoccluded(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *x,
-                                int bounces, st_ref_rng *rng, double out[3]) {
+static void indirect_unoccluded(const st_ref_geometry *g, const st_ref_options *o,
+                                const st_ref_surface *x, int bounces, st_ref_rng *rng,
+                                double out[3]) {
     if (st_ref_rng_uniform(rng) < 0.5) {
         st_ref_surface y = st_ref_sample_area(g, rng, x->p);
         mis_score(g, o, x, &y, bounces, 1.0, rng, out);
@@ -138,8 +148,8 @@ static void indirect_unoccluded(const st_ref_geometry *g, const st_ref_options *
 }
 
 // The thesis estimator (see the top of the file).
-static void indirect_thesis(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *x,
-                            int bounces, st_ref_rng *rng, double out[3]) {
+static void indirect_thesis(const st_ref_geometry *g, const st_ref_options *o,
+                            const st_ref_surface *x, int bounces, st_ref_rng *rng, double out[3]) {
     st_ref_surface y = st_ref_sample_area(g, rng, x->p);
     if (!y.hit || !y.lit_side) return;
     double w[3] = {y.p[0] - x->p[0], y.p[1] - x->p[1], y.p[2] - x->p[2]};
@@ -150,11 +160,12 @@ static void indirect_thesis(const st_ref_geometry *g, const st_ref_options *o, c
     double L[3], T[3];
     outgoing(g, o, &y, bounces - 1, rng, L);
     st_transmittance(g->sigma_t, d, T);
-    for (int c = 0; c < 3; c++) out[c] = x->mesh->albedo[c] / ST_PI * 2.0 * ST_PI * cos_x * L[c] * T[c];
+    for (int c = 0; c < 3; c++)
+        out[c] = x->mesh->albedo[c] / ST_PI * 2.0 * ST_PI * cos_x * L[c] * T[c];
 }
 
-void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s, int bounces,
-                     st_ref_rng *rng, double out[3]) {
+void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s,
+                     int bounces, st_ref_rng *rng, double out[3]) {
     out[0] = out[1] = out[2] = 0.0;
     if (bounces <= 0 || !s->hit || !s->lit_side) return;
     if (o->estimator == ST_REF_EST_THESIS)

@@ -41,7 +41,8 @@ typedef struct view_vtx {
     uint32_t rgba;
 } view_vtx;
 
-#define VIEW_RGBA(r, g, b, a) ((uint32_t)(r) | (uint32_t)(g) << 8 | (uint32_t)(b) << 16 | (uint32_t)(a) << 24)
+#define VIEW_RGBA(r, g, b, a)                                                                      \
+    ((uint32_t)(r) | (uint32_t)(g) << 8 | (uint32_t)(b) << 16 | (uint32_t)(a) << 24)
 
 typedef struct view_gl {
     GLuint display_prog, ui_prog, ui_vao, ui_vbo, empty_vao;
@@ -57,7 +58,8 @@ void view_gl_free(view_gl *g);
 // Draws the world's HDR image to the window: 2^exposure, clamp, sRGB, as
 // st_image_write_png does.
 // The image (img_w x img_h) scaled into the framebuffer, aspect kept (bars).
-void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int fb_h, float exposure);
+void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int fb_h,
+                     float exposure);
 void view_ui_rect(view_gl *g, float x, float y, float w, float h, uint32_t rgba);
 float view_ui_text(view_gl *g, float x, float y, const char *s, uint32_t rgba); // returns width
 float view_ui_text_width(const view_gl *g, const char *s);
@@ -152,7 +154,7 @@ typedef struct view {
     int render_w, render_h;
     bool frame_failed;
 
-    bool script;   // no vsync, no held-key movement timing from the clock
+    bool script; // no vsync, no held-key movement timing from the clock
     bool quit;
     bool want_capture;
     char capture_path[1024];
@@ -171,7 +173,8 @@ bool view_toggle_module(view *v, int index, st_err *err);
 bool view_cycle_godrays(view *v, st_err *err);
 bool view_cycle_gi(view *v, st_err *err);
 // Sets a parameter from text: a number, true/false, or an enum choice name.
-bool view_set_param_text(view *v, const char *module, const char *param, const char *text, st_err *err);
+bool view_set_param_text(view *v, const char *module, const char *param, const char *text,
+                         st_err *err);
 bool view_set_param(view *v, const char *module, const char *param, double value, st_err *err);
 // Hot reload: on failure the old shaders stay and v->error shows why.
 bool view_reload(view *v);

@@ -26,7 +26,9 @@ void view_message(view *v, const char *fmt, ...) {
     fflush(stdout);
 }
 
-static int cmp_name(const void *a, const void *b) { return strcmp(a, b); }
+static int cmp_name(const void *a, const void *b) {
+    return strcmp(a, b);
+}
 static int loaded_index(const view *v, const char *name);
 static int gi_display_param(const st_plugin *p);
 
@@ -42,12 +44,14 @@ void view_refresh_modules(view *v) {
     for (int i = 0; i < st_world_num_modules(v->world) && n < 64; i++) {
         const char *m = st_world_module(v->world, i).plugin->name;
         bool dup = false;
-        for (int k = 0; k < n; k++) dup |= !strcmp(names[k], m);
+        for (int k = 0; k < n; k++)
+            dup |= !strcmp(names[k], m);
         if (!dup) snprintf(names[n++], ST_NAME_MAX, "%s", m);
     }
     qsort(names, (size_t)n, ST_NAME_MAX, cmp_name);
     v->num_mods = n < VIEW_MAX_MODS ? n : VIEW_MAX_MODS;
-    for (int i = 0; i < v->num_mods; i++) snprintf(v->mods[i], ST_NAME_MAX, "%.*s", ST_NAME_MAX - 1, names[i]);
+    for (int i = 0; i < v->num_mods; i++)
+        snprintf(v->mods[i], ST_NAME_MAX, "%.*s", ST_NAME_MAX - 1, names[i]);
     // The cycles follow what is loaded (the scene may load toth itself).
     v->godray = 0;
     for (int k = 1; k < 4 && !v->godray; k++)
@@ -83,7 +87,8 @@ static void remember(view *v, const char *name) {
     if (!slot && v->num_memory < VIEW_MAX_MODS) slot = &v->memory[v->num_memory++];
     if (!slot) return;
     snprintf(slot->name, sizeof slot->name, "%s", name);
-    slot->num_params = mi.plugin->num_params < ST_MAX_PARAMS ? mi.plugin->num_params : ST_MAX_PARAMS;
+    slot->num_params =
+        mi.plugin->num_params < ST_MAX_PARAMS ? mi.plugin->num_params : ST_MAX_PARAMS;
     memcpy(slot->params, mi.params, (size_t)slot->num_params * sizeof(double));
 }
 
@@ -92,7 +97,10 @@ static void restore(view *v, const char *name) {
     if (m < 0) return;
     const st_plugin *p = st_world_module(v->world, m).plugin;
     for (int i = 0; i < v->num_memory; i++) {
-        if (strcmp(v->memory[i].name, name) || v->memory[i].num_params != (p->num_params < ST_MAX_PARAMS ? p->num_params : ST_MAX_PARAMS)) continue;
+        if (strcmp(v->memory[i].name, name) ||
+            v->memory[i].num_params !=
+                (p->num_params < ST_MAX_PARAMS ? p->num_params : ST_MAX_PARAMS))
+            continue;
         for (int k = 0; k < v->memory[i].num_params; k++) {
             st_err e = {0};
             st_world_set_param(v->world, name, p->params[k].name, v->memory[i].params[k], &e);
@@ -105,10 +113,12 @@ bool view_enable(view *v, const char *module, bool on, st_err *err) {
     if (on && !installed(v, module)) {
         char dirs[2048];
         st_plugin_dirs(dirs, sizeof dirs);
-        return st_fail(err, ST_ERR_INPUT, "module '%s' is not installed (searched %s)", module, dirs);
+        return st_fail(err, ST_ERR_INPUT, "module '%s' is not installed (searched %s)", module,
+                       dirs);
     }
     bool before[VIEW_MAX_MODS];
-    for (int i = 0; i < v->num_mods; i++) before[i] = st_world_has_module(v->world, v->mods[i]);
+    for (int i = 0; i < v->num_mods; i++)
+        before[i] = st_world_has_module(v->world, v->mods[i]);
     if (!on) remember(v, module);
     if (!st_world_enable(v->world, module, on, err)) {
         // The world rolls a failed switch-on back; a switch-off whose shader
@@ -126,8 +136,10 @@ bool view_enable(view *v, const char *module, bool on, st_err *err) {
         }
     }
     view_refresh_modules(v);
-    if (also[0]) view_message(v, "%s on (needs %s: switched on)", module, also);
-    else view_message(v, "%s %s", module, on ? "on" : "off");
+    if (also[0])
+        view_message(v, "%s on (needs %s: switched on)", module, also);
+    else
+        view_message(v, "%s %s", module, on ? "on" : "off");
     return true;
 }
 
@@ -153,8 +165,10 @@ bool view_cycle_godrays(view *v, st_err *err) {
         if (k != target && !view_enable(v, view_godrays[k], false, err)) return false;
     if (target && !view_enable(v, view_godrays[target], true, err)) return false;
     v->godray = target;
-    if (skipped[0]) view_message(v, "god rays: %s (not installed, skipped: %s)", view_godrays[target], skipped);
-    else view_message(v, "god rays: %s", view_godrays[target]);
+    if (skipped[0])
+        view_message(v, "god rays: %s (not installed, skipped: %s)", view_godrays[target], skipped);
+    else
+        view_message(v, "god rays: %s", view_godrays[target]);
     return true;
 }
 
@@ -200,7 +214,8 @@ bool view_cycle_gi(view *v, st_err *err) {
     char pname[ST_NAME_MAX] = "";
     if (pi >= 0) {
         snprintf(pname, sizeof pname, "%s", p->params[pi].name);
-        for (int m = 1; m < 5; m++) choice[m] = gi_choice(&p->params[pi], view_gi_modes[m]);
+        for (int m = 1; m < 5; m++)
+            choice[m] = gi_choice(&p->params[pi], view_gi_modes[m]);
     }
     st_plugin_close(lib);
     char skipped[256] = "";
@@ -216,12 +231,14 @@ bool view_cycle_gi(view *v, st_err *err) {
         snprintf(skipped + l, sizeof skipped - l, "%s%s", l ? ", " : "", view_gi_modes[c]);
     }
     if (!view_enable(v, GI_MODULE, target != 0, err)) return false;
-    if (target && pi >= 0 && !st_world_set_param(v->world, GI_MODULE, pname, choice[target], err)) return false;
+    if (target && pi >= 0 && !st_world_set_param(v->world, GI_MODULE, pname, choice[target], err))
+        return false;
     v->gi = target;
     if (skipped[0])
-        view_message(v, "GI display: %s (%s.%s has no choice for: %s)", view_gi_modes[target], GI_MODULE,
-                     pi >= 0 ? pname : "<display>", skipped);
-    else view_message(v, "GI display: %s", view_gi_modes[target]);
+        view_message(v, "GI display: %s (%s.%s has no choice for: %s)", view_gi_modes[target],
+                     GI_MODULE, pi >= 0 ? pname : "<display>", skipped);
+    else
+        view_message(v, "GI display: %s", view_gi_modes[target]);
     return true;
 }
 
@@ -234,7 +251,8 @@ bool view_set_param(view *v, const char *module, const char *param, double value
     st_param_format(d, value, text, sizeof text);
     view_message(v, "%s.%s = %s", module, param, text);
     // The GI cycle follows a display switch set by hand.
-    if (!strcmp(module, GI_MODULE) && d->type == ST_PARAM_ENUM && gi_display_param(p) == st_param_index(p, param)) {
+    if (!strcmp(module, GI_MODULE) && d->type == ST_PARAM_ENUM &&
+        gi_display_param(p) == st_param_index(p, param)) {
         char c[ST_NAME_MAX];
         st_param_choice(d, (int)value, c, sizeof c);
         for (int k = 1; k < 5; k++)
@@ -243,18 +261,21 @@ bool view_set_param(view *v, const char *module, const char *param, double value
     return true;
 }
 
-bool view_set_param_text(view *v, const char *module, const char *param, const char *text, st_err *err) {
+bool view_set_param_text(view *v, const char *module, const char *param, const char *text,
+                         st_err *err) {
     int m = loaded_index(v, module);
     if (m < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' is not loaded", module);
     const st_plugin *p = st_world_module(v->world, m).plugin;
     int k = st_param_index(p, param);
-    if (k < 0) return st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s'", module, param);
+    if (k < 0)
+        return st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s'", module, param);
     const st_param_def *d = &p->params[k];
     double value;
     char *e;
     if (d->type == ST_PARAM_BOOL && (!strcasecmp(text, "true") || !strcasecmp(text, "on"))) {
         value = 1;
-    } else if (d->type == ST_PARAM_BOOL && (!strcasecmp(text, "false") || !strcasecmp(text, "off"))) {
+    } else if (d->type == ST_PARAM_BOOL &&
+               (!strcasecmp(text, "false") || !strcasecmp(text, "off"))) {
         value = 0;
     } else {
         value = -1;
@@ -268,7 +289,9 @@ bool view_set_param_text(view *v, const char *module, const char *param, const c
             value = strtod(text, &e);
             if (e == text || *e)
                 return st_fail(err, ST_ERR_INPUT, "%s.%s: '%s' is not a %s", module, param, text,
-                               d->type == ST_PARAM_ENUM ? "choice" : d->type == ST_PARAM_BOOL ? "bool" : "number");
+                               d->type == ST_PARAM_ENUM   ? "choice"
+                               : d->type == ST_PARAM_BOOL ? "bool"
+                                                          : "number");
         }
     }
     return view_set_param(v, module, param, value, err);
@@ -277,7 +300,8 @@ bool view_set_param_text(view *v, const char *module, const char *param, const c
 bool view_reload(view *v) {
     st_err err = {0};
     if (!st_world_reload_shaders(v->world, &err)) {
-        snprintf(v->error, sizeof v->error, "shader reload failed, old shaders kept: %.980s", err.msg);
+        snprintf(v->error, sizeof v->error, "shader reload failed, old shaders kept: %.980s",
+                 err.msg);
         fprintf(stderr, "strahl view: %s\n", v->error);
         return false;
     }
@@ -305,9 +329,12 @@ bool view_screenshot(view *v, const char *base, st_err *err) {
 static void json_str(FILE *f, const char *s) {
     fputc('"', f);
     for (; s && *s; s++) {
-        if (*s == '"' || *s == '\\') fprintf(f, "\\%c", *s);
-        else if ((unsigned char)*s < 0x20) fprintf(f, "\\u%04x", *s);
-        else fputc(*s, f);
+        if (*s == '"' || *s == '\\')
+            fprintf(f, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20)
+            fprintf(f, "\\u%04x", *s);
+        else
+            fputc(*s, f);
     }
     fputc('"', f);
 }
@@ -318,11 +345,15 @@ bool view_write_stats(view *v, const char *path, st_err *err) {
     FILE *f = fopen(tmp, "w");
     if (!f) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot create", path);
     static const char *states[] = {"ran", "skipped", "culled"};
-    fprintf(f, "{\"frame\": %llu, \"width\": %d, \"height\": %d, \"frame_ms\": %.4f, \"world_ms\": %.4f,\n",
+    fprintf(f,
+            "{\"frame\": %llu, \"width\": %d, \"height\": %d, \"frame_ms\": %.4f, \"world_ms\": "
+            "%.4f,\n",
             (unsigned long long)v->frames, v->fb_w, v->fb_h, v->frame_ms, v->world_ms);
-    fprintf(f, " \"god_rays\": \"%s\", \"gi_display\": \"%s\", \"exposure\": %g, \"camera\": {\"position\": [%.9g, %.9g, %.9g], \"target\": [%.9g, %.9g, %.9g]},\n",
-            view_godrays[v->godray], view_gi_modes[v->gi], v->exposure, v->cam.pos[0], v->cam.pos[1],
-            v->cam.pos[2], v->cam.target[0], v->cam.target[1], v->cam.target[2]);
+    fprintf(f,
+            " \"god_rays\": \"%s\", \"gi_display\": \"%s\", \"exposure\": %g, \"camera\": "
+            "{\"position\": [%.9g, %.9g, %.9g], \"target\": [%.9g, %.9g, %.9g]},\n",
+            view_godrays[v->godray], view_gi_modes[v->gi], v->exposure, v->cam.pos[0],
+            v->cam.pos[1], v->cam.pos[2], v->cam.target[0], v->cam.target[1], v->cam.target[2]);
     fprintf(f, " \"error\": ");
     json_str(f, v->error);
     fprintf(f, ",\n \"modules\": [");
@@ -345,8 +376,9 @@ bool view_write_stats(view *v, const char *path, st_err *err) {
         json_str(f, r->module);
         fprintf(f, ", \"pass\": ");
         json_str(f, r->pass);
-        fprintf(f, ", \"state\": \"%s\", \"gpu_ms\": %.4f, \"cpu_ms\": %.4f, \"gpu_ms_median\": %.4f, "
-                   "\"runs\": %u, \"skipped\": %u, \"culled\": %u}",
+        fprintf(f,
+                ", \"state\": \"%s\", \"gpu_ms\": %.4f, \"cpu_ms\": %.4f, \"gpu_ms_median\": %.4f, "
+                "\"runs\": %u, \"skipped\": %u, \"culled\": %u}",
                 states[r->state], r->gpu_ms, r->cpu_ms, r->gpu_med, r->runs, r->skipped, r->culled);
     }
     fprintf(f, "\n],\n \"widgets\": [");
@@ -356,7 +388,8 @@ bool view_write_stats(view *v, const char *path, st_err *err) {
         json_str(f, wd->module);
         fprintf(f, ", \"param\": ");
         json_str(f, wd->param);
-        fprintf(f, ", \"x\": %.1f, \"y\": %.1f, \"w\": %.1f, \"h\": %.1f}", wd->x, wd->y, wd->w, wd->h);
+        fprintf(f, ", \"x\": %.1f, \"y\": %.1f, \"w\": %.1f, \"h\": %.1f}", wd->x, wd->y, wd->w,
+                wd->h);
     }
     fprintf(f, "\n]}\n");
     bool ok = !ferror(f);
@@ -466,9 +499,13 @@ bool view_key(view *v, int key, int mods, st_err *err) {
     double val;
     const st_param_def *d;
     switch (key) {
-    case GLFW_KEY_G: return view_cycle_godrays(v, err);
-    case GLFW_KEY_I: return view_cycle_gi(v, err);
-    case GLFW_KEY_F5: view_reload(v); return true;
+    case GLFW_KEY_G:
+        return view_cycle_godrays(v, err);
+    case GLFW_KEY_I:
+        return view_cycle_gi(v, err);
+    case GLFW_KEY_F5:
+        view_reload(v);
+        return true;
     case GLFW_KEY_P:
     case GLFW_KEY_F12: {
         char base[1000];
@@ -479,14 +516,22 @@ bool view_key(view *v, int key, int mods, st_err *err) {
         v->want_capture = true;
         return true;
     }
-    case GLFW_KEY_TAB: v->show_panel = !v->show_panel; return true;
-    case GLFW_KEY_O: v->show_stats = !v->show_stats; return true;
+    case GLFW_KEY_TAB:
+        v->show_panel = !v->show_panel;
+        return true;
+    case GLFW_KEY_O:
+        v->show_stats = !v->show_stats;
+        return true;
     case GLFW_KEY_H:
-    case GLFW_KEY_F1: v->show_help = !v->show_help; return true;
+    case GLFW_KEY_F1:
+        v->show_help = !v->show_help;
+        return true;
     case GLFW_KEY_K:
         v->fixed_size = !v->fixed_size;
         if (v->fixed_size)
-            view_message(v, "rendering at the scene's size %dx%d (scaled to the window; screenshots at that size)",
+            view_message(v,
+                         "rendering at the scene's size %dx%d (scaled to the window; screenshots "
+                         "at that size)",
                          v->render_w, v->render_h);
         else
             view_message(v, "rendering at the window's size");
@@ -510,51 +555,81 @@ bool view_key(view *v, int key, int mods, st_err *err) {
         v->exposure -= 0.5f;
         view_message(v, "exposure %+.1f EV", v->exposure);
         return true;
-    case GLFW_KEY_UP: focus_step(v, -1); return true;
-    case GLFW_KEY_DOWN: focus_step(v, 1); return true;
-    case GLFW_KEY_LEFT: return nudge(v, -1, shift, err);
-    case GLFW_KEY_RIGHT: return nudge(v, 1, shift, err);
+    case GLFW_KEY_UP:
+        focus_step(v, -1);
+        return true;
+    case GLFW_KEY_DOWN:
+        focus_step(v, 1);
+        return true;
+    case GLFW_KEY_LEFT:
+        return nudge(v, -1, shift, err);
+    case GLFW_KEY_RIGHT:
+        return nudge(v, 1, shift, err);
     case GLFW_KEY_SPACE:
-        if ((d = focused(v, &val)) && (d->type == ST_PARAM_BOOL || d->type == ST_PARAM_ENUM)) return nudge(v, 1, false, err);
+        if ((d = focused(v, &val)) && (d->type == ST_PARAM_BOOL || d->type == ST_PARAM_ENUM))
+            return nudge(v, 1, false, err);
         return true;
     case GLFW_KEY_ENTER:
     case GLFW_KEY_KP_ENTER:
         if ((d = focused(v, &val)) || (focus_step(v, 1) && (d = focused(v, &val)))) {
             v->editing = v->edit_fresh = true;
-            if (d->type == ST_PARAM_ENUM || d->type == ST_PARAM_BOOL) st_param_format(d, val, v->edit, sizeof v->edit);
-            else snprintf(v->edit, sizeof v->edit, "%.6g", val);
+            if (d->type == ST_PARAM_ENUM || d->type == ST_PARAM_BOOL)
+                st_param_format(d, val, v->edit, sizeof v->edit);
+            else
+                snprintf(v->edit, sizeof v->edit, "%.6g", val);
         }
         return true;
     case GLFW_KEY_DELETE:
         if ((d = focused(v, &val))) return view_set_param(v, v->sel_mod, d->name, d->def, err);
         return true;
     case GLFW_KEY_ESCAPE:
-        if (v->show_help) v->show_help = false;
-        else v->quit = true;
+        if (v->show_help)
+            v->show_help = false;
+        else
+            v->quit = true;
         return true;
-    default: return true; // unbound keys do nothing
+    default:
+        return true; // unbound keys do nothing
     }
 }
 
 int view_key_from_name(const char *name, int *mods) {
     *mods = 0;
     for (;;) {
-        if (!strncasecmp(name, "shift+", 6)) *mods |= GLFW_MOD_SHIFT, name += 6;
-        else if (!strncasecmp(name, "ctrl+", 5)) *mods |= GLFW_MOD_CONTROL, name += 5;
-        else break;
+        if (!strncasecmp(name, "shift+", 6))
+            *mods |= GLFW_MOD_SHIFT, name += 6;
+        else if (!strncasecmp(name, "ctrl+", 5))
+            *mods |= GLFW_MOD_CONTROL, name += 5;
+        else
+            break;
     }
-    if (strlen(name) == 1 && isalnum((unsigned char)name[0])) return toupper((unsigned char)name[0]);
+    if (strlen(name) == 1 && isalnum((unsigned char)name[0]))
+        return toupper((unsigned char)name[0]);
     if ((name[0] == 'F' || name[0] == 'f') && isdigit((unsigned char)name[1])) {
         int n = atoi(name + 1);
         if (n >= 1 && n <= 25) return GLFW_KEY_F1 + n - 1;
     }
-    static const struct { const char *name; int key; } named[] = {
-        {"tab", GLFW_KEY_TAB},       {"enter", GLFW_KEY_ENTER},       {"return", GLFW_KEY_ENTER},
-        {"escape", GLFW_KEY_ESCAPE}, {"esc", GLFW_KEY_ESCAPE},        {"space", GLFW_KEY_SPACE},
-        {"up", GLFW_KEY_UP},         {"down", GLFW_KEY_DOWN},         {"left", GLFW_KEY_LEFT},
-        {"right", GLFW_KEY_RIGHT},   {"backspace", GLFW_KEY_BACKSPACE}, {"delete", GLFW_KEY_DELETE},
-        {"plus", GLFW_KEY_EQUAL},    {"=", GLFW_KEY_EQUAL},           {"+", GLFW_KEY_EQUAL},
-        {"minus", GLFW_KEY_MINUS},   {"-", GLFW_KEY_MINUS},
+    static const struct {
+        const char *name;
+        int key;
+    } named[] = {
+        {"tab", GLFW_KEY_TAB},
+        {"enter", GLFW_KEY_ENTER},
+        {"return", GLFW_KEY_ENTER},
+        {"escape", GLFW_KEY_ESCAPE},
+        {"esc", GLFW_KEY_ESCAPE},
+        {"space", GLFW_KEY_SPACE},
+        {"up", GLFW_KEY_UP},
+        {"down", GLFW_KEY_DOWN},
+        {"left", GLFW_KEY_LEFT},
+        {"right", GLFW_KEY_RIGHT},
+        {"backspace", GLFW_KEY_BACKSPACE},
+        {"delete", GLFW_KEY_DELETE},
+        {"plus", GLFW_KEY_EQUAL},
+        {"=", GLFW_KEY_EQUAL},
+        {"+", GLFW_KEY_EQUAL},
+        {"minus", GLFW_KEY_MINUS},
+        {"-", GLFW_KEY_MINUS},
     };
     for (size_t i = 0; i < sizeof named / sizeof named[0]; i++)
         if (!strcasecmp(name, named[i].name)) return named[i].key;

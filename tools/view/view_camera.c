@@ -5,8 +5,12 @@
 #include <math.h>
 #include <string.h>
 
-static void sub(const float *a, const float *b, float *o) { o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2]; }
-static float dot(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void sub(const float *a, const float *b, float *o) {
+    o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2];
+}
+static float dot(const float *a, const float *b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 static void cross(const float *a, const float *b, float *o) {
     float t[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
     memcpy(o, t, sizeof t);
@@ -71,8 +75,10 @@ void view_cam_rotate(view_cam *c, float dyaw, float dpitch) {
     pitch = pitch < -lim ? -lim : pitch > lim ? lim : pitch;
     from_angles(c, yaw, pitch, r, v);
     for (int i = 0; i < 3; i++) {
-        if (c->fly) c->target[i] = c->pos[i] + v[i];
-        else c->pos[i] = c->target[i] + v[i];
+        if (c->fly)
+            c->target[i] = c->pos[i] + v[i];
+        else
+            c->pos[i] = c->target[i] + v[i];
     }
 }
 
@@ -96,5 +102,6 @@ void view_cam_dolly(view_cam *c, float factor) {
     sub(c->pos, c->target, v);
     // Keep at least 1 mm so the direction survives repeated zooming in.
     if (sqrtf(dot(v, v)) * factor < 1e-3f) return;
-    for (int i = 0; i < 3; i++) c->pos[i] = c->target[i] + v[i] * factor;
+    for (int i = 0; i < 3; i++)
+        c->pos[i] = c->target[i] + v[i] * factor;
 }

@@ -9,21 +9,25 @@
 #include <stdlib.h>
 #include <string.h>
 
-static view *from(GLFWwindow *w) { return glfwGetWindowUserPointer(w); }
+static view *from(GLFWwindow *w) {
+    return glfwGetWindowUserPointer(w);
+}
 
 static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods) {
     (void)scancode;
     if (action == GLFW_RELEASE) return;
     view *v = from(w);
     // Repeats only where holding a key makes sense: nudging and deleting text.
-    if (action == GLFW_REPEAT && key != GLFW_KEY_LEFT && key != GLFW_KEY_RIGHT && key != GLFW_KEY_BACKSPACE &&
-        key != GLFW_KEY_UP && key != GLFW_KEY_DOWN)
+    if (action == GLFW_REPEAT && key != GLFW_KEY_LEFT && key != GLFW_KEY_RIGHT &&
+        key != GLFW_KEY_BACKSPACE && key != GLFW_KEY_UP && key != GLFW_KEY_DOWN)
         return;
     st_err err = {0};
     if (!view_key(v, key, mods, &err)) view_message(v, "%s", err.msg);
 }
 
-static void on_char(GLFWwindow *w, unsigned c) { view_char(from(w), c); }
+static void on_char(GLFWwindow *w, unsigned c) {
+    view_char(from(w), c);
+}
 
 // Window coordinates -> framebuffer pixels (they differ on HiDPI screens).
 static void to_fb(GLFWwindow *w, double *x, double *y) {
@@ -46,12 +50,19 @@ void view_mouse_button(view *v, int b, bool down) {
     }
 }
 
-void view_mouse_move(view *v, double x, double y) { v->mx = x, v->my = y; }
-void view_mouse_wheel(view *v, double dy) { v->wheel += dy; }
+void view_mouse_move(view *v, double x, double y) {
+    v->mx = x, v->my = y;
+}
+void view_mouse_wheel(view *v, double dy) {
+    v->wheel += dy;
+}
 
 static void on_button(GLFWwindow *w, int button, int action, int mods) {
     (void)mods;
-    int b = button == GLFW_MOUSE_BUTTON_LEFT ? 0 : button == GLFW_MOUSE_BUTTON_RIGHT ? 1 : button == GLFW_MOUSE_BUTTON_MIDDLE ? 2 : -1;
+    int b = button == GLFW_MOUSE_BUTTON_LEFT     ? 0
+            : button == GLFW_MOUSE_BUTTON_RIGHT  ? 1
+            : button == GLFW_MOUSE_BUTTON_MIDDLE ? 2
+                                                 : -1;
     view_mouse_button(from(w), b, action == GLFW_PRESS);
 }
 
@@ -82,8 +93,10 @@ static void camera_input(view *v, double dt) {
     if (v->drag_owner == 1) {
         double dx = v->mx - v->last_mx, dy = v->my - v->last_my;
         if (dx || dy) {
-            if (v->mouse_down[0] && !v->cam.fly) view_cam_rotate(&v->cam, (float)(0.3 * dx), (float)(0.3 * dy));
-            else if (v->mouse_down[0]) view_cam_rotate(&v->cam, (float)(0.2 * dx), (float)(-0.2 * dy));
+            if (v->mouse_down[0] && !v->cam.fly)
+                view_cam_rotate(&v->cam, (float)(0.3 * dx), (float)(0.3 * dy));
+            else if (v->mouse_down[0])
+                view_cam_rotate(&v->cam, (float)(0.2 * dx), (float)(-0.2 * dy));
             if (v->mouse_down[1] || v->mouse_down[2]) {
                 float d[3] = {v->cam.target[0] - v->cam.pos[0], v->cam.target[1] - v->cam.pos[1],
                               v->cam.target[2] - v->cam.pos[2]};
@@ -96,8 +109,10 @@ static void camera_input(view *v, double dt) {
     }
     v->last_mx = v->mx, v->last_my = v->my;
     if (v->wheel != 0 && !v->over_panel) {
-        if (v->cam.fly) v->cam.speed *= powf(1.2f, (float)v->wheel);
-        else view_cam_dolly(&v->cam, powf(0.9f, (float)v->wheel));
+        if (v->cam.fly)
+            v->cam.speed *= powf(1.2f, (float)v->wheel);
+        else
+            view_cam_dolly(&v->cam, powf(0.9f, (float)v->wheel));
         v->cam_dirty = !v->cam.fly || v->cam_dirty;
     }
     if (v->editing) return; // typed text is not movement
@@ -109,7 +124,8 @@ static void camera_input(view *v, double dt) {
     u += glfwGetKey(w, GLFW_KEY_E) == GLFW_PRESS;
     u -= glfwGetKey(w, GLFW_KEY_Q) == GLFW_PRESS;
     if (f || r || u) {
-        bool fast = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+        bool fast = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                    glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
         // Clamp dt so a stall does not throw the camera across the scene.
         float s = v->cam.speed * (float)(dt < 0.1 ? dt : 0.1) * (fast ? 5.0f : 1.0f);
         view_cam_move(&v->cam, f * s, r * s, u * s);
@@ -124,7 +140,8 @@ static void collect_rows(view *v) {
     if (n > v->num_prev) {
         uint32_t *p = realloc(v->prev_totals, (size_t)n * sizeof *p);
         if (!p) return;
-        for (int i = v->num_prev; i < n; i++) p[i] = 0;
+        for (int i = v->num_prev; i < n; i++)
+            p[i] = 0;
         v->prev_totals = p;
         v->num_prev = n;
     }
@@ -168,7 +185,8 @@ bool view_frame(view *v, st_err *err) {
     int fw, fh;
     glfwGetFramebufferSize(w, &fw, &fh);
     if (fw < 1 || fh < 1) { // minimised: nothing to draw, wait for events
-        for (int b = 0; b < 3; b++) v->mouse_pressed[b] = false;
+        for (int b = 0; b < 3; b++)
+            v->mouse_pressed[b] = false;
         v->wheel = 0;
         if (!v->script) glfwWaitEventsTimeout(0.1);
         return true;
@@ -176,7 +194,8 @@ bool view_frame(view *v, st_err *err) {
     v->fb_w = fw, v->fb_h = fh;
     const st_camera *c = st_world_camera(v->world);
     const int rw = v->fixed_size ? v->render_w : fw, rh = v->fixed_size ? v->render_h : fh;
-    if ((c->width != rw || c->height != rh) && !st_world_resize(v->world, rw, rh, err)) return false;
+    if ((c->width != rw || c->height != rh) && !st_world_resize(v->world, rw, rh, err))
+        return false;
 
     double t0 = st_now_ms();
     st_err ferr = {0};
@@ -202,14 +221,18 @@ bool view_frame(view *v, st_err *err) {
     view_gl_display(&v->gl, st_world_camera(v->world)->current, rw, rh, fw, fh, v->exposure);
     view_overlay(v);
     view_ui_flush(&v->gl, fw, fh);
-    for (int b = 0; b < 3; b++) v->mouse_pressed[b] = false;
+    for (int b = 0; b < 3; b++)
+        v->mouse_pressed[b] = false;
     v->wheel = 0;
     if (v->want_capture) {
         v->want_capture = false;
         st_err cerr = {0};
-        if (view_gl_capture(v->capture_path, fw, fh, &cerr)) view_message(v, "window capture: %s", v->capture_path);
-        else if (v->script) return *err = cerr, false;
-        else view_message(v, "%s", cerr.msg);
+        if (view_gl_capture(v->capture_path, fw, fh, &cerr))
+            view_message(v, "window capture: %s", v->capture_path);
+        else if (v->script)
+            return *err = cerr, false;
+        else
+            view_message(v, "%s", cerr.msg);
     }
     if (!st_gl_check("viewer overlay", err)) return false;
     glfwSwapBuffers(w);

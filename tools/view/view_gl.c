@@ -15,12 +15,11 @@
 #include <stb_easy_font.h>
 #pragma GCC diagnostic pop
 
-static const char *fullscreen_vs =
-    "#version 450 core\n"
-    "void main() {\n"
-    "    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);\n"
-    "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
-    "}\n";
+static const char *fullscreen_vs = "#version 450 core\n"
+                                   "void main() {\n"
+                                   "    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);\n"
+                                   "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+                                   "}\n";
 
 // Same encoding as st_image_write_png: radiance * 2^exposure, clamped, exact
 // piecewise sRGB. The window and the world image may differ in size for a
@@ -44,22 +43,21 @@ static const char *display_fs =
     "    o = vec4(enc(c.r), enc(c.g), enc(c.b), 1.0);\n"
     "}\n";
 
-static const char *ui_vs =
-    "#version 450 core\n"
-    "layout(location = 0) in vec2 a_pos;\n"
-    "layout(location = 1) in vec4 a_color;\n"
-    "uniform vec2 u_size;\n"
-    "out vec4 v_color;\n"
-    "void main() {\n"
-    "    v_color = a_color;\n"
-    "    gl_Position = vec4(a_pos.x / u_size.x * 2.0 - 1.0, 1.0 - a_pos.y / u_size.y * 2.0, 0.0, 1.0);\n"
-    "}\n";
+static const char *ui_vs = "#version 450 core\n"
+                           "layout(location = 0) in vec2 a_pos;\n"
+                           "layout(location = 1) in vec4 a_color;\n"
+                           "uniform vec2 u_size;\n"
+                           "out vec4 v_color;\n"
+                           "void main() {\n"
+                           "    v_color = a_color;\n"
+                           "    gl_Position = vec4(a_pos.x / u_size.x * 2.0 - 1.0, 1.0 - a_pos.y / "
+                           "u_size.y * 2.0, 0.0, 1.0);\n"
+                           "}\n";
 
-static const char *ui_fs =
-    "#version 450 core\n"
-    "in vec4 v_color;\n"
-    "out vec4 o;\n"
-    "void main() { o = v_color; }\n";
+static const char *ui_fs = "#version 450 core\n"
+                           "in vec4 v_color;\n"
+                           "out vec4 o;\n"
+                           "void main() { o = v_color; }\n";
 
 // The viewer's own shaders are built from strings so a broken shader folder
 // (hot reload) never takes the display down.
@@ -105,14 +103,17 @@ void view_gl_free(view_gl *g) {
     memset(g, 0, sizeof *g);
 }
 
-void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int fb_h, float exposure) {
+void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int fb_h,
+                     float exposure) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fb_w, fb_h);
     // The largest rectangle of the image's aspect inside the window, centred.
     int w = fb_w, h = fb_h;
     if (img_w > 0 && img_h > 0 && (img_w != fb_w || img_h != fb_h)) {
-        if ((double)fb_w * img_h > (double)fb_h * img_w) w = (int)((double)fb_h * img_w / img_h + 0.5);
-        else h = (int)((double)fb_w * img_h / img_w + 0.5);
+        if ((double)fb_w * img_h > (double)fb_h * img_w)
+            w = (int)((double)fb_h * img_w / img_h + 0.5);
+        else
+            h = (int)((double)fb_w * img_h / img_w + 0.5);
         if (w < 1) w = 1;
         if (h < 1) h = 1;
     }
@@ -140,7 +141,8 @@ void view_gl_display(view_gl *g, GLuint tex, int img_w, int img_h, int fb_w, int
 static view_vtx *reserve(view_gl *g, int n) {
     if (g->n + n > g->cap) {
         int cap = g->cap ? g->cap : 4096;
-        while (g->n + n > cap) cap *= 2;
+        while (g->n + n > cap)
+            cap *= 2;
         view_vtx *nv = realloc(g->v, (size_t)cap * sizeof *nv);
         if (!nv) return NULL; // the overlay just loses this item
         g->v = nv;
@@ -171,7 +173,9 @@ void view_ui_patch_rect(view_gl *g, int first, float x, float y, float w, float 
     g->n = n;
 }
 
-float view_ui_line(const view_gl *g) { return 11.0f * g->scale; }
+float view_ui_line(const view_gl *g) {
+    return 11.0f * g->scale;
+}
 
 float view_ui_text_width(const view_gl *g, const char *s) {
     return (float)stb_easy_font_width((char *)s) * g->scale;
@@ -228,7 +232,8 @@ bool view_gl_capture(const char *path, int fb_w, int fb_h, st_err *err) {
     glReadPixels(0, 0, fb_w, fb_h, GL_RGB, GL_UNSIGNED_BYTE, px);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     // GL's row 0 is the bottom.
-    for (int j = 0; j < fb_h; j++) memcpy(flip + row * j, px + row * (size_t)(fb_h - 1 - j), row);
+    for (int j = 0; j < fb_h; j++)
+        memcpy(flip + row * j, px + row * (size_t)(fb_h - 1 - j), row);
     bool ok = st_gl_check("window capture", err) && st_png_write8(path, flip, fb_w, fb_h, 3, err);
     free(px);
     free(flip);

@@ -46,7 +46,8 @@ static float wrapped(view *v, float x, float y, float w, const char *s, uint32_t
         view_ui_text(g, x, y, buf, color);
         y += line;
         s += best;
-        while (*s == ' ' || *s == '\n') s++;
+        while (*s == ' ' || *s == '\n')
+            s++;
     }
     return y - y0;
 }
@@ -60,14 +61,15 @@ static float stats_box(view *v, float x, float y, bool bottom) {
     const uint32_t colors[] = {C_RAN, C_SKIP, C_CULL};
     char s1[256], s2[256], s[64];
     double fps = v->frame_ms_avg > 0 ? 1000.0 / v->frame_ms_avg : 0;
-    snprintf(s1, sizeof s1, "%.1f ms/frame (%.0f fps), world %.1f ms, %dx%d", v->frame_ms_avg, fps, v->world_ms,
-             v->fb_w, v->fb_h);
-    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV", view_godrays[v->godray], view_gi_modes[v->gi],
-             v->cam.fly ? "fly" : "orbit", v->exposure);
+    snprintf(s1, sizeof s1, "%.1f ms/frame (%.0f fps), world %.1f ms, %dx%d", v->frame_ms_avg, fps,
+             v->world_ms, v->fb_w, v->fb_h);
+    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV", view_godrays[v->godray],
+             view_gi_modes[v->gi], v->cam.fly ? "fly" : "orbit", v->exposure);
     // Columns as wide as their widest entry.
     float cw[2] = {view_ui_text_width(g, "module"), view_ui_text_width(g, "pass")};
     for (int i = 0; i < v->num_rows; i++) {
-        float a = view_ui_text_width(g, v->rows[i].module), b = view_ui_text_width(g, v->rows[i].pass);
+        float a = view_ui_text_width(g, v->rows[i].module),
+              b = view_ui_text_width(g, v->rows[i].pass);
         cw[0] = a > cw[0] ? a : cw[0];
         cw[1] = b > cw[1] ? b : cw[1];
     }
@@ -88,7 +90,8 @@ static float stats_box(view *v, float x, float y, bool bottom) {
     view_ui_text(g, x, y, s2, C_DIM);
     y += line;
     const char *head[5] = {"module", "pass", "state", "gpu ms", "median"};
-    for (int c = 0; c < 5; c++) view_ui_text(g, x + cols[c], y, head[c], C_DIM);
+    for (int c = 0; c < 5; c++)
+        view_ui_text(g, x + cols[c], y, head[c], C_DIM);
     y += line;
     for (int i = 0; i < v->num_rows; i++, y += line) {
         const view_pass_row *r = &v->rows[i];
@@ -107,7 +110,8 @@ static float stats_box(view *v, float x, float y, bool bottom) {
     return h;
 }
 
-static void add_widget(view *v, const char *module, const char *param, float x, float y, float w, float h) {
+static void add_widget(view *v, const char *module, const char *param, float x, float y, float w,
+                       float h) {
     if (v->num_widgets >= VIEW_MAX_ROWS) return;
     view_widget *wd = &v->widgets[v->num_widgets++];
     snprintf(wd->module, sizeof wd->module, "%s", module);
@@ -137,7 +141,8 @@ static bool param_row(view *v, const char *module, int pi, const st_param_def *d
         view_ui_text(g, sx + 3 * k, y, text, C_TEXT);
     } else if (d->type == ST_PARAM_BOOL) {
         view_ui_rect(g, sx, y, line, line, C_TRACK);
-        if (value != 0) view_ui_rect(g, sx + 2 * k, y + 2 * k, line - 4 * k, line - 4 * k, C_ACCENT);
+        if (value != 0)
+            view_ui_rect(g, sx + 2 * k, y + 2 * k, line - 4 * k, line - 4 * k, C_ACCENT);
         view_ui_text(g, sx + line + 4 * k, y, value != 0 ? "on" : "off", C_TEXT);
     } else {
         double t = view_param_to_t(d, value);
@@ -155,13 +160,15 @@ static bool param_row(view *v, const char *module, int pi, const st_param_def *d
         v->editing = false;
         if (on_ctrl && d->type == ST_PARAM_BOOL) {
             st_err e = {0};
-            if (!view_set_param(v, module, d->name, value != 0 ? 0 : 1, &e)) view_message(v, "%s", e.msg);
+            if (!view_set_param(v, module, d->name, value != 0 ? 0 : 1, &e))
+                view_message(v, "%s", e.msg);
         } else if (on_ctrl) {
             snprintf(v->drag_mod, sizeof v->drag_mod, "%s", module);
             v->drag_param = pi;
         }
     }
-    if (v->drag_owner == 2 && v->mouse_down[0] && v->drag_param == pi && !strcmp(v->drag_mod, module)) {
+    if (v->drag_owner == 2 && v->mouse_down[0] && v->drag_param == pi &&
+        !strcmp(v->drag_mod, module)) {
         double nv = view_param_from_t(d, (v->mx - sx) / sw);
         if (nv != value) {
             st_err e = {0};
@@ -194,7 +201,8 @@ static float panel(view *v, float max_bottom) {
     for (int i = 0; i < v->num_mods; i++) {
         rows++;
         for (int j = 0; j < st_world_num_modules(v->world); j++)
-            if (!strcmp(st_world_module(v->world, j).plugin->name, v->mods[i])) rows += st_world_module(v->world, j).plugin->num_params;
+            if (!strcmp(st_world_module(v->world, j).plugin->name, v->mods[i]))
+                rows += st_world_module(v->world, j).plugin->num_params;
     }
     float help_room = 4 * line + pad, list_h = rows * row;
     float max_list = max_bottom - top - pad - help_room - pad;
@@ -204,7 +212,9 @@ static float panel(view *v, float max_bottom) {
     bool over = inside(v, x0, y0, w, shown_h + help_room + 2 * pad);
     if (over && v->wheel != 0) v->panel_scroll -= (float)v->wheel * 3 * row;
     float max_scroll = list_h - shown_h;
-    v->panel_scroll = v->panel_scroll > max_scroll ? max_scroll : v->panel_scroll < 0 ? 0 : v->panel_scroll;
+    v->panel_scroll = v->panel_scroll > max_scroll ? max_scroll
+                      : v->panel_scroll < 0        ? 0
+                                                   : v->panel_scroll;
     // Row y positions are snapped to whole rows so clipping never cuts text.
     float y = top - floorf(v->panel_scroll / row) * row;
     const st_param_def *help = NULL;
@@ -216,8 +226,10 @@ static float panel(view *v, float max_bottom) {
         const char *name = v->mods[i];
         bool on = st_world_has_module(v->world, name);
         if (VISIBLE) {
-            if (i < 10) snprintf(s, sizeof s, "%d", (i + 1) % 10);
-            else s[0] = 0;
+            if (i < 10)
+                snprintf(s, sizeof s, "%d", (i + 1) % 10);
+            else
+                s[0] = 0;
             view_ui_text(g, x, y, s, C_DIM);
             view_ui_rect(g, x + 14 * k, y, line, line, C_TRACK);
             if (on) view_ui_rect(g, x + 16 * k, y + 2 * k, line - 4 * k, line - 4 * k, C_ACCENT);
@@ -250,7 +262,8 @@ static float panel(view *v, float max_bottom) {
 #undef VISIBLE
     if (max_scroll > 0) { // scroll bar
         float bar = shown_h * shown_h / list_h;
-        view_ui_rect(g, x0 + w - 3 * k, top + (shown_h - bar) * v->panel_scroll / max_scroll, 2 * k, bar, C_DIM);
+        view_ui_rect(g, x0 + w - 3 * k, top + (shown_h - bar) * v->panel_scroll / max_scroll, 2 * k,
+                     bar, C_DIM);
     }
     // Help of the hovered (else focused) parameter, with its type and range.
     float hy = bottom + pad;
@@ -258,16 +271,19 @@ static float panel(view *v, float max_bottom) {
     if (help) {
         char range[160];
         if (help->type == ST_PARAM_FLOAT || help->type == ST_PARAM_INT)
-            snprintf(range, sizeof range, "%s [%g, %g], default %g", help->type == ST_PARAM_INT ? "int" : "float",
-                     help->min, help->max, help->def);
+            snprintf(range, sizeof range, "%s [%g, %g], default %g",
+                     help->type == ST_PARAM_INT ? "int" : "float", help->min, help->max, help->def);
         else if (help->type == ST_PARAM_ENUM)
             snprintf(range, sizeof range, "one of %s", help->choices ? help->choices : "");
-        else snprintf(range, sizeof range, "bool, default %s", help->def != 0 ? "on" : "off");
+        else
+            snprintf(range, sizeof range, "bool, default %s", help->def != 0 ? "on" : "off");
         snprintf(s, sizeof s, "%s: %s", helpname, range);
         hy += wrapped(v, x, hy, cw, s, C_TEXT);
         hy += wrapped(v, x, hy, cw, help->help ? help->help : "", C_DIM);
     } else {
-        hy += wrapped(v, x, hy, cw, "click/drag: set; Up/Down: pick, Left/Right: adjust, Enter: type; H: help", C_DIM);
+        hy += wrapped(v, x, hy, cw,
+                      "click/drag: set; Up/Down: pick, Left/Right: adjust, Enter: type; H: help",
+                      C_DIM);
     }
     float h = hy + pad - y0;
     view_ui_patch_rect(g, bg, x0, y0, w, h);

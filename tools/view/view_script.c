@@ -44,17 +44,21 @@ static bool num(const char *s, double *out) {
 static const char *rest_after(const char *line, int ntok) {
     const char *p = line;
     for (int i = 0; i < ntok; i++) {
-        while (isspace((unsigned char)*p)) p++;
-        while (*p && !isspace((unsigned char)*p)) p++;
+        while (isspace((unsigned char)*p))
+            p++;
+        while (*p && !isspace((unsigned char)*p))
+            p++;
     }
-    while (isspace((unsigned char)*p)) p++;
+    while (isspace((unsigned char)*p))
+        p++;
     return p;
 }
 
 // Splits "module.param".
 static bool split_param(const char *s, char *mod, char *par) {
     const char *dot = strchr(s, '.');
-    if (!dot || dot == s || !dot[1] || dot - s >= ST_NAME_MAX || strlen(dot + 1) >= ST_NAME_MAX) return false;
+    if (!dot || dot == s || !dot[1] || dot - s >= ST_NAME_MAX || strlen(dot + 1) >= ST_NAME_MAX)
+        return false;
     snprintf(mod, ST_NAME_MAX, "%.*s", (int)(dot - s), s);
     snprintf(par, ST_NAME_MAX, "%s", dot + 1);
     return true;
@@ -66,32 +70,36 @@ static bool run_line(view *v, char *line, st_err *err) {
     int n = 0;
     char copy[4096];
     snprintf(copy, sizeof copy, "%s", line);
-    for (char *save = NULL, *t = strtok_r(copy, " \t\r\n", &save); t && n < MAX_TOK; t = strtok_r(NULL, " \t\r\n", &save))
+    for (char *save = NULL, *t = strtok_r(copy, " \t\r\n", &save); t && n < MAX_TOK;
+         t = strtok_r(NULL, " \t\r\n", &save))
         tok[n++] = t;
     if (!n || tok[0][0] == '#') return true;
     const char *cmd = tok[0];
     double a[6];
-#define NEED(k, usage)                                                                          \
-    do {                                                                                        \
-        if (n != (k) + 1) return st_fail(err, ST_ERR_INPUT, "%s: usage: %s %s", cmd, cmd, usage); \
+#define NEED(k, usage)                                                                             \
+    do {                                                                                           \
+        if (n != (k) + 1) return st_fail(err, ST_ERR_INPUT, "%s: usage: %s %s", cmd, cmd, usage);  \
     } while (0)
-#define NUMS(k, usage)                                                                               \
-    do {                                                                                             \
-        NEED(k, usage);                                                                              \
-        for (int _i = 0; _i < (k); _i++)                                                             \
-            if (!num(tok[_i + 1], &a[_i]))                                                          \
+#define NUMS(k, usage)                                                                             \
+    do {                                                                                           \
+        NEED(k, usage);                                                                            \
+        for (int _i = 0; _i < (k); _i++)                                                           \
+            if (!num(tok[_i + 1], &a[_i]))                                                         \
                 return st_fail(err, ST_ERR_INPUT, "%s: '%s' is not a number", cmd, tok[_i + 1]);   \
     } while (0)
 
     if (!strcmp(cmd, "frames")) {
         NUMS(1, "N");
-        if (a[0] < 1 || a[0] > 1e6 || a[0] != floor(a[0])) return st_fail(err, ST_ERR_INPUT, "frames: N must be 1..1000000");
+        if (a[0] < 1 || a[0] > 1e6 || a[0] != floor(a[0]))
+            return st_fail(err, ST_ERR_INPUT, "frames: N must be 1..1000000");
         for (long i = 0; i < (long)a[0] && !v->quit; i++)
             if (!view_frame(v, err)) return false;
         return true;
     }
     if (!strcmp(cmd, "key")) {
-        if (n < 2) return st_fail(err, ST_ERR_INPUT, "key: usage: key NAME... (e.g. key G, key F5, key Shift+Right)");
+        if (n < 2)
+            return st_fail(err, ST_ERR_INPUT,
+                           "key: usage: key NAME... (e.g. key G, key F5, key Shift+Right)");
         for (int i = 1; i < n; i++) {
             int mods, k = view_key_from_name(tok[i], &mods);
             if (k < 0) return st_fail(err, ST_ERR_INPUT, "key: unknown key '%s'", tok[i]);
@@ -103,13 +111,15 @@ static bool run_line(view *v, char *line, st_err *err) {
         return true;
     }
     if (!strcmp(cmd, "type")) {
-        for (const char *c = rest_after(line, 1); *c && *c != '\n' && *c != '\r'; c++) view_char(v, (unsigned char)*c);
+        for (const char *c = rest_after(line, 1); *c && *c != '\n' && *c != '\r'; c++)
+            view_char(v, (unsigned char)*c);
         return true;
     }
     if (!strcmp(cmd, "set")) {
         char mod[ST_NAME_MAX], par[ST_NAME_MAX];
         NEED(2, "MODULE.PARAM VALUE");
-        if (!split_param(tok[1], mod, par)) return st_fail(err, ST_ERR_INPUT, "set: expected MODULE.PARAM, got '%s'", tok[1]);
+        if (!split_param(tok[1], mod, par))
+            return st_fail(err, ST_ERR_INPUT, "set: expected MODULE.PARAM, got '%s'", tok[1]);
         return view_set_param_text(v, mod, par, tok[2], err);
     }
     if (!strcmp(cmd, "enable") || !strcmp(cmd, "disable")) {
@@ -123,7 +133,8 @@ static bool run_line(view *v, char *line, st_err *err) {
     }
     if (!strcmp(cmd, "camera")) {
         NUMS(6, "PX PY PZ TX TY TZ");
-        float p[3] = {(float)a[0], (float)a[1], (float)a[2]}, t[3] = {(float)a[3], (float)a[4], (float)a[5]};
+        float p[3] = {(float)a[0], (float)a[1], (float)a[2]},
+              t[3] = {(float)a[3], (float)a[4], (float)a[5]};
         view_set_camera(v, p, t);
         return true;
     }
@@ -161,7 +172,8 @@ static bool run_line(view *v, char *line, st_err *err) {
     }
     if (!strcmp(cmd, "resize")) {
         NUMS(2, "W H");
-        if (a[0] < 1 || a[1] < 1 || a[0] > 16384 || a[1] > 16384) return st_fail(err, ST_ERR_INPUT, "resize: 1..16384 each");
+        if (a[0] < 1 || a[1] < 1 || a[0] > 16384 || a[1] > 16384)
+            return st_fail(err, ST_ERR_INPUT, "resize: 1..16384 each");
         glfwSetWindowSize(v->win, (int)a[0], (int)a[1]);
         // The window system answers asynchronously; wait (bounded) for it.
         int fw = 0, fh = 0;
@@ -172,7 +184,8 @@ static bool run_line(view *v, char *line, st_err *err) {
             glfwWaitEventsTimeout(0.005);
         }
         if (fw != (int)a[0] || fh != (int)a[1])
-            return st_fail(err, ST_ERR_RUNTIME, "resize: the window is %dx%d, not %dx%d (screen too small?)", fw, fh,
+            return st_fail(err, ST_ERR_RUNTIME,
+                           "resize: the window is %dx%d, not %dx%d (screen too small?)", fw, fh,
                            (int)a[0], (int)a[1]);
         return true;
     }
@@ -183,7 +196,10 @@ static bool run_line(view *v, char *line, st_err *err) {
     }
     if (!strcmp(cmd, "button")) {
         NEED(2, "left|right|middle down|up");
-        int b = !strcmp(tok[1], "left") ? 0 : !strcmp(tok[1], "right") ? 1 : !strcmp(tok[1], "middle") ? 2 : -1;
+        int b = !strcmp(tok[1], "left")     ? 0
+                : !strcmp(tok[1], "right")  ? 1
+                : !strcmp(tok[1], "middle") ? 2
+                                            : -1;
         bool down = !strcmp(tok[2], "down");
         if (b < 0 || (!down && strcmp(tok[2], "up")))
             return st_fail(err, ST_ERR_INPUT, "button: usage: button left|right|middle down|up");
@@ -220,7 +236,10 @@ static bool run_line(view *v, char *line, st_err *err) {
         fflush(stdout);
         int rc = system(c);
         if (rc == -1 || !WIFEXITED(rc) || WEXITSTATUS(rc))
-            return st_fail(err, ST_ERR_RUNTIME, "sh: '%s' failed (status %d)", c, rc == -1 ? -1 : WIFEXITED(rc) ? WEXITSTATUS(rc) : 128 + WTERMSIG(rc));
+            return st_fail(err, ST_ERR_RUNTIME, "sh: '%s' failed (status %d)", c,
+                           rc == -1        ? -1
+                           : WIFEXITED(rc) ? WEXITSTATUS(rc)
+                                           : 128 + WTERMSIG(rc));
         return true;
     }
     if (!strcmp(cmd, "expect-error")) {
@@ -230,13 +249,15 @@ static bool run_line(view *v, char *line, st_err *err) {
         w[strcspn(w, "\r\n")] = 0;
         if (!v->error[0]) return st_fail(err, ST_ERR_RUNTIME, "expect-error: no error is shown");
         if (w[0] && !strstr(v->error, w))
-            return st_fail(err, ST_ERR_RUNTIME, "expect-error: the error shown does not contain '%s': %s", w, v->error);
+            return st_fail(err, ST_ERR_RUNTIME,
+                           "expect-error: the error shown does not contain '%s': %s", w, v->error);
         printf("strahl view: error shown as expected: %s\n", v->error);
         return true;
     }
     if (!strcmp(cmd, "expect-ok")) {
         NEED(0, "");
-        if (v->error[0]) return st_fail(err, ST_ERR_RUNTIME, "expect-ok: an error is shown: %s", v->error);
+        if (v->error[0])
+            return st_fail(err, ST_ERR_RUNTIME, "expect-ok: an error is shown: %s", v->error);
         return true;
     }
     if (!strcmp(cmd, "expect-message")) {
@@ -244,27 +265,32 @@ static bool run_line(view *v, char *line, st_err *err) {
         snprintf(w, sizeof w, "%s", rest_after(line, 1));
         w[strcspn(w, "\r\n")] = 0;
         if (!strstr(v->message, w))
-            return st_fail(err, ST_ERR_RUNTIME, "expect-message: '%s' not in the last message: %s", w, v->message);
+            return st_fail(err, ST_ERR_RUNTIME, "expect-message: '%s' not in the last message: %s",
+                           w, v->message);
         return true;
     }
     if (!strcmp(cmd, "expect-param")) {
         char mod[ST_NAME_MAX], par[ST_NAME_MAX];
         NEED(2, "MODULE.PARAM VALUE");
         if (!split_param(tok[1], mod, par) || !num(tok[2], &a[0]))
-            return st_fail(err, ST_ERR_INPUT, "expect-param: usage: expect-param MODULE.PARAM NUMBER");
+            return st_fail(err, ST_ERR_INPUT,
+                           "expect-param: usage: expect-param MODULE.PARAM NUMBER");
         double got;
         if (!st_world_get_param(v->world, mod, par, &got))
             return st_fail(err, ST_ERR_RUNTIME, "expect-param: %s.%s is not loaded", mod, par);
         if (fabs(got - a[0]) > 1e-9 * (1 + fabs(a[0])))
-            return st_fail(err, ST_ERR_RUNTIME, "expect-param: %s.%s is %.17g, expected %.17g", mod, par, got, a[0]);
+            return st_fail(err, ST_ERR_RUNTIME, "expect-param: %s.%s is %.17g, expected %.17g", mod,
+                           par, got, a[0]);
         return true;
     }
     if (!strcmp(cmd, "expect-module")) {
         NEED(2, "MODULE on|off");
         bool want = !strcmp(tok[2], "on");
-        if (!want && strcmp(tok[2], "off")) return st_fail(err, ST_ERR_INPUT, "expect-module: on or off, not '%s'", tok[2]);
+        if (!want && strcmp(tok[2], "off"))
+            return st_fail(err, ST_ERR_INPUT, "expect-module: on or off, not '%s'", tok[2]);
         if (st_world_has_module(v->world, tok[1]) != want)
-            return st_fail(err, ST_ERR_RUNTIME, "expect-module: %s is %s", tok[1], want ? "off" : "on");
+            return st_fail(err, ST_ERR_RUNTIME, "expect-module: %s is %s", tok[1],
+                           want ? "off" : "on");
         return true;
     }
     if (!strcmp(cmd, "quit")) {
