@@ -2,7 +2,7 @@
 # Installs the Debian packages strahl builds and runs with. Idempotent: packages
 # already present are skipped by apt-get; runs as root or through sudo.
 set -euo pipefail
-pkgs=(build-essential cmake ninja-build pkg-config clang libclang-rt-dev
+pkgs=(build-essential cmake ninja-build pkg-config clang clang-format libclang-rt-dev git
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
       libcglm-dev libtinygltf-dev nlohmann-json3-dev libopenexr-dev libstb-dev libcjson-dev
       libembree-dev gnuplot-nox xvfb xauth valgrind)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds strahl (release preset) and runs every test, then the fuzz smoke
+# Checks the formatting, builds strahl (release preset) and runs every test, then the fuzz smoke
 # tests: the fuzz preset (clang, ASan + UBSan, libFuzzer) builds only the
 # fuzz targets and runs each for ~20 s from its seeds (ctest label "fuzz").
 # STRAHL_SKIP_FUZZ=1 skips that part. Arguments go to the release ctest.
@@ -7,6 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/setup.sh
+# Style: every C/C++ file as .clang-format says (clang-format -i to fix).
+git ls-files '*.c' '*.h' '*.cpp' | xargs clang-format --dry-run --Werror
 cmake --preset release >/dev/null
 cmake --build --preset release
 ctest --preset release "$@"
