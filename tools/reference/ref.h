@@ -89,9 +89,11 @@ int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const doub
                          double tmin, double tmax, st_ref_surface *out, int max);
 // Whether the segment from surface-offset point `from` to `to` is blocked.
 bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const double to[3]);
-// Whether light `in` (st_light_incident at `from`) reaches `from` unblocked;
-// a directional light's shadow ray runs until it has left the scene's bounds.
-bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const st_incident *in);
+// Whether light `in` (st_light_incident at `at`) reaches `from` (at, or at
+// moved off its surface) unblocked: the shadow ray aims at the light's
+// position; a directional light's runs until it has left the scene's bounds.
+bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const double at[3],
+                          const st_incident *in);
 // A point uniform over the scene's area, seen from `viewer` (its side chosen).
 st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,
                                   const double viewer[3]);

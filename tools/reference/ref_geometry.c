@@ -284,15 +284,18 @@ bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const doubl
     return r.tfar < 0.0f; // Embree sets tfar = -inf on a hit
 }
 
-bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const st_incident *in) {
-    double len = in->dist;
-    if (!isfinite(len)) { // past every triangle: beyond the bounding sphere
-        double c[3] = {from[0] - g->center[0], from[1] - g->center[1], from[2] - g->center[2]};
-        len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + g->radius + 2.0 * g->eps + 1.0;
-    }
+bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const double at[3],
+                          const st_incident *in) {
     double to[3];
-    for (int k = 0; k < 3; k++)
-        to[k] = from[k] + len * in->to_light[k];
+    if (isfinite(in->dist)) {
+        for (int k = 0; k < 3; k++)
+            to[k] = at[k] + in->dist * in->to_light[k]; // the light itself
+    } else { // past every triangle: beyond the bounding sphere
+        double c[3] = {from[0] - g->center[0], from[1] - g->center[1], from[2] - g->center[2]};
+        double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) + g->radius + 2.0 * g->eps + 1.0;
+        for (int k = 0; k < 3; k++)
+            to[k] = from[k] + len * in->to_light[k];
+    }
     return !st_ref_occluded(g, from, to);
 }
 

@@ -42,7 +42,7 @@ static void source(const st_ref_geometry *g, const double origin[3], const doubl
         w[c] = weight * unfold * exp(-sigma_t[c] * (t + in.path)) * sigma_s[c] * ph * in.E[c];
         any += w[c];
     }
-    if (!(any > 0.0) || !st_ref_light_visible(g, x, &in)) return;
+    if (!(any > 0.0) || !st_ref_light_visible(g, x, x, &in)) return;
     for (int c = 0; c < 3; c++)
         out[c] += w[c];
 }

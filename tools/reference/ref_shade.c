@@ -57,7 +57,7 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out
         // A light behind the geometric surface is blocked by the surface itself.
         if (cos_n <= 0.0 || dot3(s->ng, in.to_light) <= 0.0) continue;
         if (in.E[0] == 0.0 && in.E[1] == 0.0 && in.E[2] == 0.0) continue;
-        if (!st_ref_light_visible(g, from, &in)) continue;
+        if (!st_ref_light_visible(g, from, s->p, &in)) continue;
         for (int c = 0; c < 3; c++)
             out[c] += st_direct_lambert(s->mesh->albedo[c], in.E[c], cos_n, in.path, g->sigma_t[c]);
     }
