@@ -198,7 +198,7 @@ fi
 # The brute-force setting each plot marks (strahl plot --baseline).
 baseline() {
     case $1 in
-    toth) echo --baseline toth.samples=256,toth.interleave=1,toth.resolution=full ;;
+    toth) echo --baseline toth.samples=128,toth.sampling=uniform,toth.resolution=full ;;
     atlas_gi) echo --baseline atlas_gi.samples=400,atlas_gi.atlas_size=1024,atlas_gi.estimator=area ;;
     esac
 }
