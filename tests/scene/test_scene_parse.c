@@ -169,7 +169,7 @@ static const struct bad {
     {"{\"camera\": {\"position\": [0,1,3], \"target\": [0,1,0], \"fovy\": 40}}",
      "camera.fovy: unknown key"},
     {"{" CAM ", \"geometry\": [{\"quad\": {\"corner\": [0,0,0], \"u\": [1,0,0], \"v\": [0,0,1], "
-             "\"w\": 1}}]}",
+     "\"w\": 1}}]}",
      "geometry[0].quad.w: unknown key"},
     {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"parms\": {}}]}",
      "modules[0].parms: unknown key"},
@@ -224,10 +224,10 @@ static const struct bad {
      ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"irradiance\": [1,1,1]}]}",
      "lights[0].irradiance: unknown key (expected one of: type, position, intensity)"},
     {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,0,0], \"irradiance\": "
-             "[1,1,1]}]}",
+     "[1,1,1]}]}",
      "lights[0].direction: must be a non-zero vector"},
     {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": "
-             "[1,-1,1]}]}",
+     "[1,-1,1]}]}",
      "lights[0].irradiance: element 1 is -1"},
     {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
      "\"intensity\": [1,1,1], \"outer_angle\": 91}]}",
@@ -239,7 +239,7 @@ static const struct bad {
      "\"intensity\": [1,1,1], \"cone\": 30}]}",
      "lights[0].cone: unknown key"},
     {"{" CAM ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"albedo\": "
-             "[0.5,1.5,0.5]}]}",
+     "[0.5,1.5,0.5]}]}",
      "geometry[0].albedo: element 1 is 1.5"},
     {"{" CAM
      ", \"geometry\": [{\"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"emission\": [0,0,-0.1]}]}",
@@ -253,7 +253,7 @@ static const struct bad {
     {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 1, \"rings\": 1}}]}",
      "geometry[0].sphere.rings: 1 is out of range"},
     {"{" CAM ", \"geometry\": [{\"sphere\": {\"center\": [0,0,0], \"radius\": 1, \"rings\": 16384, "
-             "\"segments\": 16384}}]}",
+     "\"segments\": 16384}}]}",
      "geometry[0].sphere: the scene would have"},
     // degenerate geometry and camera
     {"{" CAM ", " QUAD("[0,0,0]") "}", "geometry[0].quad.u: zero-length edge"},
@@ -278,7 +278,7 @@ static const struct bad {
      ", \"geometry\": [{\"gltf\": \"a.glb\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}]}",
      "geometry[0]: has both"},
     {"{" CAM ", \"geometry\": [{\"quad\": {\"corner\": [0,0,0], \"u\": [1,0,0], \"v\": [0,0,1]}, "
-             "\"inward\": true}]}",
+     "\"inward\": true}]}",
      "geometry[0].inward: only valid for a box"},
     // missing assets (relative to the scene folder)
     {"{" CAM ", \"geometry\": [{\"gltf\": \"assets/missing.glb\"}]}",
@@ -292,7 +292,7 @@ static const struct bad {
      "modules[0].name: 'sh adow' is not an identifier"},
     {"{" CAM ", \"modules\": [{\"name\": \"\"}]}", "modules[0].name: empty string"},
     {"{" CAM ", \"modules\": [{\"name\": "
-             "\"m123456789012345678901234567890123456789012345678901234567890123\"}]}",
+     "\"m123456789012345678901234567890123456789012345678901234567890123\"}]}",
      "modules[0].name: string longer than 63"},
     {"{" CAM ", \"modules\": [{\"params\": {}}]}", "modules[0].name: required key missing"},
     {"{" CAM ", \"modules\": [{\"name\": \"toth\", \"params\": {\"a.b\": 1}}]}",
