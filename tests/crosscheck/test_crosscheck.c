@@ -32,9 +32,9 @@
 // 2. The GPU plugins at their defaults against Cycles, with the issue's
 //    measures relMSE = mean((a-b)^2 / (b^2 + 0.01)) and NRMSE = rmse /
 //    mean(b), b = Cycles: direct cases relMSE <= 0.001; medium cases (toth)
-//    relMSE <= 0.005 and NRMSE <= 0.05; bounce cases (atlas_gi, whose bound
-//    belongs to the atlas_gi issue): recorded, and only sane (finite, image
-//    mean within a factor 2).
+//    relMSE <= 0.005 and NRMSE <= 0.05; bounce cases (atlas_gi at its
+//    default, the precomputed transfer): the atlas_gi issue's relMSE <= 0.005
+//    and NRMSE <= 0.03, and the image mean within a factor 2.
 // A "crosscheck CASE METHOD ..." line per comparison goes to stdout.
 #include "st_test.h"
 #include "st_image.h"
@@ -227,6 +227,8 @@ int main(int argc, char **argv) {
             check_le(name, method, "relmse", relmse, 0.005);
             check_le(name, method, "nrmse", nrmse, 0.05);
         } else {
+            check_le(name, method, "relmse", relmse, 0.005);
+            check_le(name, method, "nrmse", nrmse, 0.03);
             st_metrics m;
             if (st_image_compare(&gpu, &cyc, &m, &err)) {
                 double ratio = m.mean_a[3] / m.mean_b[3];
