@@ -312,4 +312,4 @@ ST_PLUGIN(.name = "toth",
           ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .rendertarget = rendertarget,
           .needed = needed, .on_pass = on_pass, .shader = shader, .param_changed = param_changed,
-          .reload = reload)
+          .reload = reload, .light_types = ST_LIGHT_BITS_ALL)

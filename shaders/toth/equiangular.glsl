@@ -15,6 +15,14 @@ struct toth_eq {
     float a;   // ray start relative to the foot point (-t_foot)
     float D;   // sqrt(h^2 + a^2): light distance from the ray start
     float len; // angle the segment [0, s] subtends at the light
+    // Light types (st_light_type): a spot multiplies the integrand by glTF's
+    // falloff; a directional light is parametrized by t itself (delta = t,
+    // len = s, h = 1) with path(t) = max(0, path0 - slope t) and a constant
+    // phase angle.
+    int kind;
+    vec3 o, dir, lp, axis;
+    vec2 spot; // falloff scale, offset (in cos)
+    float path0, slope, c;
 };
 
 // The smallest light-ray distance: a quarter of a full-resolution pixel at
@@ -29,6 +37,9 @@ float toth_eq_hmin(float D) {
 toth_eq toth_eq_frame(vec3 o, vec3 dir, float s, vec3 light) {
     vec3 rel = light - o;
     toth_eq e;
+    e.kind = 0;
+    e.o = o, e.dir = dir, e.lp = light, e.axis = vec3(0.0), e.spot = vec2(0.0);
+    e.path0 = e.slope = e.c = 0.0;
     e.a = -dot(rel, dir);
     // |rel x dir| does not cancel the way sqrt(|rel|^2 - t_foot^2) does.
     e.h = max(length(cross(rel, dir)), toth_eq_hmin(length(rel)));
@@ -38,9 +49,35 @@ toth_eq toth_eq_frame(vec3 o, vec3 dir, float s, vec3 light) {
     return e;
 }
 
-// Ray distance t and light distance d at angle delta: the denominator is
-// D cos(theta) > 0 for every theta in (-pi/2, pi/2).
+// The frame of light l for the ray o + t dir, t in [0, s].
+toth_eq toth_light_frame(vec3 o, vec3 dir, float s, int l) {
+    if (st_light_type[l] != 1) {
+        toth_eq e = toth_eq_frame(o, dir, s, st_light_pos[l]);
+        e.kind = st_light_type[l];
+        e.axis = st_light_dir[l];
+        e.spot = st_light_shape[l].xy;
+        return e;
+    }
+    toth_eq e;
+    vec3 L = -st_light_dir[l];
+    e.kind = 1;
+    e.h = 1.0, e.a = 1.0, e.D = 1.0, e.len = max(s, 0.0);
+    e.o = o, e.dir = dir, e.lp = vec3(0.0), e.axis = L, e.spot = vec2(0.0);
+    e.path0 = st_light_shape[l].z - dot(o, L);
+    e.slope = dot(dir, L);
+    e.c = dot(L, dir);
+    return e;
+}
+
+// Ray distance t and light distance d at angle delta (directional: t =
+// delta, d = the path through the medium): the denominator is D cos(theta)
+// > 0 for every theta in (-pi/2, pi/2).
 void toth_eq_point(toth_eq e, float delta, out float t, out float d) {
+    if (e.kind == 1) {
+        t = delta;
+        d = max(0.0, e.path0 - e.slope * delta);
+        return;
+    }
     float sn = sin(delta), cs = cos(delta);
     float dcos = max(e.h * cs - e.a * sn, 1e-30);
     t = e.D * e.D * sn / dcos;
@@ -51,8 +88,36 @@ void toth_eq_point(toth_eq e, float delta, out float t, out float d) {
 vec3 toth_eq_integrand(toth_eq e, float delta, vec3 sigma_t) {
     float t, d;
     toth_eq_point(e, delta, t, d);
+    if (e.kind == 1) return st_phase(st_phase_kind, e.c, st_phase_g) * exp(-sigma_t * (t + d));
     float c = -(t + e.a) / d; // toward the light, against the view ray
-    return st_phase(st_phase_kind, c, st_phase_g) * exp(-sigma_t * (t + d));
+    float f = 1.0;
+    if (e.kind == 2) { // spot: glTF's falloff around the axis
+        vec3 from_light = normalize(e.o + t * e.dir - e.lp);
+        float a = clamp(dot(from_light, e.axis) * e.spot.x + e.spot.y, 0.0, 1.0);
+        f = a * a;
+    }
+    return st_phase(st_phase_kind, c, st_phase_g) * exp(-sigma_t * (t + d)) * f;
+}
+
+// A directional light's unshadowed in-scatter in closed form: with path(t)
+// = max(0, p0 - k t), integral_0^s e^(-sigma_t t) e^(-sigma_t path(t)) dt is
+// e^(-sigma_t p0) integral_A e^(-sigma_t (1 - k) t) dt + integral_B
+// e^(-sigma_t t) dt, A where the path is positive, B where it is 0.
+vec3 toth_sun_closed(toth_eq e, vec3 sigma_t) {
+    float s = e.len, p0 = e.path0, k = e.slope;
+    float a0 = 0.0, a1 = 0.0; // A = [a0, a1]; B is the rest of [0, s]
+    if (abs(k) < 1e-7) {
+        a1 = p0 > 0.0 ? s : 0.0;
+    } else {
+        float tb = clamp(p0 / k, 0.0, s);
+        if (k > 0.0) a0 = 0.0, a1 = p0 > 0.0 ? tb : 0.0;
+        else a0 = p0 > 0.0 ? 0.0 : tb, a1 = s;
+    }
+    vec3 m = sigma_t * (1.0 - k);
+    vec3 A = a1 > a0 ? exp(-sigma_t * p0 - m * a0) * st_step_transfer(m, a1 - a0) : vec3(0.0);
+    // B: [0, a0] and [a1, s].
+    vec3 B = st_step_transfer(sigma_t, a0) + exp(-sigma_t * a1) * st_step_transfer(sigma_t, s - a1);
+    return st_phase(st_phase_kind, e.c, st_phase_g) * (A + B);
 }
 
 vec3 toth_eq_panels(toth_eq e, float lo, float hi, int panels, vec3 sigma_t) {
@@ -74,9 +139,11 @@ vec3 toth_eq_panels(toth_eq e, float lo, float hi, int panels, vec3 sigma_t) {
 // [0, s]: Gauss-Legendre in theta, ceil(nodes / 4) panels of 4 nodes, split
 // at the foot point in proportion to the angles (C: st_inscatter_equiangular).
 vec3 toth_eq_unshadowed(vec3 o, vec3 dir, float s, int l, int nodes, vec3 sigma_s, vec3 sigma_t) {
-    toth_eq e = toth_eq_frame(o, dir, s, st_light_pos[l]);
+    toth_eq e = toth_light_frame(o, dir, s, l);
     if (!(e.len > 0.0)) return vec3(0.0);
-    int panels = max((nodes + 3) / 4, 1);
+    if (e.kind == 1) return sigma_s * st_light_intensity[l] * toth_sun_closed(e, sigma_t);
+    // A spot's cone edges are kinks in the integrand: twice the panels.
+    int panels = max((nodes + 3) / 4, 1) * (e.kind == 2 ? 2 : 1);
     float foot = atan(-e.a, e.h);
     vec3 sum;
     if (panels >= 2 && foot > 0.0 && foot < e.len) {

@@ -53,7 +53,7 @@ vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stri
     vec3 grey = vec3((sigma_t.x + sigma_t.y + sigma_t.z) / 3.0);
     vec4 num = vec4(0.0), den = vec4(0.0);
     for (int l = 0; l < st_num_lights; l++) {
-        toth_eq e = toth_eq_frame(o, dir, s, st_light_pos[l]);
+        toth_eq e = toth_light_frame(o, dir, s, l);
         if (!(e.len > 0.0)) continue;
         float step = e.len / float(n);
         int c = min(l, 3);

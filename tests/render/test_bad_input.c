@@ -54,10 +54,9 @@ int main(void) {
         "\"fov_y\": 50},"
         " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.5, 0], \"intensity\": [1, 1, 1]},"
         " {\"type\": \"directional\", \"direction\": [0, -1, 0], \"irradiance\": [1, 1, 1]}],"
-        " \"medium\": {\"sigma_s\": [0.1, 0.1, 0.1]}, \"modules\": [{\"name\": \"shadow_map\"}, "
-        "{\"name\": \"toth\"}]}");
+        " \"medium\": {\"sigma_s\": [0.1, 0.1, 0.1]}, \"modules\": [{\"name\": \"sousa\"}]}");
     expect_refused("light type", json, NULL, NULL,
-                   "lights[1]: module 'toth' does not support directional lights", 2);
+                   "lights[1]: module 'sousa' does not support directional lights", 2);
     snprintf(
         json, sizeof json,
         "{\"image\": {\"width\": 16, \"height\": 16},"
