@@ -13,6 +13,7 @@
 //   - a box face toward the camera with no direct light on it receives the
 //     floor's indirect light (compared with the reference).
 #include "gi_world.h"
+#include "st_test_support.h"
 #include "gi_refcmp.h"
 
 #define RHO 0.5
@@ -127,17 +128,7 @@ static void cornell_json(char *out, size_t n, const char *light, const char *ext
              "\"fov_y\": 40, "
              "\"near\": 0.05, \"far\": 100},\n"
              " \"lights\": [{\"type\": \"point\", \"position\": [%s], \"intensity\": [3, 3, 3]}],\n"
-             " \"geometry\": [\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}, "
-             "\"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}, "
-             "\"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}, "
-             "\"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, "
-             "\"albedo\": [0.75, 0.1, 0.1]},\n"
-             "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, "
-             "\"albedo\": [0.1, 0.75, 0.1]},\n"
+             " \"geometry\": [\n" ST_TEST_CORNELL_WALLS
              "  {\"box\": {\"min\": [0.1, 0, -0.1], \"max\": [0.7, 0.6, 0.5]}, \"albedo\": [0.75, "
              "0.75, 0.75]},\n"
              "  {\"box\": {\"min\": [-0.7, 0, -0.7], \"max\": [-0.1, 1.2, -0.1]}, \"albedo\": "

@@ -23,4 +23,19 @@ cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra,
 int st_test_shadow_state(const double p[3], double jitter, const double lp[3], const double bmin[3],
                          const double bmax[3]);
 
+// The five walls of the 2 m Cornell box around the origin (floor, ceiling,
+// back white; left red, right green; open toward +z), as entries of a scene's
+// "geometry" array, each followed by a comma and a newline.
+#define ST_TEST_CORNELL_WALLS                                                                      \
+    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}, "                 \
+    "\"albedo\": [0.75, 0.75, 0.75]},\n"                                                           \
+    "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}, "                 \
+    "\"albedo\": [0.75, 0.75, 0.75]},\n"                                                           \
+    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}, "                 \
+    "\"albedo\": [0.75, 0.75, 0.75]},\n"                                                           \
+    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, "                 \
+    "\"albedo\": [0.75, 0.1, 0.1]},\n"                                                             \
+    "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, "                  \
+    "\"albedo\": [0.1, 0.75, 0.1]},\n"
+
 #endif

@@ -6,6 +6,7 @@
 // render, and neither a display switch nor a camera-only move may run an
 // atlas pass.
 #include "view_test.h"
+#include "st_test_support.h"
 
 enum { N = 96 };
 static const char *GI = "\"atlas_size\": 128, \"samples\": 64, \"progressive\": false";
@@ -18,17 +19,7 @@ static void write_scene(const char *path, const char *modules) {
              "\"fov_y\": 45},\n"
              " \"lights\": [{\"type\": \"point\", \"position\": [0.4, 1.6, 0.3], \"intensity\": "
              "[3, 3, 3]}],\n"
-             " \"geometry\": [\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}, "
-             "\"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}, "
-             "\"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}, "
-             "\"albedo\": [0.75, 0.75, 0.75]},\n"
-             "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, "
-             "\"albedo\": [0.75, 0.1, 0.1]},\n"
-             "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, "
-             "\"albedo\": [0.1, 0.75, 0.1]},\n"
+             " \"geometry\": [\n" ST_TEST_CORNELL_WALLS
              "  {\"box\": {\"min\": [-0.6, 0, -0.6], \"max\": [-0.1, 1.1, -0.1]}, \"albedo\": "
              "[0.75, 0.75, 0.75]}],\n"
              " \"modules\": [%s]}\n",
