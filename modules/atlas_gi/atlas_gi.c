@@ -953,9 +953,9 @@ static int uniforms(void *self, const st_uniform **out) {
 
 ST_PLUGIN(.name = "atlas_gi",
           .description =
-              "texture-atlas global illumination (Merz 2010): G-buffer atlas, Hammersley gather "
-              "over the whole "
-              "scene, optional BVH visibility and more bounces, textured back onto the scene",
+              "texture-atlas global illumination (Merz 2010): G-buffer atlas, precomputed "
+              "transfer (default) or the thesis' Hammersley gather, visibility, more bounces, "
+              "textured back onto the scene",
           ST_PARAMS(params), .requires = "shadow_map?", .provides = "atlas_gi",
           .regular_include = "atlas_gi/regular.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,

@@ -258,8 +258,7 @@ static bool reload(void *self, st_err *err) {
 
 ST_PLUGIN(.name = "mitchell",
           .description = "volumetric light scattering as a post-process (Mitchell, GPU Gems 3): "
-                         "radial blur of an "
-                         "occlusion image toward each light",
+                         "radial blur of an occlusion image toward each light",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
           .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
           .param_changed = param_changed, .reload = reload)

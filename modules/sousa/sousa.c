@@ -169,8 +169,7 @@ static bool reload(void *self, st_err *err) {
 
 ST_PLUGIN(.name = "sousa",
           .description = "sun shafts (Sousa, CryEngine 2): linear depth mask blurred toward each "
-                         "light in 3 passes "
-                         "with steps TAPS^-1, TAPS^-2, TAPS^-3",
+                         "light in 3 passes with steps TAPS^-1, TAPS^-2, TAPS^-3",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
           .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
           .param_changed = param_changed, .reload = reload)
