@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "st_vec3.h"
 
 // ---- Phase functions -------------------------------------------------------
 
@@ -185,30 +186,15 @@ double st_integrate(st_integrand f, void *ctx, double a, double b, double abs_to
 
 // ---- Single scattering -----------------------------------------------------
 
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static void sub3(double o[3], const double a[3], const double b[3]) {
-    for (int k = 0; k < 3; k++)
-        o[k] = a[k] - b[k];
-}
-static void cross3(double o[3], const double a[3], const double b[3]) {
-    double t[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-    memcpy(o, t, sizeof t);
-}
-static double len3(const double a[3]) {
-    return sqrt(dot3(a, a));
-}
-
 double st_inscatter_integrand(const st_inscatter_problem *p, double t) {
-    double dl = len3(p->dir);
+    double dl = st_len3(p->dir);
     double x[3], to_light[3];
     for (int k = 0; k < 3; k++)
         x[k] = p->origin[k] + p->dir[k] / dl * t;
-    sub3(to_light, p->light, x);
-    double d2 = dot3(to_light, to_light), d = sqrt(d2);
+    st_sub3(to_light, p->light, x);
+    double d2 = st_dot3(to_light, to_light), d = sqrt(d2);
     if (d2 == 0.0) return INFINITY;
-    double c = dot3(to_light, p->dir) / (d * dl);
+    double c = st_dot3(to_light, p->dir) / (d * dl);
     return exp(-p->sigma_t * t) * p->sigma_s * st_phase_eval(p->phase, c, p->g) * p->intensity /
            d2 * exp(-p->sigma_t * d);
 }
@@ -290,13 +276,13 @@ double st_inscatter_sun(double sigma_s, double sigma_t, double I, double D, doub
 
 double st_inscatter_sun_problem(const st_inscatter_problem *p) {
     double to_light[3];
-    sub3(to_light, p->light, p->origin);
-    double D = len3(to_light), dl = len3(p->dir);
-    double c = clampd(dot3(to_light, p->dir) / (D * dl), -1.0, 1.0);
+    st_sub3(to_light, p->light, p->origin);
+    double D = st_len3(to_light), dl = st_len3(p->dir);
+    double c = clampd(st_dot3(to_light, p->dir) / (D * dl), -1.0, 1.0);
     // acos loses precision near +-1; atan2 of |cross| and dot does not.
     double cr[3];
-    cross3(cr, to_light, p->dir);
-    double gamma = atan2(len3(cr) / (D * dl), c);
+    st_cross3(cr, to_light, p->dir);
+    double gamma = atan2(st_len3(cr) / (D * dl), c);
     return st_inscatter_sun(p->sigma_s, p->sigma_t, p->intensity, D, gamma, p->length);
 }
 
@@ -312,9 +298,9 @@ double st_ff_point_polygon(const double p[3], const double n[3], const double (*
     for (int i = 0; i < count; i++) {
         const double *a = v[i], *b = v[(i + 1) % count];
         double ra[3], rb[3];
-        sub3(ra, a, p);
-        sub3(rb, b, p);
-        double da = dot3(ra, n), db = dot3(rb, n);
+        st_sub3(ra, a, p);
+        st_sub3(rb, b, p);
+        double da = st_dot3(ra, n), db = st_dot3(rb, n);
         if (da >= 0.0) memcpy(poly[m++], a, sizeof poly[0]);
         if ((da >= 0.0) != (db >= 0.0)) {
             double t = da / (da - db);
@@ -326,13 +312,13 @@ double st_ff_point_polygon(const double p[3], const double n[3], const double (*
     double sum = 0.0;
     for (int i = 0; i < m; i++) {
         double ra[3], rb[3], cr[3];
-        sub3(ra, poly[i], p);
-        sub3(rb, poly[(i + 1) % m], p);
-        cross3(cr, ra, rb);
-        double cl = len3(cr);
+        st_sub3(ra, poly[i], p);
+        st_sub3(rb, poly[(i + 1) % m], p);
+        st_cross3(cr, ra, rb);
+        double cl = st_len3(cr);
         if (cl <= 1e-300) continue; // p on the edge's line: the edge subtends no area
-        double angle = atan2(cl, dot3(ra, rb));
-        sum += angle * dot3(n, cr) / cl;
+        double angle = atan2(cl, st_dot3(ra, rb));
+        sum += angle * st_dot3(n, cr) / cl;
     }
     free(poly);
     return fabs(sum) / (2.0 * ST_PI);
@@ -381,8 +367,8 @@ static double ff_outer(double s, void *vctx) {
 double st_ff_parallelograms(const double ca[3], const double ua[3], const double va[3],
                             const double cb[3], const double ub[3], const double vb[3]) {
     double n[3];
-    cross3(n, ua, va);
-    double nl = len3(n);
+    st_cross3(n, ua, va);
+    double nl = st_len3(n);
     for (int k = 0; k < 3; k++)
         n[k] /= nl;
     ff_ctx c = {ca, ua, va, n, {{0}}, 0.0};
@@ -404,12 +390,12 @@ double st_area_kernel(double a, double d2) {
 // ---- Equi-angular quadrature ------------------------------------------------
 
 st_equiangular st_equiangular_frame(const st_inscatter_problem *p, double h_min) {
-    double dl = len3(p->dir), rel[3], cr[3];
-    sub3(rel, p->light, p->origin);
-    cross3(cr, rel, p->dir);
-    double t_foot = dot3(rel, p->dir) / dl;
+    double dl = st_len3(p->dir), rel[3], cr[3];
+    st_sub3(rel, p->light, p->origin);
+    st_cross3(cr, rel, p->dir);
+    double t_foot = st_dot3(rel, p->dir) / dl;
     st_equiangular e;
-    e.h = fmax(len3(cr) / dl, h_min);
+    e.h = fmax(st_len3(cr) / dl, h_min);
     e.a = -t_foot;
     e.D = sqrt(e.h * e.h + e.a * e.a);
     double b = p->length - t_foot;

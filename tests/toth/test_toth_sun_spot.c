@@ -7,6 +7,7 @@
 // within 1% wherever the value exceeds 2% of the image maximum (issue 11's
 // bar), for the equi-angular default and the uniform march's own source.
 #include "toth_test.h"
+#include "st_vec3.h"
 
 enum { W = 64, H = 48 };
 static const double CAM[3] = {0, 2, 0}, TGT[3] = {0, 2, -1}, UP[3] = {0, 1, 0}, FOV = 60;
@@ -19,10 +20,6 @@ typedef struct {
     double d[3], L[3], entry, axis[3];
 } problem;
 
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 static double hg(double c) {
     return (1 - G * G) / (4 * M_PI * pow(1 + G * G - 2 * G * c, 1.5));
 }
@@ -34,14 +31,14 @@ static double integrand(double t, void *ctx) {
         x[k] = CAM[k] + t * p->d[k];
     double st = SS + SA;
     if (p->sun) {
-        double path = fmax(0.0, p->entry - dot3(x, p->L));
-        return exp(-st * t) * SS * hg(dot3(p->L, p->d)) * E * exp(-st * path);
+        double path = fmax(0.0, p->entry - st_dot3(x, p->L));
+        return exp(-st * t) * SS * hg(st_dot3(p->L, p->d)) * E * exp(-st * path);
     }
     double v[3] = {SPOT[0] - x[0], SPOT[1] - x[1], SPOT[2] - x[2]};
-    double d = sqrt(dot3(v, v)), u[3] = {-v[0] / d, -v[1] / d, -v[2] / d};
+    double d = sqrt(st_dot3(v, v)), u[3] = {-v[0] / d, -v[1] / d, -v[2] / d};
     double co = cos(OUTER * M_PI / 180), ci = cos(INNER * M_PI / 180);
-    double a = fmin(fmax((dot3(u, p->axis) - co) / fmax(0.001, ci - co), 0.0), 1.0);
-    return exp(-st * t) * SS * hg(-dot3(u, p->d)) * SI * a * a / (d * d) * exp(-st * d);
+    double a = fmin(fmax((st_dot3(u, p->axis) - co) / fmax(0.001, ci - co), 0.0), 1.0);
+    return exp(-st * t) * SS * hg(-st_dot3(u, p->d)) * SI * a * a / (d * d) * exp(-st * d);
 }
 
 // The ray's length: the floor (y = 0) or the wall (z = -25), whichever is first.
@@ -54,7 +51,7 @@ static double ray_length(const double d[3]) {
 
 static void write_scene(const char *path, const char *params) {
     char json[4096];
-    double al = sqrt(dot3(AXIS, AXIS));
+    double al = sqrt(st_dot3(AXIS, AXIS));
     snprintf(
         json, sizeof json,
         "{\"image\": {\"width\": %d, \"height\": %d},\n"
@@ -81,13 +78,13 @@ static void write_scene(const char *path, const char *params) {
 int main(void) {
     st_test_cam c = st_test_camera(CAM, TGT, UP, FOV, W, H);
     problem sun = {1, {0}, {0}, -INFINITY, {0}}, spot = {0, {0}, {0}, 0, {0}};
-    double sl = sqrt(dot3(SUN, SUN)), al = sqrt(dot3(AXIS, AXIS));
+    double sl = sqrt(st_dot3(SUN, SUN)), al = sqrt(st_dot3(AXIS, AXIS));
     for (int k = 0; k < 3; k++)
         sun.L[k] = -SUN[k] / sl, spot.axis[k] = AXIS[k] / al;
     // The scene's bounds: x in [-30, 30], y in [0, 30], z in [-30, 5].
     for (int k = 0; k < 8; k++) {
         double b[3] = {k & 1 ? 30 : -30, k & 2 ? 30 : 0, k & 4 ? 5 : -30};
-        sun.entry = fmax(sun.entry, dot3(b, sun.L));
+        sun.entry = fmax(sun.entry, st_dot3(b, sun.L));
     }
     static double ref[H][W], ref_sun[H][W];
     double mx = 0;
@@ -99,7 +96,7 @@ int main(void) {
             for (int k = 0; k < 3; k++)
                 sun.d[k] = spot.d[k] = d[k];
             double rel[3] = {SPOT[0] - CAM[0], SPOT[1] - CAM[1], SPOT[2] - CAM[2]};
-            double foot = fmin(fmax(dot3(rel, d), 0.0), s);
+            double foot = fmin(fmax(st_dot3(rel, d), 0.0), s);
             ref_sun[j][i] = st_integrate(integrand, &sun, 0, s, 1e-300, 1e-11);
             ref[j][i] = ref_sun[j][i] + st_integrate(integrand, &spot, 0, foot, 1e-300, 1e-11) +
                         st_integrate(integrand, &spot, foot, s, 1e-300, 1e-11);

@@ -5,22 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static void cross3(double o[3], const double a[3], const double b[3]) {
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static double normalize3(double v[3]) {
-    double l = sqrt(dot3(v, v));
-    if (l > 0)
-        for (int k = 0; k < 3; k++)
-            v[k] /= l;
-    return l;
-}
+#include "st_vec3.h"
 
 // World positions and normals of one mesh. Normals go through the inverse
 // transpose of the model's 3x3 part, as cofactors times the sign of the
@@ -50,7 +35,7 @@ static bool transform_mesh(const st_mesh *m, double *pos, double *nrm) {
             pos[3 * v + r] = a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2] + M[12 + r];
             nrm[3 * v + r] = sign * (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]);
         }
-        normalize3(nrm + 3 * v);
+        st_normalize3(nrm + 3 * v);
     }
     return true;
 }
@@ -132,8 +117,8 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
             double e1[3], e2[3], *n = g->ng[i] + 3 * t;
             for (int k = 0; k < 3; k++)
                 e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
-            cross3(n, e1, e2);
-            area += 0.5 * normalize3(n); // degenerate triangles add nothing and are never picked
+            st_cross3(n, e1, e2);
+            area += 0.5 * st_normalize3(n); // degenerate triangles add nothing and are never picked
             g->cdf[tri] = area;
             g->tri_mesh[tri] = i;
             g->tri_prim[tri] = t;
@@ -206,10 +191,10 @@ static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t pr
         }
         s.ng[k] = g->ng[mi][3 * prim + k];
     }
-    normalize3(s.n);
+    st_normalize3(s.n);
     // The winding decides the front (as glFrontFace(GL_CCW) on the GPU); the
     // shading normal only shapes cosines and is kept on the geometric side.
-    if (dot3(s.n, s.ng) <= 0.0) memcpy(s.n, s.ng, sizeof s.n);
+    if (st_dot3(s.n, s.ng) <= 0.0) memcpy(s.n, s.ng, sizeof s.n);
     s.hit = true;
     s.mesh = m;
     return s;
@@ -218,7 +203,7 @@ static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t pr
 // Turns the normals toward the side seen from `toward_viewer`; that side
 // reflects and emits if it is the front or the mesh is double-sided.
 static void face_viewer(st_ref_surface *s, const double toward_viewer[3]) {
-    bool front = dot3(s->ng, toward_viewer) > 0.0;
+    bool front = st_dot3(s->ng, toward_viewer) > 0.0;
     if (!front)
         for (int k = 0; k < 3; k++)
             s->n[k] = -s->n[k], s->ng[k] = -s->ng[k];
@@ -245,7 +230,7 @@ st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], con
     st_ref_surface s = make_surface(g, (int)rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
     face_viewer(&s, back);
     // The distance in the ray's units, from the double position on the triangle.
-    double dd = dot3(d, d), t = 0.0;
+    double dd = st_dot3(d, d), t = 0.0;
     for (int k = 0; k < 3; k++)
         t += (s.p[k] - o[k]) * d[k];
     s.t = t / dd;
@@ -269,7 +254,7 @@ int st_ref_intersect_all(const st_ref_geometry *g, const double o[3], const doub
 
 bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const double to[3]) {
     double d[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]};
-    double len = normalize3(d);
+    double len = st_normalize3(d);
     if (!(len > g->eps)) return false;
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -318,6 +303,6 @@ st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,
     st_ref_surface s = make_surface(g, g->tri_mesh[lo], g->tri_prim[lo], u, v);
     double to_viewer[3] = {viewer[0] - s.p[0], viewer[1] - s.p[1], viewer[2] - s.p[2]};
     face_viewer(&s, to_viewer);
-    s.t = sqrt(dot3(to_viewer, to_viewer));
+    s.t = sqrt(st_dot3(to_viewer, to_viewer));
     return s;
 }

@@ -18,10 +18,7 @@
 // ray's line (h ~ 0) falls back to strata uniform in t.
 #include "ref.h"
 #include <math.h>
-
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+#include "st_vec3.h"
 
 // The integrand at ray distance t for light i, times `weight`: dt / d^2 for
 // point and spot lights (the 1/d^2 is folded into the equi-angular weight), dt
@@ -36,7 +33,7 @@ static void source(const st_ref_geometry *g, const double origin[3], const doubl
     const double unfold = isfinite(in.dist) ? in.dist * in.dist : 1.0;
     // cos theta between the light's travel direction and the direction toward
     // the camera (docs/physics.md): dot(normalize(light - x), view ray direction).
-    double ph = st_phase_eval(m->phase, dot3(in.to_light, dir), m->g);
+    double ph = st_phase_eval(m->phase, st_dot3(in.to_light, dir), m->g);
     double w[3], any = 0.0;
     for (int c = 0; c < 3; c++) {
         w[c] = weight * unfold * exp(-sigma_t[c] * (t + in.path)) * sigma_s[c] * ph * in.E[c];
@@ -71,8 +68,8 @@ void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const d
         }
         double to_l[3] = {l->position[0] - origin[0], l->position[1] - origin[1],
                           l->position[2] - origin[2]};
-        double t0 = dot3(to_l, dir);
-        double h2 = dot3(to_l, to_l) - t0 * t0, h = sqrt(fmax(h2, 0.0));
+        double t0 = st_dot3(to_l, dir);
+        double h2 = st_dot3(to_l, to_l) - t0 * t0, h = sqrt(fmax(h2, 0.0));
         if (h > 1e-6 * (fabs(t0) + s)) {
             double a0 = atan2(-t0, h), a1 = atan2(s - t0, h), da = (a1 - a0) / n;
             for (int k = 0; k < n; k++) {

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "st_vec3.h"
 
 typedef struct {
     double pos[3], f[3], r[3], u[3];
@@ -24,22 +25,6 @@ typedef struct {
     atomic_int next_row, rows_done;
 } ref_job;
 
-static void cross3(double o[3], const double a[3], const double b[3]) {
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static bool normalize3(double v[3]) {
-    double l = sqrt(dot3(v, v));
-    if (!(l > 0) || !isfinite(l)) return false;
-    for (int k = 0; k < 3; k++)
-        v[k] /= l;
-    return true;
-}
-
 static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
     const st_camera_desc *d = &sc->camera;
     double up[3];
@@ -48,12 +33,13 @@ static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
         c->f[k] = (double)d->target[k] - d->position[k];
         up[k] = d->up[k];
     }
-    cross3(c->r, c->f, up);
-    if (!normalize3(c->f) || !normalize3(c->r))
+    st_cross3(c->r, c->f, up);
+    double lf = st_normalize3(c->f), lr = st_normalize3(c->r);
+    if (!(lf > 0 && isfinite(lf)) || !(lr > 0 && isfinite(lr)))
         return st_fail(err, ST_ERR_INPUT,
                        "%s: camera: target equals position or up is parallel to the view",
                        sc->path);
-    cross3(c->u, c->r, c->f);
+    st_cross3(c->u, c->r, c->f);
     c->tan_half = tan(0.5 * d->fov_y * ST_PI / 180.0);
     c->aspect = (double)sc->width / sc->height;
     return true;
@@ -65,7 +51,7 @@ static void camera_ray(const ref_camera *c, int i, int j, int w, int h, double d
     double y = (1.0 - 2.0 * (j + 0.5) / h) * c->tan_half;
     for (int k = 0; k < 3; k++)
         dir[k] = c->f[k] + x * c->r[k] + y * c->u[k];
-    normalize3(dir);
+    st_normalize3(dir);
 }
 
 static void render_pixel(const ref_job *job, int i, int j) {
@@ -78,7 +64,7 @@ static void render_pixel(const ref_job *job, int i, int j) {
     // near/far clip like the rasterizer: planes at view depth, so along this
     // ray at depth / cos(angle to the view axis). A view ray that hits
     // nothing within them is marched to the far plane.
-    double cos_axis = dot3(dir, job->cam.f);
+    double cos_axis = st_dot3(dir, job->cam.f);
     double t_near = sc->camera.near_z / cos_axis, t_far = sc->camera.far_z / cos_axis;
     st_ref_surface x = st_ref_intersect(g, job->cam.pos, dir, t_near, t_far);
     double s = x.hit ? x.t : t_far;

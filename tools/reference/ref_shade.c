@@ -30,10 +30,7 @@
 #include "ref.h"
 #include <math.h>
 #include <string.h>
-
-static double dot3(const double a[3], const double b[3]) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+#include "st_vec3.h"
 
 // p moved off its surface along the geometric normal (the side seen), so
 // secondary rays do not hit the surface they leave.
@@ -53,9 +50,9 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out
     for (int i = 0; i < sc->num_lights; i++) {
         st_incident in;
         if (!st_light_incident(&sc->lights[i], g->light_entry[i], s->p, &in)) continue;
-        const double cos_n = dot3(s->n, in.to_light);
+        const double cos_n = st_dot3(s->n, in.to_light);
         // A light behind the geometric surface is blocked by the surface itself.
-        if (cos_n <= 0.0 || dot3(s->ng, in.to_light) <= 0.0) continue;
+        if (cos_n <= 0.0 || st_dot3(s->ng, in.to_light) <= 0.0) continue;
         if (in.E[0] == 0.0 && in.E[1] == 0.0 && in.E[2] == 0.0) continue;
         if (!st_ref_light_visible(g, from, s->p, &in)) continue;
         for (int c = 0; c < 3; c++)
@@ -92,7 +89,7 @@ static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o,
                             const st_ref_surface *x, int bounces, st_ref_rng *rng, double out[3]) {
     double dir[3], from[3];
     cosine_direction(x->n, rng, dir);
-    if (dot3(dir, x->ng) <= 0.0) return; // below the geometric surface (smooth normals)
+    if (st_dot3(dir, x->ng) <= 0.0) return; // below the geometric surface (smooth normals)
     offset_point(g, x, from);
     st_ref_surface y = st_ref_intersect(g, from, dir, 0.0, INFINITY);
     if (!y.hit || !y.lit_side) return;
@@ -111,10 +108,11 @@ static void mis_score(const st_ref_geometry *g, const st_ref_options *o, const s
                       double out[3]) {
     if (!y->hit || !y->lit_side) return;
     double w[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
-    double d2 = dot3(w, w);
+    double d2 = st_dot3(w, w);
     if (!(d2 > 0.0)) return;
     double d = sqrt(d2);
-    double cos_x = dot3(x->n, w) / d, cos_y = -dot3(y->n, w) / d, cos_yg = -dot3(y->ng, w) / d;
+    double cos_x = st_dot3(x->n, w) / d, cos_y = -st_dot3(y->n, w) / d,
+           cos_yg = -st_dot3(y->ng, w) / d;
     if (cos_x <= 0.0 || cos_y <= 0.0 || cos_yg <= 0.0) return;
     double L[3], T[3];
     outgoing(g, o, y, bounces - 1, rng, L);
@@ -136,7 +134,7 @@ static void indirect_unoccluded(const st_ref_geometry *g, const st_ref_options *
     }
     double dir[3], from[3];
     cosine_direction(x->n, rng, dir);
-    if (dot3(dir, x->ng) <= 0.0) return;
+    if (st_dot3(dir, x->ng) <= 0.0) return;
     offset_point(g, x, from);
     st_ref_surface hits[MAX_CROSSINGS];
     int n = st_ref_intersect_all(g, from, dir, 0.0, INFINITY, hits, MAX_CROSSINGS), k = 0;
@@ -153,9 +151,9 @@ static void indirect_thesis(const st_ref_geometry *g, const st_ref_options *o,
     st_ref_surface y = st_ref_sample_area(g, rng, x->p);
     if (!y.hit || !y.lit_side) return;
     double w[3] = {y.p[0] - x->p[0], y.p[1] - x->p[1], y.p[2] - x->p[2]};
-    double d = sqrt(dot3(w, w));
+    double d = sqrt(st_dot3(w, w));
     if (!(d > 0.0)) return;
-    double cos_x = dot3(x->n, w) / d, cos_y = -dot3(y.n, w) / d;
+    double cos_x = st_dot3(x->n, w) / d, cos_y = -st_dot3(y.n, w) / d;
     if (cos_x <= 0.0 || cos_y <= 0.0) return; // "facing each other"
     double L[3], T[3];
     outgoing(g, o, &y, bounces - 1, rng, L);
