@@ -51,8 +51,8 @@ static const st_param_def params[P_COUNT] = {
      "radius in metres of the sphere around each point light that emits (drawn as a screen-facing "
      "disc; a sun is a disc of its angular_diameter)"},
     {"sky", ST_PARAM_FLOAT, 0, 0, 1000, NULL,
-     "radiance scale of the background as an emitter, colour (0.2, 0.3, 0.6) as in the thesis; 0 = "
-     "off"},
+     "the thesis' sky: radiance scale of colour (0.2, 0.3, 0.6) added to the scene's background in "
+     "the occlusion image; 0 = off"},
     {"fade_margin", ST_PARAM_FLOAT, 0.5, 0.01, 10, NULL,
      "distance outside the screen, in screen heights, over which a light's shafts fade to zero"},
 };
