@@ -44,9 +44,25 @@ static bool parse_cone(st_jctx *c, const cJSON *v, st_light_desc *l) {
     return true;
 }
 
+// The sun's disc for screen-space god rays, degrees: (0, 30], default 0.53.
+static bool parse_angular_diameter(st_jctx *c, const cJSON *v, st_light_desc *l) {
+    double deg = 0.53;
+    bool has;
+    if (!st_j_number(c, v, "angular_diameter", &deg, &has)) return false;
+    if (!(deg > 0 && deg <= 30))
+        return st_j_fail(c, "angular_diameter", "%g is out of range (0, 30] degrees", deg);
+    l->angular_diameter = (float)(deg * 3.14159265358979323846 / 180.0);
+    return true;
+}
+
+float st_light_angular_diameter(const st_light_desc *l) {
+    return l->angular_diameter > 0 ? l->angular_diameter : ST_SUN_ANGULAR_DIAMETER;
+}
+
 static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
     static const char *const point_keys[] = {"type", "position", "intensity", NULL};
-    static const char *const dir_keys[] = {"type", "direction", "irradiance", NULL};
+    static const char *const dir_keys[] = {"type", "direction", "irradiance", "angular_diameter",
+                                           NULL};
     static const char *const spot_keys[] = {"type",        "position",    "direction", "intensity",
                                             "inner_angle", "outer_angle", NULL};
     char type[16];
@@ -62,7 +78,8 @@ static bool parse_light(st_jctx *c, const cJSON *v, st_scene *s) {
         l.type = ST_LIGHT_DIRECTIONAL;
         ok = st_j_object(c, v, dir_keys) && parse_direction(c, v, l.direction) &&
              st_j_vec3(c, v, "irradiance", l.intensity, NULL) &&
-             st_j_range3(c, "irradiance", l.intensity, 0, INFINITY);
+             st_j_range3(c, "irradiance", l.intensity, 0, INFINITY) &&
+             parse_angular_diameter(c, v, &l);
     } else if (!strcmp(type, "spot")) {
         l.type = ST_LIGHT_SPOT;
         ok = st_j_object(c, v, spot_keys) && st_j_vec3(c, v, "position", l.position, NULL) &&
@@ -257,13 +274,17 @@ static bool parse_camera(st_jctx *c, const cJSON *v, bool from_gltf, st_camera_d
     } while (0)
 
 static bool parse_document(st_jctx *c, const cJSON *root, st_scene *s) {
-    static const char *const keys[] = {"image",  "camera",  "lights", "geometry",
-                                       "medium", "modules", NULL};
+    static const char *const keys[] = {"image",  "camera",  "lights",     "geometry",
+                                       "medium", "modules", "background", NULL};
     if (!cJSON_IsObject(root)) return st_j_fail(c, NULL, "expected a JSON object at the top level");
     if (!st_j_object(c, root, keys)) return false;
     s->width = s->height = 512;
     SECTION("image", parse_image(c, v, s));
     SECTION("medium", parse_medium(c, v, &s->medium));
+    // Radiance where camera rays leave the scene, >= 0 per channel.
+    if (!st_j_vec3(c, root, "background", s->background, &s->has_background) ||
+        !st_j_range3(c, "background", s->background, 0, INFINITY))
+        return false;
     SECTION("modules", parse_modules(c, v, s));
     SECTION("lights", parse_lights(c, v, s));
     int json_lights = s->num_lights;

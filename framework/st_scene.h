@@ -45,7 +45,15 @@ typedef struct st_light_desc {
     st_light_type type;
     float direction[3];             // directional, spot: unit direction the light travels
     float inner_angle, outer_angle; // spot: half-angles from the axis, radians (glTF's falloff)
+    // Directional: full angle of the sun's disc, radians; 0 = ST_SUN_ANGULAR_DIAMETER. Only the
+    // screen-space god-ray techniques draw the disc; lighting and shadows treat the sun as one
+    // direction (st_light_angular_diameter resolves the default).
+    float angular_diameter;
 } st_light_desc;
+
+// The sun's mean angular diameter seen from the earth, 0.53 degrees in radians.
+#define ST_SUN_ANGULAR_DIAMETER 0.00925024503f
+float st_light_angular_diameter(const st_light_desc *l); // directional lights only
 
 const char *st_light_type_name(st_light_type type); // "point", "directional", "spot"
 
@@ -102,6 +110,12 @@ typedef struct st_scene {
     st_mesh *meshes;
     int num_meshes;
     st_medium_desc medium;
+    // Radiance [W/(m^2 sr)] of what camera rays see where they leave the scene
+    // ("background" key; black when absent): drawn behind all geometry, at the far
+    // plane (so a medium dims it like a surface there), and the sky that mitchell and
+    // sousa blur as their emitter. It lights no surface (no environment lighting).
+    float background[3];
+    bool has_background;
     st_module_setting *modules;
     int num_modules;
     int mesh_capacity, light_capacity; // allocated lengths, grown by st_scene_add_*

@@ -399,7 +399,8 @@ static void make_frame(st_world *w, st_frame *f) {
 static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
     st_target_bind(&w->cam.scene);
     const float zero[4] = {0, 0, 0, 0}, nogeo[4] = {0, 0, 0, -1};
-    glClearBufferfv(GL_COLOR, 0, zero);
+    const float *bg = w->scene->background; // where no geometry is drawn (black by default)
+    glClearBufferfv(GL_COLOR, 0, (const float[]){bg[0], bg[1], bg[2], 0});
     glClearBufferfv(GL_COLOR, 1, nogeo);
     glClearBufferfv(GL_COLOR, 2, zero);
     glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});

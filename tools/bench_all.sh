@@ -34,7 +34,7 @@ mkdir -p "$OUT"
 TTY=0; [ -t 2 ] && TTY=1
 T0=$(date +%s)
 STEP=0
-case $ONLY in godrays) STEPS=16 ;; gi) STEPS=8 ;; plots) STEPS=0 ;; *) STEPS=24 ;; esac
+case $ONLY in godrays) STEPS=21 ;; gi) STEPS=8 ;; plots) STEPS=0 ;; *) STEPS=29 ;; esac
 log() { [ "$TTY" = 1 ] && echo "bench_all: $*" >&2; return 0; }
 hms() { printf '%d:%02d' $(($1 / 60)) $(($1 % 60)); }
 # One line per reference or sweep: elapsed time and an ETA from the mean step.
@@ -110,8 +110,10 @@ LIGHT_VIEW_SIZE=${LIGHT_VIEW_SIZE:-384x256}
 if [ "$ONLY" = all ] || [ "$ONLY" = godrays ] || [ "$ONLY" = toth ]; then
 rm -f "$OUT"/toth.csv "$OUT"/toth_passes.txt "$OUT"/toth_recompute.csv
 BRUTE="--set toth.sampling=uniform --set toth.samples=128 --set toth.interleave=1 --set toth.resolution=full"
-for s in window colonnade hidden_hole light_front light_view; do
+for s in window colonnade hidden_hole light_front light_view colonnade_sun spot_fog; do
     scene=scenes/godrays_$s.json size=$GODRAY_SIZE
+    # The sun and spot scenes (issue 14) are named without the godrays_ prefix.
+    case $s in colonnade_sun | spot_fog) scene=scenes/$s.json ;; esac
     [ "$s" = light_view ] && size=$LIGHT_VIEW_SIZE
     log "toth reference $scene (1024 uniform steps)"
     "$S" render "$scene" -o "$OUT/toth_ref_$s.exr" --size "$size" --set toth.sampling=uniform \
@@ -158,6 +160,12 @@ rm -f "$OUT"/mitchell.csv "$OUT"/sousa.csv
 for s in window colonnade hidden_hole light_front; do
     ref scenes/godrays_$s.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" --spp "$REF_SPP" --bounces 0
 done
+# The low sun behind the colonnade (scenes/colonnade_sun*.json).
+ref scenes/colonnade_sun.json "$GODRAY_SIZE" "$OUT/ref_godrays_colonnade_sun.exr" --spp "$REF_SPP" --bounces 0
+bench scenes/colonnade_sun_mitchell.json "$GODRAY_SIZE" "$OUT/ref_godrays_colonnade_sun.exr" "$OUT/mitchell.csv" scaled_rmse \
+    --sweep mitchell.n=16,32,64,128
+bench scenes/colonnade_sun_sousa.json "$GODRAY_SIZE" "$OUT/ref_godrays_colonnade_sun.exr" "$OUT/sousa.csv" scaled_rmse \
+    --sweep sousa.taps=4,6,8,10,12
 for s in window colonnade; do
     bench scenes/godrays_${s}_mitchell.json "$GODRAY_SIZE" "$OUT/ref_godrays_$s.exr" "$OUT/mitchell.csv" scaled_rmse \
         --sweep mitchell.n=16,32,64,128

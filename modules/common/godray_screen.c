@@ -1,5 +1,6 @@
 // See godray_screen.h.
 #include "godray_screen.h"
+#include "st_physics.h"
 #include <math.h>
 
 static double smoothstep(double e0, double e1, double x) {
@@ -30,15 +31,52 @@ godray_light godray_project(const float *view_proj, float near_z, int width, int
     return r;
 }
 
-void godray_tint(const st_light_desc *lights, int num_lights, int k, float out[3]) {
-    float mx = 0;
-    for (int i = 0; i < num_lights; i++)
-        for (int c = 0; c < 3; c++)
-            if (lights[i].intensity[c] > mx) mx = lights[i].intensity[c];
-    for (int c = 0; c < 3; c++) {
-        float v = lights[k].intensity[c];
-        out[c] = mx > 0 && v > 0 ? v / mx : 0.0f;
+godray_light godray_project_dir(const float *view_proj, int width, int height,
+                                const float to_light[3], double margin) {
+    godray_light r = {{0.5f, 0.5f}, 0.0f, 0.0f};
+    double c[4];
+    for (int i = 0; i < 4; i++) // w = 0: no translation
+        c[i] = (double)view_proj[i] * to_light[0] + (double)view_proj[4 + i] * to_light[1] +
+               (double)view_proj[8 + i] * to_light[2];
+    r.w = (float)c[3];
+    if (!(c[3] > 1e-12) || !isfinite(c[0]) || !isfinite(c[1])) return r;
+    double u = 0.5 * c[0] / c[3] + 0.5, v = 0.5 * c[1] / c[3] + 0.5;
+    double aspect = height > 0 ? (double)width / height : 1.0;
+    double dx = (u < 0 ? -u : u > 1 ? u - 1 : 0) * aspect, dy = v < 0 ? -v : v > 1 ? v - 1 : 0;
+    double off = sqrt(dx * dx + dy * dy); // +inf when w underflows: fade 0, never NaN
+    double fade = 1.0 - smoothstep(0.0, margin > 1e-6 ? margin : 1e-6, off);
+    if (!(fade > 0)) return r;
+    r.fade = (float)fade;
+    r.uv[0] = (float)u;
+    r.uv[1] = (float)v;
+    return r;
+}
+
+void godray_source_radiance(const st_light_desc *l, double point_radius, double out[3]) {
+    double area;
+    if (l->type == ST_LIGHT_DIRECTIONAL) {
+        double half = 0.5 * st_light_angular_diameter(l);
+        area = 2 * ST_PI * (1 - cos(half));          // the disc's solid angle
+        if (!(area > 0)) area = ST_PI * half * half; // cos rounding at tiny angles
+    } else {
+        area = ST_PI * point_radius * point_radius; // the sphere's projected area
     }
+    for (int c = 0; c < 3; c++)
+        out[c] = area > 0 && l->intensity[c] > 0 ? l->intensity[c] / area : 0.0;
+}
+
+void godray_tint(const st_light_desc *lights, int num_lights, int k, double point_radius,
+                 float out[3]) {
+    double mx = 0, L[3], Lk[3] = {0, 0, 0};
+    for (int i = 0; i < num_lights; i++) {
+        godray_source_radiance(&lights[i], point_radius, L);
+        for (int c = 0; c < 3; c++) {
+            if (L[c] > mx) mx = L[c];
+            if (i == k) Lk[c] = L[c];
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        out[c] = mx > 0 && Lk[c] > 0 ? (float)(Lk[c] / mx) : 0.0f;
 }
 
 bool godray_medium_active(const st_scene *s) {
@@ -46,15 +84,25 @@ bool godray_medium_active(const st_scene *s) {
            (s->medium.sigma_s[0] > 0 || s->medium.sigma_s[1] > 0 || s->medium.sigma_s[2] > 0);
 }
 
-godray_light godray_light_state(const st_frame *f, int k, double margin, float tint[3]) {
-    godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
-    return godray_project(f->view_proj, f->near_z, f->width, f->height,
-                          f->scene->lights[k].position, margin);
+// Where light k lands on the screen and its fade.
+static godray_light light_screen(const st_frame *f, int k, double margin) {
+    const st_light_desc *l = &f->scene->lights[k];
+    if (l->type == ST_LIGHT_DIRECTIONAL) {
+        const float to_light[3] = {-l->direction[0], -l->direction[1], -l->direction[2]};
+        return godray_project_dir(f->view_proj, f->width, f->height, to_light, margin);
+    }
+    return godray_project(f->view_proj, f->near_z, f->width, f->height, l->position, margin);
+}
+
+godray_light godray_light_state(const st_frame *f, int k, double margin, double point_radius,
+                                float tint[3]) {
+    godray_tint(f->scene->lights, f->scene->num_lights, k, point_radius, tint);
+    return light_screen(f, k, margin);
 }
 
 bool godray_light_active(const st_frame *f, int k, double margin) {
     if (!godray_medium_active(f->scene)) return false;
-    float tint[3];
-    godray_light l = godray_light_state(f, k, margin, tint);
-    return l.fade > 0 && (tint[0] > 0 || tint[1] > 0 || tint[2] > 0);
+    const st_light_desc *d = &f->scene->lights[k];
+    if (!(d->intensity[0] > 0 || d->intensity[1] > 0 || d->intensity[2] > 0)) return false;
+    return light_screen(f, k, margin).fade > 0;
 }

@@ -1,6 +1,6 @@
 // Screen-space light handling shared by the image-space god-ray modules
-// (mitchell, sousa) and their tests: where a point light lands on the screen,
-// how strongly its shafts are faded, and the light's tint.
+// (mitchell, sousa) and their tests: where a point light or the sun lands on
+// the screen, how strongly its shafts are faded, and the light's tint.
 //
 // Fade rules (docs/architecture.md: nothing runs that the scene does not need):
 // - behind the camera or at its position (view depth w <= near): 0, and the
@@ -11,6 +11,11 @@
 //   position outside the [0,1]^2 screen in screen heights (aspect-corrected).
 // The product is continuous in the light's position, so shafts never pop, and
 // a fade of exactly 0 lets the module skip its passes.
+// A directional light (the sun) is a point at infinity: its direction is
+// projected with w = 0, so its view depth w is the cosine of its angle to the
+// view axis. Behind the camera or on its plane (w <= 0): 0, no projection;
+// there is no near range at infinity, and as w -> 0+ the projected position
+// runs off to infinity, so the off-screen fade reaches 0 first (continuous).
 #ifndef GODRAY_SCREEN_H
 #define GODRAY_SCREEN_H
 #include "st_module.h"
@@ -25,18 +30,35 @@ typedef struct godray_light {
 godray_light godray_project(const float *view_proj, float near_z, int width, int height,
                             const float p[3], double margin);
 
-// A light's tint: its intensity divided by the largest channel of any light in
-// the scene, so the brightest light is at most 1 per channel (the thesis draws
-// the light object "in the light colour" into an 8-bit target) and weaker
-// lights keep their ratio. Zero when every light is black.
-void godray_tint(const st_light_desc *lights, int num_lights, int k, float out[3]);
+// The sun: to_light the unit direction toward it (minus the light's travel
+// direction). view_proj column-major (GL).
+godray_light godray_project_dir(const float *view_proj, int width, int height,
+                                const float to_light[3], double margin);
+
+// A light's radiance as a screen-space source, W/(m^2 sr) per channel: a point
+// light as a sphere of radius point_radius, I / (pi r^2); the sun as a disc of
+// its angular diameter delta, E / Omega with Omega = 2 pi (1 - cos(delta / 2)).
+void godray_source_radiance(const st_light_desc *l, double point_radius, double out[3]);
+
+// A light's tint: its source radiance divided by the largest channel of any
+// light's in the scene, so the brightest light is at most 1 per channel (the
+// thesis draws the light object "in the light colour" into an 8-bit target)
+// and every other light keeps its physical ratio to it, whatever its type.
+// With point lights alone this is intensity / the largest intensity. Zero
+// when every light is black.
+void godray_tint(const st_light_desc *lights, int num_lights, int k, double point_radius,
+                 float out[3]);
 
 // Shafts need something to scatter: a medium with sigma_s > 0 in some channel.
 bool godray_medium_active(const st_scene *s);
 
 // Light k this frame (margin: the module's fade_margin), and its tint.
-godray_light godray_light_state(const st_frame *f, int k, double margin, float tint[3]);
+godray_light godray_light_state(const st_frame *f, int k, double margin, double point_radius,
+                                float tint[3]);
 // Light k casts shafts this frame: a scattering medium, fade > 0, not black.
 bool godray_light_active(const st_frame *f, int k, double margin);
+
+// The light types both techniques handle (point lights and the sun).
+#define GODRAY_LIGHT_TYPES (ST_LIGHT_BIT(ST_LIGHT_POINT) | ST_LIGHT_BIT(ST_LIGHT_DIRECTIONAL))
 
 #endif

@@ -1,5 +1,5 @@
 // mitchell: volumetric light scattering as a post-process (Mitchell, GPU
-// Gems 3 ch. 13; thesis 3.1 and 3.3.2, listings A.2-A.4). Per point light:
+// Gems 3 ch. 13; thesis 3.1 and 3.3.2, listings A.2-A.4). Per light (point or sun):
 // an occlusion pre-pass (emitters bright, everything else black, at a
 // fraction of the screen resolution, bilinear-filtered) and a radial blur of
 // it toward the light's screen position added to the scene image in the
@@ -49,10 +49,10 @@ static const st_param_def params[P_COUNT] = {
      "taps)"},
     {"light_radius", ST_PARAM_FLOAT, 0.1, 0.001, 100, NULL,
      "radius in metres of the sphere around each point light that emits (drawn as a screen-facing "
-     "disc)"},
+     "disc; a sun is a disc of its angular_diameter)"},
     {"sky", ST_PARAM_FLOAT, 0, 0, 1000, NULL,
-     "radiance scale of the background as an emitter, colour (0.2, 0.3, 0.6) as in the thesis; 0 = "
-     "off"},
+     "the thesis' sky: radiance scale of colour (0.2, 0.3, 0.6) added to the scene's background in "
+     "the occlusion image; 0 = off"},
     {"fade_margin", ST_PARAM_FLOAT, 0.5, 0.01, 10, NULL,
      "distance outside the screen, in screen heights, over which a light's shafts fade to zero"},
 };
@@ -145,18 +145,46 @@ static bool needed(void *self, int pass, const st_frame *f) {
 
 // The light's emitting region: a sphere of light_radius seen as a
 // screen-facing disc of radius r P11 / w (NDC), at the depth of the sphere's
-// front, in the light's tint. Below one texel the disc keeps a radius of one
-// texel and its radiance is scaled by (r_px / 1)^2, so its summed radiance
+// front, in the light's tint; the sun as a disc of its angular diameter at
+// infinity (behind every surface). Below one texel the disc keeps a radius of
+// one texel and its radiance is scaled by (r_px / 1)^2, so its summed radiance
 // pi r^2 L never aliases away.
 typedef struct disc_geom {
     float center[2], extent[2], depth; // NDC
     float center_px[2], radius_px, scale;
 } disc_geom;
 
-static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3], int ow, int oh,
-                          disc_geom *d) {
+// c: clip coordinates of the centre, w = c[3] > 0; r / w: the disc's radius in
+// view-plane units at unit depth; z: its NDC depth.
+static void disc_fill(const float *P, const double c[4], double r, double z, int ow, int oh,
+                      disc_geom *d) {
+    double w = c[3], rx = r * P[0] / w, ry = r * P[5] / w; // NDC radii
+    double r_px = ry * oh / 2, r_draw = r_px > 1 ? r_px : 1;
+    double grow = r_draw / r_px; // >= 1
+    d->center[0] = (float)(c[0] / w), d->center[1] = (float)(c[1] / w);
+    d->extent[0] = (float)(rx * grow + 2.0 / ow), d->extent[1] = (float)(ry * grow + 2.0 / oh);
+    d->depth = (float)(z < 1 - 1e-6 ? z : 1 - 1e-6);
+    d->center_px[0] = (float)((c[0] / w + 1) * 0.5 * ow),
+    d->center_px[1] = (float)((c[1] / w + 1) * 0.5 * oh);
+    d->radius_px = (float)r_draw;
+    d->scale = (float)(1 / (grow * grow));
+}
+
+static bool disc_geometry(const mitchell *m, const st_frame *f, const st_light_desc *l, int ow,
+                          int oh, disc_geom *d) {
     const float *vp = f->view_proj, *P = f->proj;
-    double c[4], r = m->p[P_LIGHT_RADIUS];
+    double c[4];
+    if (l->type == ST_LIGHT_DIRECTIONAL) { // w = 0: a point at infinity toward the sun
+        for (int i = 0; i < 4; i++)
+            c[i] = -((double)vp[i] * l->direction[0] + (double)vp[4 + i] * l->direction[1] +
+                     (double)vp[8 + i] * l->direction[2]);
+        if (!(c[3] > 1e-6)) return false; // behind: the blur is not needed anyway
+        // The disc's angular radius seen at unit distance; at depth 1 - 1e-6.
+        disc_fill(P, c, sin(0.5 * st_light_angular_diameter(l)), 1, ow, oh, d);
+        return true;
+    }
+    const float *lp = l->position;
+    double r = m->p[P_LIGHT_RADIUS];
     for (int i = 0; i < 4; i++)
         c[i] = (double)vp[i] * lp[0] + (double)vp[4 + i] * lp[1] + (double)vp[8 + i] * lp[2] +
                vp[12 + i];
@@ -166,28 +194,22 @@ static bool disc_geometry(const mitchell *m, const st_frame *f, const float lp[3
         *d = (disc_geom){{0, 0}, {2, 2}, -1 + 1e-6f, {0, 0}, 1e7f, 1};
         return true;
     }
-    if (!(w > near_)) return false;              // behind: the blur is not needed anyway
-    double rx = r * P[0] / w, ry = r * P[5] / w; // NDC radii
-    double r_px = ry * oh / 2, r_draw = r_px > 1 ? r_px : 1;
-    double grow = r_draw / r_px; // >= 1
-    double wf = w * (D - r) / D; // view depth of the sphere's front
+    if (!(w > near_)) return false; // behind: the blur is not needed anyway
+    double wf = w * (D - r) / D;    // view depth of the sphere's front
     if (wf < near_ * 1.0001) wf = near_ * 1.0001;
-    double z = (-(double)P[10] * wf + P[14]) / wf;
-    d->center[0] = (float)(c[0] / w), d->center[1] = (float)(c[1] / w);
-    d->extent[0] = (float)(rx * grow + 2.0 / ow), d->extent[1] = (float)(ry * grow + 2.0 / oh);
-    d->depth = (float)(z < 1 - 1e-6 ? z : 1 - 1e-6);
-    d->center_px[0] = (float)((c[0] / w + 1) * 0.5 * ow),
-    d->center_px[1] = (float)((c[1] / w + 1) * 0.5 * oh);
-    d->radius_px = (float)r_draw;
-    d->scale = (float)(1 / (grow * grow));
+    disc_fill(P, c, r, (-(double)P[10] * wf + P[14]) / wf, ow, oh, d);
     return true;
 }
 
 static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
     const st_target *t = st_world_target(m->w, m->occ_name[k]); // bound by the world
     if (!t) return st_fail(err, ST_ERR_RUNTIME, "no target %s", m->occ_name[k]);
+    // The sky: the scene's background radiance, plus the thesis' sky colour
+    // when the `sky` parameter asks for it.
     float sky = (float)m->p[P_SKY];
-    const float clear[4] = {sky * SKY_COLOR[0], sky * SKY_COLOR[1], sky * SKY_COLOR[2], 1};
+    const float *bg = f->scene->background;
+    const float clear[4] = {bg[0] + sky * SKY_COLOR[0], bg[1] + sky * SKY_COLOR[1],
+                            bg[2] + sky * SKY_COLOR[2], 1};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
     glEnable(GL_DEPTH_TEST);
@@ -196,9 +218,9 @@ static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
     st_world_apply_uniforms(m->w, m->occ_sh, f);
     st_world_draw(m->w, m->occ_sh);
     disc_geom d;
-    if (disc_geometry(m, f, f->scene->lights[k].position, t->width, t->height, &d)) {
+    if (disc_geometry(m, f, &f->scene->lights[k], t->width, t->height, &d)) {
         float tint[3];
-        godray_tint(f->scene->lights, f->scene->num_lights, k, tint);
+        godray_tint(f->scene->lights, f->scene->num_lights, k, m->p[P_LIGHT_RADIUS], tint);
         for (int c = 0; c < 3; c++)
             tint[c] *= d.scale;
         st_shader *sh = m->disc_sh;
@@ -223,7 +245,7 @@ static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
 
 static bool blur_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
     float tint[3];
-    godray_light l = godray_light_state(f, k, m->p[P_FADE_MARGIN], tint);
+    godray_light l = godray_light_state(f, k, m->p[P_FADE_MARGIN], m->p[P_LIGHT_RADIUS], tint);
     st_shader *sh = m->blur_sh; // bound by the world, builtin uniforms set
     const st_target *occ = st_world_target(m->w, m->occ_name[k]);
     if (!occ) return st_fail(err, ST_ERR_RUNTIME, "no target %s", m->occ_name[k]);
@@ -261,4 +283,4 @@ ST_PLUGIN(.name = "mitchell",
                          "radial blur of an occlusion image toward each light",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
           .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
-          .param_changed = param_changed, .reload = reload)
+          .param_changed = param_changed, .reload = reload, .light_types = GODRAY_LIGHT_TYPES)

@@ -1,6 +1,6 @@
 // sousa: sun shafts (Sousa, CryEngine 2, GDC 2008; thesis 3.1 and 3.3.3,
 // listings A.5-A.7). A linear camera-depth mask (far = emitting), then per
-// point light three radial-blur passes toward the light's screen position
+// light (point or sun) three radial-blur passes toward its screen position
 // with step sizes TAPS^-1, TAPS^-2, TAPS^-3 (interleaved sampling), the last
 // one adding the result to the scene image. Several lights add up (thesis 3.1).
 //
@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_TAPS, P_BRIGHTNESS, P_RESOLUTION, P_FADE_MARGIN, P_COUNT };
+enum { P_TAPS, P_BRIGHTNESS, P_RESOLUTION, P_FADE_MARGIN, P_LIGHT_RADIUS, P_COUNT };
 
 // Defaults: thesis figure 3.8 (TAPS 6, brightness 0.19); brightness range
 // [0, 1] from 3.3.3; the thesis' depth map has the window's size.
@@ -28,6 +28,9 @@ static const st_param_def params[P_COUNT] = {
      "mask and blur targets as a fraction of the screen, per axis (bilinear filtering)"},
     {"fade_margin", ST_PARAM_FLOAT, 0.5, 0.01, 10, NULL,
      "distance outside the screen, in screen heights, over which a light's shafts fade to zero"},
+    {"light_radius", ST_PARAM_FLOAT, 0.1, 0.001, 100, NULL,
+     "radius in metres a point light is taken to have when its radiance is compared with a sun's "
+     "(the tint of scenes with both)"},
 };
 
 enum { BLUR1, BLUR2, BLUR3, NUM_BLUR };
@@ -119,6 +122,8 @@ static bool needed(void *self, int pass, const st_frame *f) {
     if (pass == 0) return f->changes & view;
     int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
     if (!(s->p[P_BRIGHTNESS] > 0) || !godray_light_active(f, k, s->p[P_FADE_MARGIN])) return false;
+    const float *bg = f->scene->background; // a black sky emits nothing
+    if (f->scene->has_background && !(bg[0] > 0 || bg[1] > 0 || bg[2] > 0)) return false;
     if (b == BLUR3) return true; // composes onto this frame's image
     return f->changes & (view | ST_CHANGE_LIGHTS | ST_CHANGE_MEDIUM | ST_CHANGE_INPUTS);
 }
@@ -134,7 +139,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     }
     int k = (pass - 1) / NUM_BLUR, b = (pass - 1) % NUM_BLUR;
     float tint[3];
-    godray_light l = godray_light_state(f, k, s->p[P_FADE_MARGIN], tint);
+    godray_light l = godray_light_state(f, k, s->p[P_FADE_MARGIN], s->p[P_LIGHT_RADIUS], tint);
     st_shader *sh = b == BLUR3 ? s->compose_sh : s->blur_sh; // bound by the world
     const st_target *src = b == BLUR1 ? mask : st_world_target(s->w, s->names[k][b - 1]);
     if (!src) return st_fail(err, ST_ERR_RUNTIME, "no target %s", s->names[k][b - 1]);
@@ -142,6 +147,10 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_vec2(sh, "u_out_size", (float)src->width, (float)src->height); // all one size
     } else {
         st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
+        // The mask's far value 1 is the sky; a scene background gives it its radiance.
+        if (f->scene->has_background)
+            for (int c = 0; c < 3; c++)
+                tint[c] *= f->scene->background[c];
         st_shader_set_vec3(sh, "u_color", tint);
         st_shader_set_float(sh, "u_fade", l.fade);
     }
@@ -172,4 +181,4 @@ ST_PLUGIN(.name = "sousa",
                          "light in 3 passes with steps TAPS^-1, TAPS^-2, TAPS^-3",
           ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
           .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
-          .param_changed = param_changed, .reload = reload)
+          .param_changed = param_changed, .reload = reload, .light_types = GODRAY_LIGHT_TYPES)

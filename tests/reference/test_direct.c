@@ -332,11 +332,64 @@ static void sun_and_spot(void) {
     }
 }
 
+// The scene's background: a camera ray that hits nothing sees its radiance
+// at the far plane, dimmed like a surface there, e^(-sigma_t far / cos); it
+// lights nothing (the plane below stays black without lights).
+static void background(void) {
+    const double cam[3] = {0, 1, 3}, tgt[3] = {0, 0.6, 0}, up[3] = {0, 1, 0}, far_z = 20;
+    const double sigma_a = 0.05, B[3] = {0.2, 0.3, 0.6};
+    const int W = 24, H = 16;
+    st_scene s;
+    scene_init(&s, W, H, cam, tgt, up, 50, far_z);
+    add_quad(&s, (double[]){-5, 0, -5}, (double[]){0, 0, 10}, (double[]){10, 0, 0}, 0.5, 0);
+    for (int c = 0; c < 3; c++)
+        s.background[c] = (float)B[c];
+    s.has_background = true;
+    set_medium(&s, 0.0, sigma_a, ST_PHASE_ISOTROPIC, 0);
+    st_ref_options o = {.spp = 1, .aov = ST_REF_COMBINED};
+    st_image img;
+    if (render(&s, &o, &img)) {
+        double worst_sky = 0, worst_plane = 0;
+        int n_sky = 0, n_plane = 0;
+        double ax[3] = {tgt[0] - cam[0], tgt[1] - cam[1], tgt[2] - cam[2]};
+        double al = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+        for (int j = 0; j < H; j++)
+            for (int i = 0; i < W; i++) {
+                double d[3];
+                contract_ray(&s, i, j, d);
+                double cos_axis = (d[0] * ax[0] + d[1] * ax[1] + d[2] * ax[2]) / al;
+                double t_far = far_z / cos_axis, y_far = cam[1] + t_far * d[1];
+                const float *px = st_image_px(&img, i, j);
+                if (d[1] > 1e-3 || y_far > 0.05) { // misses the plane within far
+                    double T = exp(-sigma_a * t_far);
+                    for (int c = 0; c < 3; c++)
+                        worst_sky = fmax(worst_sky, fabs(px[c] - B[c] * T) / (B[c] * T));
+                    n_sky++;
+                } else if (fabs(cam[0] - cam[1] / d[1] * d[0]) < 4.9 &&
+                           fabs(cam[2] - cam[1] / d[1] * d[2]) < 4.9) { // on the quad
+                    for (int c = 0; c < 3; c++)
+                        worst_plane = fmax(worst_plane, fabs(px[c]));
+                    n_plane++;
+                }
+            }
+        printf(
+            "  background: %d sky pixels, worst relative error %.2e; %d plane pixels, max %.2e\n",
+            n_sky, worst_sky, n_plane, worst_plane);
+        CHECK(n_sky > 50 && n_plane > 50, "background: %d sky, %d plane pixels", n_sky, n_plane);
+        CHECK(worst_sky < 1e-5, "background seen through the medium: worst relative error %g",
+              worst_sky);
+        CHECK(worst_plane == 0, "the background lights nothing: %g", worst_plane);
+        st_image_free(&img);
+    }
+    st_scene_free(&s);
+}
+
 int main(void) {
     plane_under_light();
     plane_in_medium();
     sun_and_spot();
     sides();
     combined_equals_direct();
+    background();
     return st_test_summary("reference_direct");
 }

@@ -53,10 +53,13 @@ int main(void) {
         " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
         "\"fov_y\": 50},"
         " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.5, 0], \"intensity\": [1, 1, 1]},"
-        " {\"type\": \"directional\", \"direction\": [0, -1, 0], \"irradiance\": [1, 1, 1]}],"
+        " {\"type\": \"spot\", \"position\": [0, 1.5, 0], \"direction\": [0, -1, 0], "
+        "\"intensity\": [1, 1, 1]}],"
         " \"medium\": {\"sigma_s\": [0.1, 0.1, 0.1]}, \"modules\": [{\"name\": \"sousa\"}]}");
     expect_refused("light type", json, NULL, NULL,
-                   "lights[1]: module 'sousa' does not support directional lights", 2);
+                   "lights[1]: module 'sousa' does not support spot lights (it supports: point, "
+                   "directional)",
+                   2);
     snprintf(
         json, sizeof json,
         "{\"image\": {\"width\": 16, \"height\": 16},"

@@ -1,6 +1,7 @@
 // Scene JSON v1: a valid scene parses to exact values, defaults apply, and
 // every kind of bad input fails with ST_ERR_INPUT naming file and key path.
 #include "st_test.h"
+#include "st_physics.h"
 #include "st_scene.h"
 
 #define FILE_NAME "scenes/x.json"
@@ -147,6 +148,24 @@ static void test_defaults(void) {
     CHECK(s.medium.phase == ST_PHASE_HG && s.medium.g == -0.999f, "g clamped to -0.999: %g",
           s.medium.g);
     CHECK(s.medium.sigma_a[0] == 0, "default sigma_a");
+    CHECK(!s.has_background && s.background[0] == 0 && s.background[2] == 0, "no background");
+    st_scene_free(&s);
+    // The sun's disc: 0.53 degrees unless given; a background radiance.
+    CHECK(parse("{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"fov_y\": 30},"
+                " \"background\": [0.2, 0.3, 0.6], \"lights\": ["
+                "{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": [1,1,1]},"
+                "{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": [1,1,1],"
+                " \"angular_diameter\": 2}]}",
+                &s, &e),
+          "sun and background: %s", e.msg);
+    CHECK(s.has_background && s.background[0] == 0.2f && s.background[1] == 0.3f &&
+              s.background[2] == 0.6f,
+          "background (%g, %g, %g)", s.background[0], s.background[1], s.background[2]);
+    CHECK(s.num_lights == 2 &&
+              fabs(st_light_angular_diameter(&s.lights[0]) - 0.53 * ST_PI / 180) < 1e-7,
+          "default angular diameter %g rad", st_light_angular_diameter(&s.lights[0]));
+    CHECK(s.num_lights == 2 && fabs(s.lights[1].angular_diameter - 2 * ST_PI / 180) < 1e-7,
+          "angular diameter 2 degrees: %g rad", s.lights[1].angular_diameter);
     st_scene_free(&s);
     CHECK(parse("{\"camera\": {\"position\": [0,0,5], \"target\": [0,0,0], \"fov_y\": 30},"
                 " \"medium\": {\"sigma_s\": [1,1,1], \"phase\": \"rayleigh\"}}",
@@ -229,6 +248,19 @@ static const struct bad {
     {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": "
      "[1,-1,1]}]}",
      "lights[0].irradiance: element 1 is -1"},
+    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": "
+     "[1,1,1], \"angular_diameter\": 0}]}",
+     "lights[0].angular_diameter: 0 is out of range (0, 30] degrees"},
+    {"{" CAM ", \"lights\": [{\"type\": \"directional\", \"direction\": [0,-1,0], \"irradiance\": "
+     "[1,1,1], \"angular_diameter\": 31}]}",
+     "lights[0].angular_diameter: 31 is out of range (0, 30] degrees"},
+    {"{" CAM ", \"lights\": [{\"type\": \"point\", \"position\": [0,1,0], \"intensity\": [1,1,1], "
+     "\"angular_diameter\": 1}]}",
+     "lights[0].angular_diameter: unknown key"},
+    {"{" CAM ", \"background\": [0.2, -0.3, 0.6]}", "background: element 1 is -0.3"},
+    {"{" CAM ", \"background\": [0.2, 0.3]}", "background: expected an array of 3 numbers"},
+    {"{" CAM ", \"background\": 1}", "background: expected an array of 3 numbers"},
+    {"{" CAM ", \"background\": [0, 0, 1e39]}", "background"},
     {"{" CAM ", \"lights\": [{\"type\": \"spot\", \"position\": [0,1,0], \"direction\": [0,-1,0], "
      "\"intensity\": [1,1,1], \"outer_angle\": 91}]}",
      "lights[0].outer_angle: 91 is out of range (0, 90]"},

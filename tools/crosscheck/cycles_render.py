@@ -17,6 +17,11 @@
 #    +90 degrees about x ((x, y, z) -> (x, -z, y)), the same rotation Blender's
 #    glTF importer applies, so imported glTF files land in the same frame;
 #  - point light of I W/sr: Cycles point light of power 4 pi I W, radius 0;
+#  - directional light of irradiance E W/m^2: Cycles sun of strength E,
+#    angle 0, shining along the direction (refused with a medium);
+#  - spot light: a point light of 4 pi I W whose emission strength is glTF's
+#    falloff computed by nodes (Cycles' own spot adds a cos factor and a
+#    smoothstep, README.md);
 #  - surfaces: Diffuse BSDF (Lambert) with the albedo, plus Emission of
 #    strength 1 (Cycles: outgoing radiance = colour x strength), on the front
 #    side only: a Mix Shader on Geometry.Backfacing selects a black Diffuse
@@ -263,6 +268,32 @@ def import_gltf(path, entry, bounces, index):
                 slot.material = material("gltf%d" % index, albedo, emission, ds, bounces)
 
 
+def gltf_spot_nodes(ld, inner, outer):
+    # Emission strength = clamp((c - cos outer) / max(0.001, cos inner - cos
+    # outer), 0, 1)^2, c = cos of the angle between the light's local -z and
+    # the direction to the shaded point (Texture Coordinate Normal, the light's
+    # object space, as for IES profiles).
+    ld.use_nodes = True
+    nt = ld.node_tree
+    em = next(n for n in nt.nodes if n.type == "EMISSION")
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(tc.outputs["Normal"], sep.inputs[0])
+    co, ci = math.cos(outer), math.cos(inner)
+    lin = nt.nodes.new("ShaderNodeMath")  # (-z - co) / (ci - co) = -z k - co k
+    lin.operation = "MULTIPLY_ADD"
+    lin.use_clamp = True
+    k = 1.0 / max(0.001, ci - co)
+    nt.links.new(sep.outputs["Z"], lin.inputs[0])
+    lin.inputs[1].default_value = -k
+    lin.inputs[2].default_value = -co * k
+    sq = nt.nodes.new("ShaderNodeMath")
+    sq.operation = "MULTIPLY"
+    nt.links.new(lin.outputs[0], sq.inputs[0])
+    nt.links.new(lin.outputs[0], sq.inputs[1])
+    nt.links.new(sq.outputs[0], em.inputs["Strength"])
+
+
 def build_scene(path, opt):
     with open(path) as f:
         sc = json.load(f)
@@ -341,17 +372,37 @@ def build_scene(path, opt):
 
     # lights
     for i, l in enumerate(sc.get("lights", [])):
-        if l.get("type", "point") != "point":
-            fail("lights[%d].type: only point lights" % i)
-        inten = vec3(l, "intensity")
+        kind = l.get("type", "point")
+        if kind not in ("point", "directional", "spot"):
+            fail("lights[%d].type: %s is not point, directional or spot" % (i, kind))
+        if kind == "directional" and "medium" in sc:
+            # strahl's sun enters the medium at the plane touching the scene's
+            # bounds (docs/physics.md); a world volume would absorb it completely.
+            fail("lights[%d]: a directional light in a medium is not mapped" % i)
+        inten = vec3(l, "irradiance" if kind == "directional" else "intensity")
         m = max(inten)
-        ld = bpy.data.lights.new("light%d" % i, "POINT")
-        ld.shadow_soft_size = 0.0
-        ld.energy = 4.0 * math.pi * m
+        # A spot is a point light whose emission node applies glTF's falloff:
+        # Cycles' own spot multiplies by cos(angle to the axis) and ramps by a
+        # smoothstep (README.md, spot lights).
+        ld = bpy.data.lights.new("light%d" % i, "SUN" if kind == "directional" else "POINT")
+        if kind == "directional":
+            ld.energy = m  # Cycles' sun strength is irradiance in W/m^2
+            ld.angle = 0.0
+        else:
+            ld.shadow_soft_size = 0.0
+            ld.energy = 4.0 * math.pi * m  # a spot's power is that of the point light it cuts
+        if kind == "spot":
+            gltf_spot_nodes(ld, math.radians(float(l.get("inner_angle", 0))),
+                            math.radians(float(l.get("outer_angle", 45))))
         ld.color = [x / m for x in inten] if m > 0 else [1, 1, 1]
         ld.cycles.max_bounces = 1024
         lo = bpy.data.objects.new("light%d" % i, ld)
-        lo.location = to_blender(vec3(l, "position"))
+        if kind != "directional":
+            lo.location = to_blender(vec3(l, "position"))
+        if kind != "point":  # Blender's lights shine along their local -z
+            from mathutils import Vector
+            d = Vector(to_blender(vec3(l, "direction"))).normalized()
+            lo.rotation_euler = d.to_track_quat("-Z", "Y").to_euler()
         scene.collection.objects.link(lo)
 
     # geometry

@@ -76,6 +76,10 @@ static void render_pixel(const ref_job *job, int i, int j) {
         (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
     double direct[3] = {0, 0, 0}, T[3] = {1, 1, 1};
     if (want_direct) st_ref_direct(g, &x, direct);
+    // A ray that hits nothing sees the background at the far plane (dimmed by T below).
+    if (want_direct && !x.hit)
+        for (int c = 0; c < 3; c++)
+            direct[c] = sc->background[c];
     if (sc->medium.present)
         for (int c = 0; c < 3; c++)
             T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * s);
