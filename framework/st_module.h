@@ -61,7 +61,7 @@ extern "C" {
 #endif
 
 #define ST_ABI_MAJOR 1
-#define ST_ABI_MINOR 1
+#define ST_ABI_MINOR 2
 #define ST_PLUGIN_SYMBOL "strahl_plugin"
 #define ST_MAX_PARAMS 32
 #define ST_MAX_LIGHTS 8
@@ -107,13 +107,7 @@ typedef struct st_pass_info {
     unsigned flags;
 } st_pass_info;
 
-// A target the world owns for a module (st_world_declare_target).
-typedef struct st_target_desc {
-    GLenum format;    // colour format of one colour texture (GL_RGBA32F, GL_R32F, ...)
-    double scale;     // size as a fraction of the screen per axis (0: 1); at least 1 x 1
-    bool depth;       // with a depth texture (for depth-tested scene passes)
-    bool border_zero; // taps outside the image read 0 (else the edge is clamped)
-} st_target_desc;
+// st_target_desc (what a target looks like): st_gpu.h.
 
 // What changed since a pass last ran (accumulated while it was skipped or culled).
 enum {
