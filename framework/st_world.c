@@ -899,6 +899,10 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
     bool ok = w->models && st_model_type_build(&w->type, "lit", scene->meshes, scene->num_meshes,
                                                NULL, w->models, err);
     if (!w->models) st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    if (ok) { // named as in st_world_memory
+        glObjectLabel(GL_BUFFER, w->type.vbo.id, -1, "world.vertices");
+        glObjectLabel(GL_BUFFER, w->type.ibo.id, -1, "world.indices");
+    }
     ok = ok && create_targets(w, err);
     for (int i = 0; ok && i < scene->num_modules; i++)
         ok = load(w, scene->modules[i].name, err);
