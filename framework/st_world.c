@@ -427,6 +427,11 @@ const st_target *st_world_get_target(st_world *w, const char *name, st_err *err)
     return &w->targets.t[i].t;
 }
 
+const st_target *st_world_alloc_target(st_world *w, const char *name, const st_target_desc *d,
+                                       st_err *err) {
+    return st_world_declare_target(w, name, d, err) ? st_world_get_target(w, name, err) : NULL;
+}
+
 const st_target *st_world_target(st_world *w, const char *name) {
     st_err ignore = {0};
     return st_world_get_target(w, name, &ignore);

@@ -154,6 +154,10 @@ bool st_world_declare_target(st_world *w, const char *name, const st_target_desc
 // fixed-size targets keep their GL names until re-declared differently.
 const st_target *st_world_target(st_world *w, const char *name);
 const st_target *st_world_get_target(st_world *w, const char *name, st_err *err);
+// Declares and returns the target allocated, in one call: for fixed-size
+// textures a module fills itself (atlases, lookup tables).
+const st_target *st_world_alloc_target(st_world *w, const char *name, const st_target_desc *d,
+                                       st_err *err);
 
 // GL objects a module creates itself (identifier GL_BUFFER, or GL_TEXTURE
 // for a buffer texture, which holds no memory of its own; other textures

@@ -281,9 +281,7 @@ static bool build_atlas(agi *g, st_err *err) {
         st_target_desc d = {tex_format[i], .width = W, .height = H,
                             .levels = i == T_STATS ? g->stats_top + 1 : 1,
                             .filter = linear ? GL_LINEAR : GL_NEAREST};
-        const st_target *t = st_world_declare_target(g->w, tex_name[i], &d, err)
-                                 ? st_world_get_target(g->w, tex_name[i], err)
-                                 : NULL;
+        const st_target *t = st_world_alloc_target(g->w, tex_name[i], &d, err);
         if (!t) return false;
         g->tex[i] = t->color[0];
     }
@@ -349,7 +347,7 @@ static bool build_atlas(agi *g, st_err *err) {
     glTextureBuffer(g->base_tex, GL_RG32I, g->base_buf);
     const GLuint objs[7] = {g->pts_vbo, g->type.vbo.id, g->type.ibo.id, g->tri_buf,
                             g->tri_tex, g->base_buf,    g->base_tex};
-    for (int i = 0; i < 7; i++)
+    for (int i = 0; i < 7; i++) // 4 and 6: buffer textures over 3 and 5
         if (!st_world_track(g->w, atlas_buffers[i], i == 4 || i == 6 ? GL_TEXTURE : GL_BUFFER,
                             objs[i], err))
             return false;
@@ -481,9 +479,7 @@ static bool ensure_transfer(agi *g, st_err *err) {
     for (int i = 0; i < 6; i++)
         if (!st_world_track(g->w, transfer_buffers[i], GL_BUFFER, g->tr_buf[i], err)) return false;
     const st_target_desc leaf = {GL_R32I, .width = g->W, .height = g->H, .filter = GL_NEAREST};
-    const st_target *lt = st_world_declare_target(g->w, "atlas_gi.leaf", &leaf, err)
-                              ? st_world_get_target(g->w, "atlas_gi.leaf", err)
-                              : NULL;
+    const st_target *lt = st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err);
     if (!lt) return false;
     g->leaf_tex = lt->color[0];
     glTextureSubImage2D(g->leaf_tex, 0, 0, 0, g->W, g->H, GL_RED_INTEGER, GL_INT, T->texel_leaf);
@@ -500,9 +496,7 @@ static void ensure_hammersley(agi *g) {
     g->ham = v;
     const st_target_desc d = {GL_RG32F, .type = GL_TEXTURE_1D, .width = n, .filter = GL_NEAREST};
     st_err ignore = {0};
-    const st_target *t = st_world_declare_target(g->w, "atlas_gi.hammersley", &d, &ignore)
-                             ? st_world_target(g->w, "atlas_gi.hammersley")
-                             : NULL;
+    const st_target *t = st_world_alloc_target(g->w, "atlas_gi.hammersley", &d, &ignore);
     if (!t) return;
     g->ham_tex = t->color[0];
     st_hammersley_upload(g->ham_tex, n, v);
@@ -575,9 +569,7 @@ static bool upload_picks(agi *g, const float *rot, st_err *err) {
         g->picks = p;
         const st_target_desc d = {GL_RGBA32F, .type = GL_TEXTURE_1D, .width = n,
                                   .filter = GL_NEAREST};
-        const st_target *t = st_world_declare_target(g->w, "atlas_gi.picks", &d, err)
-                                 ? st_world_get_target(g->w, "atlas_gi.picks", err)
-                                 : NULL;
+        const st_target *t = st_world_alloc_target(g->w, "atlas_gi.picks", &d, err);
         if (!t) return false;
         g->pick_tex = t->color[0];
         g->pick_cap = n;

@@ -69,9 +69,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     int n = (int)s->p[P_SAMPLES];
     // The sample set of atlas_gi, over the image: a 1D lookup the world owns.
     const st_target_desc d = {GL_RG32F, .type = GL_TEXTURE_1D, .width = n, .filter = GL_NEAREST};
-    const st_target *ham = st_world_declare_target(s->w, "ssgi.hammersley", &d, err)
-                               ? st_world_get_target(s->w, "ssgi.hammersley", err)
-                               : NULL;
+    const st_target *ham = st_world_alloc_target(s->w, "ssgi.hammersley", &d, err);
     if (!ham) return false;
     if (s->ham_n != n && !st_hammersley_upload(ham->color[0], n, NULL))
         return st_fail(err, ST_ERR_RUNTIME, "out of memory");
