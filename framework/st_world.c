@@ -520,8 +520,10 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         st_target_bind(&w->cam.post[w->cam.post_out]);
     } else {
         // The world-owned target this pass writes, if any.
-        for (int i = 0; i < w->targets.n; i++) {
-            if (!list_has(s->info.writes, w->targets.t[i].name)) continue;
+        for (int i = 0; i < w->targets.n; i++) { // (1D lookup tables are not drawn into)
+            if (w->targets.t[i].desc.type == GL_TEXTURE_1D ||
+                !list_has(s->info.writes, w->targets.t[i].name))
+                continue;
             if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return false;
             st_target_bind(&w->targets.t[i].t);
             break;
