@@ -44,7 +44,8 @@
 //                                                         and every parameter change)
 //   per frame, per pass in frame order: needed(k, f)     (all passes first)
 //   per live, needed pass: the world binds rendertarget(k) (or the next post
-//     target for a post pass writing "hdr"); shader(k) is bound with every
+//     target for a post pass writing "hdr", or else the world-owned target
+//     the pass writes, allocated at its size); shader(k) is bound with every
 //     uniform set; on_pass(k, f); the world draws (ST_PASS_SCENE: every model,
 //     ST_PASS_FULLSCREEN: one triangle); after_pass(k, f)
 //   st_world_set_param: the value lands in params[], then param_changed(i)
@@ -61,7 +62,7 @@ extern "C" {
 #endif
 
 #define ST_ABI_MAJOR 1
-#define ST_ABI_MINOR 1
+#define ST_ABI_MINOR 2
 #define ST_PLUGIN_SYMBOL "strahl_plugin"
 #define ST_MAX_PARAMS 32
 #define ST_MAX_LIGHTS 8
@@ -107,13 +108,7 @@ typedef struct st_pass_info {
     unsigned flags;
 } st_pass_info;
 
-// A target the world owns for a module (st_world_declare_target).
-typedef struct st_target_desc {
-    GLenum format;    // colour format of one colour texture (GL_RGBA32F, GL_R32F, ...)
-    double scale;     // size as a fraction of the screen per axis (0: 1); at least 1 x 1
-    bool depth;       // with a depth texture (for depth-tested scene passes)
-    bool border_zero; // taps outside the image read 0 (else the edge is clamped)
-} st_target_desc;
+// st_target_desc (what a target looks like): st_gpu.h.
 
 // What changed since a pass last ran (accumulated while it was skipped or culled).
 enum {
@@ -217,6 +212,16 @@ typedef const st_plugin *(*st_plugin_fn)(void);
 //   destroy; the world copies st_pass_info when it rebuilds the pass list
 //   (after create, after a switch, after every set_param) and keeps the
 //   strings it points to until the next rebuild.
+// - Targets (st_world_declare_target, st_world.h): a plugin creates no
+//   textures; it declares each by name (format, size or screen scale or
+//   divisor, type and layers, mip levels, filter, wrap, depth: st_target_desc
+//   in st_gpu.h) from create or param_changed, and the world allocates,
+//   resizes, binds, accounts and frees it. The st_target* that
+//   st_world_target returns and its GL names are valid until the next frame,
+//   resize or re-declaration of that name; fixed-size targets keep their GL
+//   names until re-declared with another description. Buffers the plugin
+//   creates itself are its own, tracked by name (st_world_track) from
+//   creation until st_world_untrack or until the module is switched off.
 // - The st_plugin descriptor and the parameter table: static in the plugin;
 //   the loader copies the descriptor, not the tables, so they live as long as
 //   the .so (until after cleanup).

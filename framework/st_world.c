@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "st_world.h"
 #include "st_physics.h"
+#include "st_targets.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdio.h>
@@ -14,7 +15,6 @@
 #define MAX_MODULES 16
 #define MAX_SLOTS 128
 #define MAX_RESOURCES 128 // distinct resource names in one pass list
-#define MAX_TARGETS 64    // world-owned targets
 
 // A set of resources, by id (index into st_world.res).
 typedef struct st_resset {
@@ -73,12 +73,7 @@ struct st_world {
     char regular_reads[512];              // what the regular pass consumes
     char res[MAX_RESOURCES][ST_NAME_MAX]; // resource names, interned per pass list; 0 is "hdr"
     int num_res;
-    struct {
-        char name[ST_NAME_MAX];
-        st_target_desc desc;
-        st_target t;
-    } targets[MAX_TARGETS]; // declared by modules (st_world_declare_target)
-    int num_targets;
+    st_targets targets; // declared and tracked by modules (st_world_declare_target)
 };
 
 // ---- builtin uniforms (thesis: Camera and Light are uniform providers) ----
@@ -419,66 +414,98 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
 
 // ---- world-owned targets ------------------------------------------------------
 
-static int find_target(const st_world *w, const char *name) {
-    for (int i = 0; i < w->num_targets; i++)
-        if (!strcmp(w->targets[i].name, name)) return i;
-    return -1;
-}
-
-// Allocates target i at its size for the current screen (no-op if it has it).
-static bool ensure_target(st_world *w, int i, st_err *err) {
-    const st_target_desc *d = &w->targets[i].desc;
-    st_target *t = &w->targets[i].t;
-    double scale = d->scale > 0 ? d->scale : 1;
-    int tw = (int)lround(w->cam.width * scale), th = (int)lround(w->cam.height * scale);
-    tw = tw < 1 ? 1 : tw;
-    th = th < 1 ? 1 : th;
-    if (t->fbo && t->width == tw && t->height == th) return true;
-    st_target_destroy(t);
-    if (!st_target_create(t, tw, th, 1, d->format, d->depth, err)) return false;
-    GLenum wrap = d->border_zero ? GL_CLAMP_TO_BORDER : GL_CLAMP_TO_EDGE;
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_S, wrap);
-    glTextureParameteri(t->color[0], GL_TEXTURE_WRAP_T, wrap);
-    glTextureParameterfv(t->color[0], GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
-    glObjectLabel(GL_TEXTURE, t->color[0], -1, w->targets[i].name);
-    glObjectLabel(GL_FRAMEBUFFER, t->fbo, -1, w->targets[i].name);
-    return st_gl_check(w->targets[i].name, err);
-}
-
 bool st_world_declare_target(st_world *w, const char *name, const st_target_desc *d, st_err *err) {
-    if (strlen(name) >= ST_NAME_MAX || !strchr(name, '.'))
-        return st_fail(err, ST_ERR_RUNTIME, "target '%s': not a \"<module>.<name>\" name", name);
-    int i = find_target(w, name);
+    return st_targets_declare(&w->targets, name, d, err);
+}
+
+const st_target *st_world_get_target(st_world *w, const char *name, st_err *err) {
+    int i = st_targets_find(&w->targets, name);
     if (i < 0) {
-        if (w->num_targets == MAX_TARGETS)
-            return st_fail(err, ST_ERR_RUNTIME, "too many targets (max %d)", MAX_TARGETS);
-        i = w->num_targets++;
-        memset(&w->targets[i], 0, sizeof w->targets[i]);
-        snprintf(w->targets[i].name, ST_NAME_MAX, "%s", name);
+        st_fail(err, ST_ERR_RUNTIME, "target '%s' was not declared", name);
+        return NULL;
     }
-    st_target_desc old = w->targets[i].desc;
-    w->targets[i].desc = *d;
-    if (old.format != d->format || old.scale != d->scale || old.depth != d->depth ||
-        old.border_zero != d->border_zero)
-        st_target_destroy(&w->targets[i].t); // re-created at the next use
-    return true;
+    if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return NULL;
+    return &w->targets.t[i].t;
+}
+
+const st_target *st_world_alloc_target(st_world *w, const char *name, const st_target_desc *d,
+                                       st_err *err) {
+    return st_world_declare_target(w, name, d, err) ? st_world_get_target(w, name, err) : NULL;
 }
 
 const st_target *st_world_target(st_world *w, const char *name) {
-    int i = find_target(w, name);
     st_err ignore = {0};
-    return i >= 0 && ensure_target(w, i, &ignore) ? &w->targets[i].t : NULL;
+    return st_world_get_target(w, name, &ignore);
 }
 
-// Frees the targets of module `module` ("<module>.*").
-static void free_targets(st_world *w, const char *module) {
-    size_t l = module ? strlen(module) : 0; // NULL: all
-    for (int i = w->num_targets - 1; i >= 0; i--) {
-        if (module && (strncmp(w->targets[i].name, module, l) || w->targets[i].name[l] != '.'))
-            continue;
-        st_target_destroy(&w->targets[i].t);
-        w->targets[i] = w->targets[--w->num_targets];
+bool st_world_track(st_world *w, const char *name, GLenum identifier, GLuint obj, st_err *err) {
+    return st_targets_track(&w->targets, name, identifier, obj, err);
+}
+
+void st_world_untrack(st_world *w, const char *name) {
+    st_targets_untrack(&w->targets, name);
+}
+
+static int add_row(st_mem_entry *out, int max, int n, const st_mem_entry *e) {
+    if (out && n < max) out[n] = *e;
+    return n + 1;
+}
+
+static int module_rows(st_world *w, const char *owner, st_mem_entry *out, int max, int n) {
+    st_targets *s = &w->targets;
+    st_mem_entry e;
+    for (int i = 0; i < s->n; i++) {
+        st_targets_entry(s->t[i].name, &s->t[i].t, &e);
+        if (strcmp(e.owner, owner)) continue;
+        if (!s->t[i].t.color[0]) // declared, not used yet
+            snprintf(e.format, sizeof e.format, "%s", st_format_name(s->t[i].desc.format));
+        n = add_row(out, max, n, &e);
     }
+    for (int i = 0; i < s->nk; i++) {
+        memset(&e, 0, sizeof e);
+        snprintf(e.name, sizeof e.name, "%s", s->k[i].name);
+        snprintf(e.owner, sizeof e.owner, "%.*s", (int)strcspn(e.name, "."), e.name);
+        if (strcmp(e.owner, owner)) continue;
+        snprintf(e.format, sizeof e.format, "-");
+        e.kind = s->k[i].identifier == GL_BUFFER ? "buffer" : "buffer texture";
+        e.bytes = s->k[i].bytes;
+        n = add_row(out, max, n, &e);
+    }
+    return n;
+}
+
+int st_world_memory(st_world *w, st_mem_entry *out, int max) {
+    int n = 0;
+    st_mem_entry e;
+    const st_target *cam[3] = {&w->cam.scene, &w->cam.post[0], &w->cam.post[1]};
+    const char *names[3] = {"camera.scene", "camera.post0", "camera.post1"};
+    for (int i = 0; i < 3; i++) {
+        st_targets_entry(names[i], cam[i], &e);
+        n = add_row(out, max, n, &e);
+    }
+    const st_buffer *geo[2] = {&w->type.vbo, &w->type.ibo};
+    const char *gnames[2] = {"world.vertices", "world.indices"};
+    for (int i = 0; i < 2; i++) {
+        memset(&e, 0, sizeof e);
+        snprintf(e.name, sizeof e.name, "%s", gnames[i]);
+        snprintf(e.owner, sizeof e.owner, "world");
+        snprintf(e.format, sizeof e.format, "-");
+        e.kind = "buffer";
+        e.bytes = geo[i]->size;
+        n = add_row(out, max, n, &e);
+    }
+    for (int m = 0; m < w->num_mods; m++)
+        n = module_rows(w, w->mods[m]->p->name, out, max, n);
+    return n;
+}
+
+size_t st_world_memory_bytes(st_world *w) {
+    st_mem_entry rows[ST_MAX_TARGETS + ST_MAX_TRACKED + 8];
+    int n = st_world_memory(w, rows, (int)(sizeof rows / sizeof rows[0]));
+    size_t sum = 0;
+    for (int i = 0; i < n; i++)
+        sum += rows[i].bytes;
+    return sum;
 }
 
 static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
@@ -494,10 +521,12 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         st_target_bind(&w->cam.post[w->cam.post_out]);
     } else {
         // The world-owned target this pass writes, if any.
-        for (int i = 0; i < w->num_targets; i++) {
-            if (!list_has(s->info.writes, w->targets[i].name)) continue;
-            if (!ensure_target(w, i, err)) return false;
-            st_target_bind(&w->targets[i].t);
+        for (int i = 0; i < w->targets.n; i++) { // (1D lookup tables are not drawn into)
+            if (w->targets.t[i].desc.type == GL_TEXTURE_1D ||
+                !list_has(s->info.writes, w->targets.t[i].name))
+                continue;
+            if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return false;
+            st_target_bind(&w->targets.t[i].t);
             break;
         }
     }
@@ -686,7 +715,7 @@ static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
 static void unload(st_world *w, int m) {
     st_module_inst *mi = w->mods[m];
     if (mi->self) mi->p->destroy(mi->self);
-    free_targets(w, mi->p->name);
+    st_targets_free(&w->targets, mi->p->name);
     st_plugin_close(mi->lib);
     free(mi);
     // Only the pointers move; the other instances stay where they are.
@@ -878,6 +907,10 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
     bool ok = w->models && st_model_type_build(&w->type, "lit", scene->meshes, scene->num_meshes,
                                                NULL, w->models, err);
     if (!w->models) st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    if (ok) { // named as in st_world_memory
+        glObjectLabel(GL_BUFFER, w->type.vbo.id, -1, "world.vertices");
+        glObjectLabel(GL_BUFFER, w->type.ibo.id, -1, "world.indices");
+    }
     ok = ok && create_targets(w, err);
     for (int i = 0; ok && i < scene->num_modules; i++)
         ok = load(w, scene->modules[i].name, err);
@@ -900,7 +933,7 @@ void st_world_destroy(st_world *w) {
         if (w->mods[m]->self) w->mods[m]->p->destroy(w->mods[m]->self), w->mods[m]->self = NULL;
     while (w->num_mods)
         unload(w, w->num_mods - 1);
-    free_targets(w, NULL);
+    st_targets_free(&w->targets, NULL);
     free_slots(w);
     st_shader_destroy(w->regular);
     st_model_type_destroy(&w->type);

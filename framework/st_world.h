@@ -135,18 +135,54 @@ bool st_world_reload_shaders(st_world *w, st_err *err);
 
 // ---- Targets owned by the world ------------------------------------------
 
-// What a pass draws into, declared by its module; the world allocates it,
-// re-creates it when the description or the screen size changes, labels it
-// with its name for debuggers, binds it for the pass that writes it (a pass
-// whose `writes` names it, unless the module has a rendertarget hook) and
-// frees it when the module is switched off. (st_target_desc: st_module.h.)
+// Every texture a pass draws into or a module samples is declared by name
+// (st_target_desc, st_gpu.h: format, screen scale or divisor or a fixed size,
+// type and layers, mip levels, filter, wrap, depth). The world allocates it
+// at first use, re-creates it when the description or (for screen-relative
+// sizes) the screen size changes, labels it with its name for debuggers,
+// counts it in st_world_memory, binds it for a pass whose `writes` names it
+// (unless the module has a rendertarget hook) and frees it when the module is
+// switched off. Modules do not create or patch textures themselves.
 //
 // Declares (or re-describes) target `name`, which must be "<module>.<name>"
-// like the pass resources. Call from create and when a parameter changes it.
+// like the pass resources; d == NULL forgets it (frees the texture). Call from
+// create and again when a parameter changes the description.
 bool st_world_declare_target(st_world *w, const char *name, const st_target_desc *d, st_err *err);
 // The target, allocated at the current size; NULL if undeclared or the
-// allocation failed. Valid until the next frame, resize or declare.
+// allocation failed (st_world_get_target says why). The pointer and its GL
+// names are valid until the next frame, resize, or declare of this name;
+// fixed-size targets keep their GL names until re-declared differently.
 const st_target *st_world_target(st_world *w, const char *name);
+const st_target *st_world_get_target(st_world *w, const char *name, st_err *err);
+// Declares and returns the target allocated, in one call: for fixed-size
+// textures a module fills itself (atlases, lookup tables).
+const st_target *st_world_alloc_target(st_world *w, const char *name, const st_target_desc *d,
+                                       st_err *err);
+
+// GL objects a module creates itself (identifier GL_BUFFER, or GL_TEXTURE
+// for a buffer texture, which holds no memory of its own; other textures
+// are declared as targets) are tracked by name ("<module>.<name>"): labelled
+// for debuggers and counted in st_world_memory (the world reads their size
+// from GL). Track after creating the object, untrack before deleting it;
+// switching the module off forgets its entries.
+bool st_world_track(st_world *w, const char *name, GLenum identifier, GLuint obj, st_err *err);
+void st_world_untrack(st_world *w, const char *name);
+
+// One row of the GPU memory table: a target, a tracked object, a camera
+// target or the scene's geometry.
+typedef struct st_mem_entry {
+    char name[ST_NAME_MAX];
+    char owner[ST_NAME_MAX]; // the module; "camera", "world" for the world's own
+    char format[32];         // "RGBA32F", "3xRGBA32F+D32F" (colour textures, depth); "-"
+    const char *kind;        // "2D", "1D", "2D array", "cube array", "buffer", "buffer texture"
+    int width, height, layers, levels; // 0 for buffers
+    size_t bytes;                      // 0 for a target not allocated yet
+} st_mem_entry;
+// The world's GPU memory, every row: fills at most max of them (out may be
+// NULL) and returns how many there are. Rows of one owner are adjacent.
+int st_world_memory(st_world *w, st_mem_entry *out, int max);
+// Their sum.
+size_t st_world_memory_bytes(st_world *w);
 
 // ---- Modules and stats ---------------------------------------------------
 

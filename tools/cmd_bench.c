@@ -162,7 +162,7 @@ static bool run_one(const st_scene *scene, const st_image *ref, const st_image *
         struct rusage ru;
         getrusage(RUSAGE_SELF, &ru);
         r->peak_rss_kb = ru.ru_maxrss;
-        r->gpu_bytes = st_gpu_bytes();
+        r->gpu_bytes = st_world_memory_bytes(w);
         if (st_image_count_nonfinite(&img))
             ok = st_fail(err, ST_ERR_RUNTIME, "%s: non-finite output", r->setting);
     }

@@ -37,6 +37,57 @@ static bool out_ext_ok(const char *p) {
     return dot && (!strcasecmp(dot, ".exr") || !strcasecmp(dot, ".png"));
 }
 
+// The GPU memory table: every target and buffer by name, then per owner.
+static void print_memory(st_world *w, bool json) {
+    enum { MAX_ROWS = 320 };
+    static st_mem_entry rows[MAX_ROWS];
+    int n = st_world_memory(w, rows, MAX_ROWS);
+    n = n < MAX_ROWS ? n : MAX_ROWS;
+    size_t total = 0;
+    for (int i = 0; i < n; i++)
+        total += rows[i].bytes;
+    if (json) {
+        printf("\"memory\": [");
+        for (int i = 0; i < n; i++) {
+            const st_mem_entry *e = &rows[i];
+            printf("%s\n  {\"name\": \"%s\", \"owner\": \"%s\", \"kind\": \"%s\", "
+                   "\"format\": \"%s\", \"width\": %d, \"height\": %d, \"layers\": %d, "
+                   "\"levels\": %d, \"bytes\": %zu}",
+                   i ? "," : "", e->name, e->owner, e->kind, e->format, e->width, e->height,
+                   e->layers, e->levels, e->bytes);
+        }
+        printf("\n], \"memory_by_owner\": {");
+    } else {
+        printf("%-32s %-10s %-14s %-14s %11s %6s %6s %12s\n", "GPU memory", "owner", "kind",
+               "format", "size", "layers", "levels", "bytes");
+        for (int i = 0; i < n; i++) {
+            const st_mem_entry *e = &rows[i];
+            char size[32] = "-";
+            if (e->width) snprintf(size, sizeof size, "%dx%d", e->width, e->height);
+            printf("%-32s %-10s %-14s %-14s %11s %6d %6d %12zu\n", e->name, e->owner, e->kind,
+                   e->format, size, e->layers, e->levels, e->bytes);
+        }
+    }
+    // Rows of one owner are adjacent.
+    for (int i = 0, k = 0; i < n; k++) {
+        size_t sum = 0;
+        int j = i;
+        for (; j < n && !strcmp(rows[j].owner, rows[i].owner); j++)
+            sum += rows[j].bytes;
+        if (json)
+            printf("%s\"%s\": %zu", k ? ", " : "", rows[i].owner, sum);
+        else
+            printf("%-32s %-10s %12.3f MiB\n", k ? "" : "GPU memory per owner", rows[i].owner,
+                   sum / 1048576.0);
+        i = j;
+    }
+    if (json)
+        printf("}, ");
+    else
+        printf("%-32s %-10s %12.3f MiB (%zu bytes)\n", "GPU memory total", "", total / 1048576.0,
+               total);
+}
+
 static void print_stats(st_world *w, const float *frame_ms, int nframes, bool json,
                         const st_progress *pr, long ran, double total_ms) {
     struct rusage ru;
@@ -47,7 +98,8 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
         printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, "
                "\"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, \"gpu_bytes\": %zu, ",
                st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss,
-               st_gpu_bytes());
+               st_world_memory_bytes(w));
+        print_memory(w, true);
         if (pr)
             printf("\"frames_run\": %ld, \"total_ms\": %.3f, \"converged\": %s, \"error\": %.6g, "
                    "\"progress_info\": \"%s\", ",
@@ -67,7 +119,7 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
     printf("renderer: %s, %dx%d, %d frame(s) timed, median frame %.3f ms, peak RSS %.1f MiB, "
            "GPU allocations %.1f MiB\n",
            st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss / 1024.0,
-           st_gpu_bytes() / 1048576.0);
+           st_world_memory_bytes(w) / 1048576.0);
     if (pr)
         printf("%s after %ld frame(s), %.0f ms, estimated remaining relative error %.4g%s%s\n",
                pr->converged ? "converged" : "not converged", ran, total_ms, pr->error,
@@ -80,6 +132,7 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
                s->culled, st_median_f(s->gpu_ms, s->num_samples),
                st_median_f(s->cpu_ms, s->num_samples));
     }
+    print_memory(w, false);
 }
 
 int st_cmd_render(int argc, char **argv) {

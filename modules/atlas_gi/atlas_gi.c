@@ -106,6 +106,23 @@ enum {
     T_COUNT
 };
 
+// The atlas' textures, owned by the world (declared in build_atlas).
+static const char *const tex_name[T_COUNT] = {
+    "atlas_gi.position", "atlas_gi.normal",   "atlas_gi.albedo",  "atlas_gi.direct",
+    "atlas_gi.area",     "atlas_gi.bounce0",  "atlas_gi.bounce1", "atlas_gi.accum",
+    "atlas_gi.indirect", "atlas_gi.combined", "atlas_gi.stats"};
+static const GLenum tex_format[T_COUNT] = {GL_RGBA32F, GL_RGBA32F, GL_RGBA16F, GL_RGBA32F,
+                                           GL_R32F,    GL_RGBA32F, GL_RGBA32F, GL_RGBA32F,
+                                           GL_RGBA32F, GL_RGBA32F, GL_RGBA32F};
+// The buffers it creates itself, tracked by the world for --stats.
+static const char *const atlas_buffers[] = {
+    "atlas_gi.points",        "atlas_gi.vertices",      "atlas_gi.indices",
+    "atlas_gi.triangles",     "atlas_gi.triangles_tex", "atlas_gi.mesh_base",
+    "atlas_gi.mesh_base_tex", "atlas_gi.bvh_nodes",     "atlas_gi.bvh_triangles"};
+static const char *const transfer_buffers[6] = {
+    "atlas_gi.transfer_nodes",         "atlas_gi.transfer_flux",  "atlas_gi.transfer_gathered",
+    "atlas_gi.transfer_links_offsets", "atlas_gi.transfer_links", "atlas_gi.transfer_texels"};
+
 typedef struct agi {
     st_world *w;
     const double *p;
@@ -158,17 +175,22 @@ static int ip(const agi *g, int k) {
 // ---- resources ----------------------------------------------------------------
 
 static void release_transfer(agi *g) {
+    for (int i = 0; i < 6; i++)
+        st_world_untrack(g->w, transfer_buffers[i]);
     glDeleteBuffers(6, g->tr_buf);
     memset(g->tr_buf, 0, sizeof g->tr_buf);
-    if (g->leaf_tex) glDeleteTextures(1, &g->leaf_tex);
+    st_world_declare_target(g->w, "atlas_gi.leaf", NULL, &(st_err){0});
     g->leaf_tex = 0;
     transfer_free(&g->T);
     g->have_transfer = false;
 }
 
 static void release_atlas_gpu(agi *g) {
-    glDeleteTextures(T_COUNT, g->tex);
+    for (int i = 0; i < T_COUNT; i++) // fresh textures for the next atlas, as before
+        st_world_declare_target(g->w, tex_name[i], NULL, &(st_err){0});
     memset(g->tex, 0, sizeof g->tex);
+    for (size_t i = 0; i < sizeof atlas_buffers / sizeof atlas_buffers[0]; i++)
+        st_world_untrack(g->w, atlas_buffers[i]);
     GLuint fbos[4] = {g->fbo_gb, g->fbo_gather[0], g->fbo_gather[1], g->fbo_resolve};
     glDeleteFramebuffers(4, fbos);
     g->fbo_gb = g->fbo_gather[0] = g->fbo_gather[1] = g->fbo_resolve = 0;
@@ -189,18 +211,6 @@ static void release_atlas_gpu(agi *g) {
     g->have_bvh = false;
     release_transfer(g);
     atlas_free(&g->A);
-}
-
-static GLuint make_tex(int w, int h, GLenum fmt, int levels, bool linear) {
-    GLuint t;
-    glCreateTextures(GL_TEXTURE_2D, 1, &t);
-    glTextureStorage2D(t, levels, fmt, w, h);
-    GLint min = levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : linear ? GL_LINEAR : GL_NEAREST;
-    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, min);
-    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, linear ? GL_LINEAR : GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return t;
 }
 
 static GLuint make_fbo(const GLuint *tex, int n) {
@@ -264,17 +274,17 @@ static bool build_atlas(agi *g, st_err *err) {
     g->stats_top = 0;
     while ((W > H ? W : H) >> (g->stats_top + 1))
         g->stats_top++;
-    g->tex[T_POS] = make_tex(W, H, GL_RGBA32F, 1, false);
-    g->tex[T_NORMAL] = make_tex(W, H, GL_RGBA32F, 1, false);
-    g->tex[T_ALBEDO] = make_tex(W, H, GL_RGBA16F, 1, false);
-    g->tex[T_L0] = make_tex(W, H, GL_RGBA32F, 1, false);
-    g->tex[T_AREA] = make_tex(W, H, GL_R32F, 1, false);
-    g->tex[T_BOUNCE0] = make_tex(W, H, GL_RGBA32F, 1, false);
-    g->tex[T_BOUNCE1] = make_tex(W, H, GL_RGBA32F, 1, false);
-    g->tex[T_ACCUM] = make_tex(W, H, GL_RGBA32F, 1, false);
-    g->tex[T_INDIRECT] = make_tex(W, H, GL_RGBA32F, 1, true);
-    g->tex[T_COMBINED] = make_tex(W, H, GL_RGBA32F, 1, true);
-    g->tex[T_STATS] = make_tex(W, H, GL_RGBA32F, g->stats_top + 1, false);
+    // Texel-exact lookups everywhere but in the two the regular pass filters;
+    // the statistics' mip chain averages down to one texel.
+    for (int i = 0; i < T_COUNT; i++) {
+        bool linear = i == T_INDIRECT || i == T_COMBINED;
+        st_target_desc d = {tex_format[i], .width = W, .height = H,
+                            .levels = i == T_STATS ? g->stats_top + 1 : 1,
+                            .filter = linear ? GL_LINEAR : GL_NEAREST};
+        const st_target *t = st_world_alloc_target(g->w, tex_name[i], &d, err);
+        if (!t) return false;
+        g->tex[i] = t->color[0];
+    }
     glTextureSubImage2D(g->tex[T_AREA], 0, 0, 0, W, H, GL_RED, GL_FLOAT, A->area);
     const float zero[4] = {0, 0, 0, 0};
     glClearTexImage(g->tex[T_INDIRECT], 0, GL_RGBA, GL_FLOAT, zero);
@@ -335,6 +345,12 @@ static bool build_atlas(agi *g, st_err *err) {
     free(base);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->base_tex);
     glTextureBuffer(g->base_tex, GL_RG32I, g->base_buf);
+    const GLuint objs[7] = {g->pts_vbo, g->type.vbo.id, g->type.ibo.id, g->tri_buf,
+                            g->tri_tex, g->base_buf,    g->base_tex};
+    for (int i = 0; i < 7; i++) // 4 and 6: buffer textures over 3 and 5
+        if (!st_world_track(g->w, atlas_buffers[i], i == 4 || i == 6 ? GL_TEXTURE : GL_BUFFER,
+                            objs[i], err))
+            return false;
     g->atlas_dirty = false;
     g->gb_dirty = true;
     return st_gl_check("atlas_gi atlas", err);
@@ -382,6 +398,9 @@ static bool ensure_bvh(agi *g, st_err *err) {
     glCreateBuffers(1, &g->tris_ssbo);
     glNamedBufferStorage(g->tris_ssbo, (GLsizeiptr)((n ? n : 1) * 12 * sizeof(float)), g->B.tris,
                          0);
+    if (!st_world_track(g->w, atlas_buffers[7], GL_BUFFER, g->nodes_ssbo, err) ||
+        !st_world_track(g->w, atlas_buffers[8], GL_BUFFER, g->tris_ssbo, err))
+        return false;
     g->have_bvh = true;
     return st_gl_check("atlas_gi bvh", err);
 }
@@ -457,10 +476,12 @@ static bool ensure_transfer(agi *g, st_err *err) {
                          nperm ? T->perm : zero_off, 0);
     free(nodes);
     free(links);
-    glCreateTextures(GL_TEXTURE_2D, 1, &g->leaf_tex);
-    glTextureStorage2D(g->leaf_tex, 1, GL_R32I, g->W, g->H);
-    glTextureParameteri(g->leaf_tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(g->leaf_tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    for (int i = 0; i < 6; i++)
+        if (!st_world_track(g->w, transfer_buffers[i], GL_BUFFER, g->tr_buf[i], err)) return false;
+    const st_target_desc leaf = {GL_R32I, .width = g->W, .height = g->H, .filter = GL_NEAREST};
+    const st_target *lt = st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err);
+    if (!lt) return false;
+    g->leaf_tex = lt->color[0];
     glTextureSubImage2D(g->leaf_tex, 0, 0, 0, g->W, g->H, GL_RED_INTEGER, GL_INT, T->texel_leaf);
     g->have_transfer = true;
     return st_gl_check("atlas_gi transfer upload", err);
@@ -473,8 +494,12 @@ static void ensure_hammersley(agi *g) {
     float *v = realloc(g->ham, (size_t)n * 2 * sizeof *v);
     if (!v) return;
     g->ham = v;
-    if (g->ham_tex) glDeleteTextures(1, &g->ham_tex);
-    g->ham_tex = st_hammersley_texture(n, v);
+    const st_target_desc d = {GL_RG32F, .type = GL_TEXTURE_1D, .width = n, .filter = GL_NEAREST};
+    st_err ignore = {0};
+    const st_target *t = st_world_alloc_target(g->w, "atlas_gi.hammersley", &d, &ignore);
+    if (!t) return;
+    g->ham_tex = t->color[0];
+    st_hammersley_upload(g->ham_tex, n, v);
     g->ham_n = n;
 }
 
@@ -542,11 +567,11 @@ static bool upload_picks(agi *g, const float *rot, st_err *err) {
         float *p = realloc(g->picks, (size_t)n * 4 * sizeof *p);
         if (!p) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
         g->picks = p;
-        if (g->pick_tex) glDeleteTextures(1, &g->pick_tex);
-        glCreateTextures(GL_TEXTURE_1D, 1, &g->pick_tex);
-        glTextureStorage1D(g->pick_tex, 1, GL_RGBA32F, n);
-        glTextureParameteri(g->pick_tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(g->pick_tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        const st_target_desc d = {GL_RGBA32F, .type = GL_TEXTURE_1D, .width = n,
+                                  .filter = GL_NEAREST};
+        const st_target *t = st_world_alloc_target(g->w, "atlas_gi.picks", &d, err);
+        if (!t) return false;
+        g->pick_tex = t->color[0];
         g->pick_cap = n;
     }
     double total = g->cdf_row[g->H];
@@ -602,9 +627,7 @@ static void update_converged(agi *g) {
 
 static void destroy(void *self) {
     agi *g = self;
-    release_atlas_gpu(g);
-    if (g->ham_tex) glDeleteTextures(1, &g->ham_tex);
-    if (g->pick_tex) glDeleteTextures(1, &g->pick_tex);
+    release_atlas_gpu(g); // the world frees the declared targets
     free(g->ham);
     free(g->picks);
     free(g->pmf);

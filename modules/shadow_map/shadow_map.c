@@ -32,74 +32,47 @@ static const st_param_def params[P_COUNT] = {
 typedef struct shadow_map {
     st_world *w;
     const double *p;
-    GLuint cube_array, fbo, depth_rb;
-    int size, layers;
+    int size; // the faces' and cascades' size in texels
     float far_z;
     st_shader *depth;
     st_pass_info info;
     // Directional lights: slot per light (-1 none), cascades in a 2D array.
-    int sun_slot[ST_MAX_LIGHTS], num_suns, sun_layers;
+    int sun_slot[ST_MAX_LIGHTS], num_suns;
     sm_sun suns[ST_MAX_LIGHTS];
     bool sun_dirty[ST_MAX_LIGHTS]; // fitted anew but not rendered yet
-    GLuint sun_array;
     st_shader *cascade;
 } shadow_map;
 
-static void release(shadow_map *s) {
-    if (s->fbo) glDeleteFramebuffers(1, &s->fbo);
-    if (s->cube_array) glDeleteTextures(1, &s->cube_array);
-    if (s->depth_rb) glDeleteRenderbuffers(1, &s->depth_rb);
-    if (s->size)
-        st_gpu_track(-(long long)s->size * s->size * 4 * (6 * (s->layers > 0 ? s->layers : 1) + 1));
-    if (s->sun_array) {
-        glDeleteTextures(1, &s->sun_array);
-        st_gpu_track(s->sun_layers > 0 ? -(long long)s->size * s->size * 4 * s->sun_layers : -4);
-    }
-    s->fbo = s->cube_array = s->depth_rb = s->sun_array = 0;
-    s->sun_layers = 0;
-    s->size = 0;
+// The world's targets: one distance cube per light (layers of a cube-map
+// array), the light's path per texel for every (directional light, cascade)
+// (a 2D array). Without a directional light a 1x1 layer: every sampler the
+// shaders declare must see a texture of its own type, or the draw fails.
+static bool declare_targets(shadow_map *s, st_err *err) {
+    int size = s->size = (int)s->p[P_RESOLUTION], lights = st_world_scene(s->w)->num_lights;
+    int sun_layers = s->num_suns * (int)s->p[P_CASCADES];
+    const st_target_desc cubes = {GL_R32F,
+                                  .depth = true,
+                                  .type = GL_TEXTURE_CUBE_MAP_ARRAY,
+                                  .width = size,
+                                  .height = size,
+                                  .layers = lights,
+                                  .filter = GL_NEAREST},
+                         suns = {GL_R32F,
+                                 .depth = sun_layers > 0,
+                                 .type = GL_TEXTURE_2D_ARRAY,
+                                 .width = sun_layers > 0 ? size : 1,
+                                 .height = sun_layers > 0 ? size : 1,
+                                 .layers = sun_layers,
+                                 .filter = GL_NEAREST};
+    for (int i = 0; i < ST_MAX_LIGHTS; i++)
+        s->sun_dirty[i] = true;
+    return st_world_declare_target(s->w, "shadow_map.cubes", &cubes, err) &&
+           st_world_declare_target(s->w, "shadow_map.suns", &suns, err);
 }
 
-// (Re)allocates the cube-map array when the resolution or light count changes.
-static bool allocate(shadow_map *s, st_err *err) {
-    int size = (int)s->p[P_RESOLUTION];
-    int lights = st_world_scene(s->w)->num_lights;
-    int sun_layers = s->num_suns * (int)s->p[P_CASCADES];
-    if (size == s->size && lights == s->layers && sun_layers == s->sun_layers && s->fbo)
-        return true;
-    release(s);
-    s->size = size;
-    s->layers = lights;
-    int n = lights > 0 ? lights : 1;
-    glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &s->cube_array);
-    glTextureStorage3D(s->cube_array, 1, GL_R32F, size, size, 6 * n);
-    glTextureParameteri(s->cube_array, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(s->cube_array, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(s->cube_array, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(s->cube_array, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(s->cube_array, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glCreateRenderbuffers(1, &s->depth_rb);
-    glNamedRenderbufferStorage(s->depth_rb, GL_DEPTH_COMPONENT32F, size, size);
-    glCreateFramebuffers(1, &s->fbo);
-    glNamedFramebufferRenderbuffer(s->fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->depth_rb);
-    st_gpu_track((long long)size * size * 4 * (6 * n + 1)); // R32F faces + depth
-    // The light's path per texel, one layer per (light, cascade). Without a
-    // directional light a 1x1 layer: every sampler the shaders declare must
-    // see a texture of its own type, or the draw fails.
-    {
-        int n_sun = sun_layers > 0 ? size : 1;
-        s->sun_layers = sun_layers;
-        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &s->sun_array);
-        glTextureStorage3D(s->sun_array, 1, GL_R32F, n_sun, n_sun, sun_layers > 0 ? sun_layers : 1);
-        glTextureParameteri(s->sun_array, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(s->sun_array, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(s->sun_array, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        st_gpu_track(sun_layers > 0 ? (long long)size * size * 4 * sun_layers : 4);
-        for (int i = 0; i < ST_MAX_LIGHTS; i++)
-            s->sun_dirty[i] = true;
-    }
-    return st_gl_check("shadow map arrays", err);
+static GLuint texture(shadow_map *s, const char *name) {
+    const st_target *t = st_world_target(s->w, name);
+    return t ? t->color[0] : 0;
 }
 
 // Far plane: past the farthest scene vertex from any light.
@@ -138,10 +111,9 @@ static void *create(st_world *w, const double *p, st_err *err) {
     s->depth = st_shader_load("shadow_map/depth.vert", "shadow_map/depth.frag", NULL, err);
     if (s->depth && s->num_suns)
         s->cascade = st_shader_load("shadow_map/depth.vert", "shadow_map/cascade.frag", NULL, err);
-    if (!s->depth || (s->num_suns && !s->cascade) || !allocate(s, err)) {
+    if (!s->depth || (s->num_suns && !s->cascade) || !declare_targets(s, err)) {
         st_shader_destroy(s->depth);
         st_shader_destroy(s->cascade);
-        release(s);
         free(s);
         return NULL;
     }
@@ -150,7 +122,6 @@ static void *create(st_world *w, const double *p, st_err *err) {
 
 static void destroy(void *self) {
     shadow_map *s = self;
-    release(s);
     st_shader_destroy(s->depth);
     st_shader_destroy(s->cascade);
     free(s);
@@ -196,14 +167,13 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
     float L[3] = {(float)sun->L[0], (float)sun->L[1], (float)sun->L[2]};
     st_shader_set_vec3(s->cascade, "u_to_light", L);
     st_shader_set_float(s->cascade, "u_entry", (float)sun->entry);
+    const st_target *t = st_world_get_target(s->w, "shadow_map.suns", err);
+    if (!t) return false;
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glViewport(0, 0, s->size, s->size);
     const float cleared[4] = {1e30f, 0, 0, 0};
     for (int c = 0; c < sun->count; c++) {
-        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->sun_array, 0,
-                                       slot * sun->count + c);
-        glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
+        st_target_bind_layer(t, slot * sun->count + c);
         glClearBufferfv(GL_COLOR, 0, cleared);
         glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
         float m[16];
@@ -217,7 +187,6 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     shadow_map *s = self;
-    if (!allocate(s, err)) return false;
     if (s->sun_slot[pass] >= 0) return render_cascades(s, s->sun_slot[pass], f, err);
     const float *lp = f->scene->lights[pass].position;
     // Cube face directions and up vectors of the GL cube-map convention.
@@ -227,16 +196,15 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
                                     {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
     mat4 proj;
     glm_perspective(glm_rad(90.0f), 1.0f, s->far_z * 1e-4f, s->far_z, proj);
+    const st_target *t = st_world_get_target(s->w, "shadow_map.cubes", err);
+    if (!t) return false;
     st_shader_use(s->depth);
     st_shader_set_vec3(s->depth, "u_light_pos", lp);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glViewport(0, 0, s->size, s->size);
     const float cleared[4] = {1e30f, 0, 0, 0};
     for (int face = 0; face < 6; face++) {
-        glNamedFramebufferTextureLayer(s->fbo, GL_COLOR_ATTACHMENT0, s->cube_array, 0,
-                                       6 * pass + face);
-        glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
+        st_target_bind_layer(t, 6 * pass + face);
         glClearBufferfv(GL_COLOR, 0, cleared);
         glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
         vec3 eye, center, up;
@@ -255,7 +223,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 // Uniforms every shader including shadow_map/visibility.glsl receives.
 static void u_cubes(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     st_shader_texture(sh, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY,
-                      ((shadow_map *)self)->cube_array);
+                      texture(self, "shadow_map.cubes"));
 }
 static void u_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1f(loc, (float)((shadow_map *)self)->size);
@@ -274,7 +242,7 @@ static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f
 }
 
 static void u_suns(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, ((shadow_map *)self)->sun_array);
+    st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, texture(self, "shadow_map.suns"));
 }
 static void u_sun_slot(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1iv(loc, ST_MAX_LIGHTS, ((shadow_map *)self)->sun_slot);
@@ -322,6 +290,13 @@ static int uniforms(void *self, const st_uniform **out) {
     return (int)(sizeof uniforms_table / sizeof uniforms_table[0]);
 }
 
+// A new resolution or cascade count re-describes the targets (the world
+// re-creates them at the next use).
+static void param_changed(void *self, int index) {
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_RESOLUTION || index == P_CASCADES) declare_targets(self, &ignore);
+}
+
 static bool reload(void *self, st_err *err) {
     shadow_map *s = self;
     return st_shader_reload(s->depth, err) && (!s->cascade || st_shader_reload(s->cascade, err));
@@ -333,5 +308,5 @@ ST_PLUGIN(.name = "shadow_map",
           ST_PARAMS(params), .provides = "shadow_map",
           .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .reload = reload,
+          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
           /* a spot's cone lies inside its distance cube */ .light_types = ST_LIGHT_BITS_ALL)

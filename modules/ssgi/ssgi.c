@@ -26,7 +26,6 @@ typedef struct ssgi {
     st_world *w;
     const double *p;
     st_shader *sh;
-    GLuint ham;
     int ham_n;
     st_pass_info info;
 } ssgi;
@@ -46,7 +45,6 @@ static void *create(st_world *w, const double *p, st_err *err) {
 
 static void destroy(void *self) {
     ssgi *s = self;
-    if (s->ham) glDeleteTextures(1, &s->ham);
     st_shader_destroy(s->sh);
     free(s);
 }
@@ -69,12 +67,14 @@ static st_shader *shader(void *self, int pass) {
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     ssgi *s = self;
     int n = (int)s->p[P_SAMPLES];
-    if (!s->ham || s->ham_n != n) { // the sample set of atlas_gi, over the image
-        if (s->ham) glDeleteTextures(1, &s->ham);
-        s->ham = st_hammersley_texture(n, NULL);
-        s->ham_n = s->ham ? n : 0;
-    }
-    st_shader_texture(s->sh, "ss_hammersley", GL_TEXTURE_1D, s->ham);
+    // The sample set of atlas_gi, over the image: a 1D lookup the world owns.
+    const st_target_desc d = {GL_RG32F, .type = GL_TEXTURE_1D, .width = n, .filter = GL_NEAREST};
+    const st_target *ham = st_world_alloc_target(s->w, "ssgi.hammersley", &d, err);
+    if (!ham) return false;
+    if (s->ham_n != n && !st_hammersley_upload(ham->color[0], n, NULL))
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    s->ham_n = n;
+    st_shader_texture(s->sh, "ss_hammersley", GL_TEXTURE_1D, ham->color[0]);
     st_shader_set_int(s->sh, "ss_samples", s->ham_n);
     st_shader_set_int(s->sh, "ss_estimator", (int)s->p[P_ESTIMATOR]);
     st_shader_set_int(s->sh, "ss_display", (int)s->p[P_DISPLAY]);

@@ -81,7 +81,6 @@ typedef struct toth {
     st_world *w;
     const double *p;
     st_shader *march, *gather, *compose;
-    st_target march_rt, gather_rt;
     st_pass_info info;
 } toth;
 
@@ -109,9 +108,13 @@ static bool medium_scatters(const st_scene *sc) {
     return m->present && (m->sigma_s[0] > 0 || m->sigma_s[1] > 0 || m->sigma_s[2] > 0);
 }
 
-static void release(toth *t) {
-    st_target_destroy(&t->march_rt);
-    st_target_destroy(&t->gather_rt);
+// The march (and, interleaved, the gather) output at march resolution, owned
+// by the world: the screen divided by the scale, rounded up. Every read is a
+// texelFetch; nearest keeps a stray sampled read honest.
+static bool declare_targets(toth *t, st_err *err) {
+    const st_target_desc d = {GL_RGBA32F, .divisor = scale(t), .filter = GL_NEAREST};
+    return st_world_declare_target(t->w, "toth.march", &d, err) &&
+           st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err);
 }
 
 static bool load_shaders(st_shader **march, st_shader **gather, st_shader **compose, st_err *err) {
@@ -137,7 +140,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     }
     t->w = w;
     t->p = p;
-    if (!load_shaders(&t->march, &t->gather, &t->compose, err)) {
+    if (!declare_targets(t, err) || !load_shaders(&t->march, &t->gather, &t->compose, err)) {
         free(t);
         return NULL;
     }
@@ -146,7 +149,6 @@ static void *create(st_world *w, const double *p, st_err *err) {
 
 static void destroy(void *self) {
     toth *t = self;
-    release(t);
     st_shader_destroy(t->march);
     st_shader_destroy(t->gather);
     st_shader_destroy(t->compose);
@@ -185,35 +187,6 @@ static bool needed(void *self, int pass, const st_frame *f) {
     return pass_kind(self, pass) == PASS_COMPOSE || f->scene->num_lights > 0;
 }
 
-// Our march-resolution targets follow the image size and the resolution parameter.
-static bool ensure_target(st_target *rt, int w, int h, st_err *err) {
-    if (rt->fbo && rt->width == w && rt->height == h) return true;
-    st_target_destroy(rt);
-    if (!st_target_create(rt, w, h, 1, GL_RGBA32F, false, err)) return false;
-    // Every read is a texelFetch; nearest keeps a stray sampled read honest.
-    glTextureParameteri(rt->color[0], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(rt->color[0], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    return true;
-}
-
-static void march_size(const toth *t, const st_frame *f, int *w, int *h) {
-    int s = scale(t);
-    *w = (f->width + s - 1) / s;
-    *h = (f->height + s - 1) / s;
-}
-
-static GLuint rendertarget(void *self, int pass) {
-    toth *t = self;
-    switch (pass_kind(t, pass)) {
-    case PASS_MARCH:
-        return t->march_rt.fbo;
-    case PASS_GATHER:
-        return t->gather_rt.fbo;
-    default:
-        return 0; // compose writes "hdr": the world's PostProcessor target
-    }
-}
-
 static void set_common(toth *t, st_shader *sh) {
     st_shader_set_int(sh, "toth_scale", scale(t));
     st_shader_set_float(sh, "toth_tolerance", (float)t->p[P_TOLERANCE]);
@@ -222,18 +195,8 @@ static void set_common(toth *t, st_shader *sh) {
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     toth *t = self;
-    int mw, mh;
-    march_size(t, f, &mw, &mh);
-    int kind = pass_kind(t, pass);
-    if (kind == PASS_MARCH || kind == PASS_GATHER) {
-        st_target *rt = kind == PASS_MARCH ? &t->march_rt : &t->gather_rt;
-        // The world bound rendertarget() before this hook; a new size means
-        // a new framebuffer, bound here.
-        if (!ensure_target(rt, mw, mh, err)) return false;
-        glBindFramebuffer(GL_FRAMEBUFFER, rt->fbo);
-        glViewport(0, 0, mw, mh);
-    }
-    switch (kind) {
+    // march and gather draw into the target they write, bound by the world.
+    switch (pass_kind(t, pass)) {
     case PASS_MARCH:
         set_common(t, t->march);
         st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
@@ -242,15 +205,19 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
         break;
-    case PASS_GATHER:
+    case PASS_GATHER: {
+        const st_target *march = st_world_get_target(t->w, "toth.march", err);
+        if (!march) return false;
         set_common(t, t->gather);
         st_shader_set_int(t->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
-        st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, t->march_rt.color[0]);
+        st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
         break;
+    }
     default: {
         // Without lights (march skipped) there is nothing to upsample.
-        bool lit = f->scene->num_lights > 0 && t->march_rt.fbo;
-        const st_target *src = interleave(t) > 1 ? &t->gather_rt : &t->march_rt;
+        bool lit = f->scene->num_lights > 0;
+        const st_target *src =
+            lit ? st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march") : NULL;
         set_common(t, t->compose);
         st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
@@ -258,9 +225,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(t->compose, "toth_has_inscatter", lit && src->fbo);
-        if (lit && src->fbo)
-            st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        st_shader_set_int(t->compose, "toth_has_inscatter", src != NULL);
+        if (src) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         // Without lights shadow_map binds no shadow textures, and an unset
         // sampler of another type on unit 0 makes the draw invalid: bind empty ones.
         if (!lit) {
@@ -285,10 +251,11 @@ static st_shader *shader(void *self, int pass) {
     }
 }
 
-// A new march size or interleave changes the targets; drop them so the next
-// frame allocates what it needs (and nothing stale is upsampled).
+// A new march scale or interleave re-describes the targets.
 static void param_changed(void *self, int index) {
-    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES) release(self);
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES)
+        declare_targets(self, &ignore);
 }
 
 static bool reload(void *self, st_err *err) {
@@ -310,6 +277,6 @@ ST_PLUGIN(.name = "toth",
               "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
               "interleaved sampling, reduced-resolution march",
           ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
-          .num_passes = num_passes, .pass_info = pass_info, .rendertarget = rendertarget,
-          .needed = needed, .on_pass = on_pass, .shader = shader, .param_changed = param_changed,
-          .reload = reload, .light_types = ST_LIGHT_BITS_ALL)
+          .num_passes = num_passes, .pass_info = pass_info, .needed = needed, .on_pass = on_pass,
+          .shader = shader, .param_changed = param_changed, .reload = reload,
+          .light_types = ST_LIGHT_BITS_ALL)

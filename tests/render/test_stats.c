@@ -1,5 +1,6 @@
 // --stats=json: which passes ran, were skipped or culled. No shadow pass
 // without shadow_map; one per light with it, rendered once for a static scene.
+// The GPU memory table adds up and counts shadow_map's targets.
 #include "st_test_render.h"
 #include "st_test_support.h"
 #include <cjson/cJSON.h>
@@ -23,6 +24,27 @@ static int count_module(cJSON *j, const char *module, int *runs, int *skipped) {
         *skipped += cJSON_GetObjectItem(p, "skipped")->valueint;
     }
     return n;
+}
+
+// The GPU memory table: rows sum to gpu_bytes and to the per-owner totals;
+// shadow_map's two 64^2 R32F cubes and their depth, and its 1 x 1 cascade
+// placeholder (no directional light), by formula.
+static void check_memory(cJSON *j) {
+    double rows = 0, owners = 0, cubes = -1;
+    cJSON *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "memory")) {
+        rows += cJSON_GetObjectItem(e, "bytes")->valuedouble;
+        if (!strcmp(cJSON_GetObjectItem(e, "name")->valuestring, "shadow_map.cubes"))
+            cubes = cJSON_GetObjectItem(e, "bytes")->valuedouble;
+    }
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "memory_by_owner")) owners += e->valuedouble;
+    double total = cJSON_GetObjectItem(j, "gpu_bytes")->valuedouble;
+    CHECK(rows == total && owners == total, "memory rows %.0f, owners %.0f, gpu_bytes %.0f", rows,
+          owners, total);
+    CHECK(cubes == 64 * 64 * 4 * (2 * 6 + 1), "shadow_map.cubes: %.0f bytes", cubes);
+    cJSON *sm = cJSON_GetObjectItem(cJSON_GetObjectItem(j, "memory_by_owner"), "shadow_map");
+    CHECK(sm && sm->valuedouble == cubes + 4, "shadow_map owns %.0f bytes",
+          sm ? sm->valuedouble : -1);
 }
 
 static void write_scene(const char *path, int lights, const char *modules) {
@@ -67,6 +89,7 @@ int main(void) {
         // Static scene: each cube map is rendered once, then reused.
         CHECK(runs == 2 && skipped == 4, "shadow runs %d (want 2), skipped %d (want 4)", runs,
               skipped);
+        check_memory(j);
         cJSON_Delete(j);
     }
 
