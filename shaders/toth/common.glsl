@@ -18,18 +18,26 @@ ivec2 toth_full_pixel(ivec2 lp) {
     return min(lp * toth_scale + (toth_scale - 1) / 2, ivec2(st_resolution) - 1);
 }
 
-// Unit direction of the view ray through the centre of full-resolution pixel
-// px (GL window coordinates, origin bottom left), as the pinhole of docs/physics.md.
-vec3 toth_view_dir(ivec2 px) {
-    vec2 ndc = (vec2(px) + 0.5) / st_resolution * 2.0 - 1.0;
+// Unit direction of the view ray through NDC point ndc, as the pinhole of
+// docs/physics.md.
+vec3 toth_ndc_dir(vec2 ndc) {
     vec4 a = st_inv_view_proj * vec4(ndc, -1.0, 1.0);
     vec4 b = st_inv_view_proj * vec4(ndc, 1.0, 1.0);
     return normalize(b.xyz / b.w - a.xyz / a.w);
 }
 
-// The marched length: the distance to the visible surface, or `far` where the
-// pixel sees none (gbuffer w = -1).
-float toth_ray_length(vec4 gb) { return gb.w >= 0.0 ? gb.w : st_far; }
+// ... through the centre of full-resolution pixel px (GL window coordinates,
+// origin bottom left).
+vec3 toth_view_dir(ivec2 px) { return toth_ndc_dir((vec2(px) + 0.5) / st_resolution * 2.0 - 1.0); }
+
+// The marched length of full-resolution pixel px: the distance to the visible
+// surface, or where the pixel sees none (gbuffer w = -1) the distance to the
+// far plane along its ray, far / cos(angle to the view axis), as the
+// reference renderer marches it.
+float toth_ray_length(vec4 gb, ivec2 px) {
+    if (gb.w >= 0.0) return gb.w;
+    return st_far / max(dot(toth_view_dir(px), toth_ndc_dir(vec2(0.0))), 1e-3);
+}
 
 // Do two gbuffer texels show the same surface closely enough to share
 // in-scattered light? Background matches background only.

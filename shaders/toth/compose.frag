@@ -35,7 +35,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     vec4 sum = vec4(0.0);
     float wsum = 0.0, best = 1e30;
     vec4 nearest = vec4(0.0);
-    float s = toth_ray_length(g);
+    float s = toth_ray_length(g, p);
     for (int k = 0; k < 4; k++) {
         ivec2 o = ivec2(k & 1, k >> 1);
         ivec2 q = clamp(b + o, ivec2(0), size - 1);
@@ -48,7 +48,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
             lo = min(lo, v);
             hi = max(hi, v);
         }
-        float diff = abs(toth_ray_length(gq) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
+        float diff = abs(toth_ray_length(gq, toth_full_pixel(q)) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
         if (diff < best) {
             best = diff;
             nearest = v;
@@ -63,12 +63,12 @@ void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 g = texelFetch(st_gbuffer, p, 0);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
-    vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g));
+    vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g, p));
     if (toth_has_inscatter != 0 && toth_sampling == 1) {
         float spread;
         vec4 frac = toth_upsample(p, g, spread);
         vec3 dir = toth_view_dir(p);
-        float s = toth_ray_length(g);
+        float s = toth_ray_length(g, p);
         // Where the taps disagree (a shaft's edge, a silhouette) the
         // interpolated fraction is a guess: march this pixel's own ray.
         if (spread > toth_refine) {

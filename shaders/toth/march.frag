@@ -20,7 +20,7 @@ void main() {
     ivec2 lp = ivec2(gl_FragCoord.xy);
     ivec2 fp = toth_full_pixel(lp);
     vec4 gb = texelFetch(st_gbuffer, fp, 0);
-    float s = toth_ray_length(gb);
+    float s = toth_ray_length(gb, fp);
     int M = max(toth_interleave, 1);
     int first = (lp.x % M) + M * (lp.y % M);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
