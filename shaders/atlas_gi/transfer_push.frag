@@ -1,4 +1,4 @@
-// Precomputed transfer, step 3: per atlas texel rho/pi times the sum of the
+// Precomputed transfer, step 4: per atlas texel rho/pi times the sum of the
 // gathered values of its leaf and every ancestor (a node's links stand for
 // all texels under it), each corrected to first order for the texel's
 // offset from the node's centroid. Outputs as the gather's: this bounce, and the
@@ -24,11 +24,12 @@ void main() {
     for (int guard = 0; n >= 0 && guard < 64; guard++) {
         // First order about the node's centroid, kept within [0, 2] x the
         // centroid's value so a steep kernel cannot go negative.
-        vec3 q = x - ag_nodes[n].ca.xyz;
-        vec3 v = ag_gathered[4 * n].rgb;
-        vec3 lin = v + ag_gathered[4 * n + 1].rgb * q.x + ag_gathered[4 * n + 2].rgb * q.y + ag_gathered[4 * n + 3].rgb * q.z;
-        sum += clamp(lin, vec3(0.0), 2.0 * v);
-        n = ag_nodes[n].info.w;
+        vec4 a = texelFetch(ag_gathered_tex, 4 * n), dx = texelFetch(ag_gathered_tex, 4 * n + 1),
+             dy = texelFetch(ag_gathered_tex, 4 * n + 2), dz = texelFetch(ag_gathered_tex, 4 * n + 3);
+        vec3 q = x - vec3(a.w, dx.w, dy.w);
+        vec3 lin = a.rgb + dx.rgb * q.x + dy.rgb * q.y + dz.rgb * q.z;
+        sum += clamp(lin, vec3(0.0), 2.0 * a.rgb);
+        n = int(dz.w);
     }
     vec3 L1 = ag_estimate(0, texelFetch(ag_albedo, t, 0).rgb, sum, 1.0, 1.0);
     o_bounce = vec4(L1, 1.0);

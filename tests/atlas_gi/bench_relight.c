@@ -2,8 +2,10 @@
 // with atlas_gi's precomputed transfer, against a frame of the same scene
 // with direct light only (shadow_map, no atlas_gi) after the same move, both
 // worlds alive in one process and measured interleaved (medians of N moves),
-// plus the transfer's precompute statistics.
-//   bench_relight SCENE.json [SIZE] [MOVES]
+// plus the transfer's precompute statistics. Then a few more moves with
+// atlas_gi.profile=true for the relight's steps (the GPU waits between them
+// make those moves slower; they are not in the medians above).
+//   bench_relight SCENE.json [SIZE] [MOVES] [ATLAS]   (ATLAS 0: the scene's)
 #include "st_gl.h"
 #include "st_world.h"
 #include <math.h>
@@ -20,7 +22,7 @@ static double median(double *v, int n) {
     return n ? (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])) : 0;
 }
 
-static bool open_world(const char *path, int size, bool gi, st_scene *sc, st_world **w,
+static bool open_world(const char *path, int size, int atlas, bool gi, st_scene *sc, st_world **w,
                        st_err *err) {
     if (!st_scene_load(path, sc, err)) return false;
     sc->width = sc->height = size;
@@ -32,22 +34,31 @@ static bool open_world(const char *path, int size, bool gi, st_scene *sc, st_wor
     }
     st_world_opts o = {.timing = true};
     *w = st_world_create(sc, &o, err);
+    if (*w && gi && atlas > 0 && !st_world_set_param(*w, "atlas_gi", "atlas_size", atlas, err))
+        return false;
     return *w != NULL;
+}
+
+static void light_pos(const float *base, int m, float *p) {
+    p[0] = base[0] + 0.3f * (float)cos(m * 2.4);
+    p[1] = base[1] - 0.05f * (float)(m % 3);
+    p[2] = base[2] + 0.3f * (float)sin(m * 2.4);
 }
 
 int main(int argc, char **argv) {
     if (argc < 2) {
-        fprintf(stderr, "usage: bench_relight SCENE.json [SIZE] [MOVES]\n");
+        fprintf(stderr, "usage: bench_relight SCENE.json [SIZE] [MOVES] [ATLAS]\n");
         return 2;
     }
     int size = argc > 2 ? atoi(argv[2]) : 256, moves = argc > 3 ? atoi(argv[3]) : 9;
     if (moves < 1 || moves > 200) moves = 9;
+    int atlas = argc > 4 ? atoi(argv[4]) : 0;
     st_err err = {0};
     st_context *ctx = st_context_create_headless(&err);
     st_scene sg = {0}, sd = {0};
     st_world *wg = NULL, *wd = NULL;
-    if (!ctx || !open_world(argv[1], size, true, &sg, &wg, &err) ||
-        !open_world(argv[1], size, false, &sd, &wd, &err)) {
+    if (!ctx || !open_world(argv[1], size, atlas, true, &sg, &wg, &err) ||
+        !open_world(argv[1], size, 0, false, &sd, &wd, &err)) {
         fprintf(stderr, "bench_relight: %s\n", err.msg);
         return 1;
     }
@@ -70,8 +81,8 @@ int main(int argc, char **argv) {
     memcpy(inten, sg.lights[0].intensity, sizeof inten);
     int frames_max = 0;
     for (int m = 0; m < moves; m++) {
-        float p[3] = {base[0] + 0.3f * (float)cos(m * 2.4), base[1] - 0.05f * (m % 3),
-                      base[2] + 0.3f * (float)sin(m * 2.4)};
+        float p[3];
+        light_pos(base, m, p);
         for (int k = 0; k < 2; k++) {
             st_world *w = k ? wd : wg;
             if (!st_world_set_light(w, 0, p, inten, &err)) return 1;
@@ -87,18 +98,31 @@ int main(int argc, char **argv) {
             if (!k && f > frames_max) frames_max = f;
         }
     }
+    // Per-pass medians over the moves (CPU-side ms; llvmpipe runs on the CPU),
+    // before the profiled moves below.
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < st_world_num_pass_stats(k ? wd : wg); i++) {
+            const st_pass_stats *ps = st_world_pass_stats(k ? wd : wg, i);
+            fprintf(stderr, "  %s %s.%s: %u runs, median cpu %.2f ms, gpu %.2f ms\n",
+                    k ? "direct-only" : "relight", ps->module, ps->pass, ps->runs,
+                    st_median_f(ps->cpu_ms, ps->num_samples),
+                    st_median_f(ps->gpu_ms, ps->num_samples));
+        }
+    // The relight's steps: a few more moves with the GPU waits of profile=true.
+    if (!st_world_set_param(wg, "atlas_gi", "profile", 1, &err)) return 1;
+    for (int m = 0; m < 9; m++) {
+        float p[3];
+        light_pos(base, moves + m, p);
+        if (!st_world_set_light(wg, 0, p, inten, &err) || !st_world_frame(wg, &err)) return 1;
+    }
+    glFinish();
+    st_world_progress(wg, &pr);
     double mg = median(tg, moves), md = median(td, moves);
     printf("{\"scene\": \"%s\", \"size\": %d, \"moves\": %d, \"first_frame_ms\": %.1f, "
            "\"relight_ms_median\": %.2f, "
            "\"direct_only_ms_median\": %.2f, \"ratio\": %.2f, \"frames_per_relight\": %d, "
            "\"info\": \"%s\"}\n",
            argv[1], size, moves, first, mg, md, mg / md, frames_max, pr.info);
-    // Per-pass medians over the moves (CPU-side ms; llvmpipe runs on the CPU).
-    for (int i = 0; i < st_world_num_pass_stats(wg); i++) {
-        const st_pass_stats *ps = st_world_pass_stats(wg, i);
-        fprintf(stderr, "  %s.%s: %u runs, median %.2f ms\n", ps->module, ps->pass, ps->runs,
-                st_median_f(ps->cpu_ms, ps->num_samples));
-    }
     free(tg);
     free(td);
     st_world_destroy(wg);

@@ -1,0 +1,240 @@
+// atlas_gi: the precomputed transfer on the GPU (transfer_gpu.h).
+#include "transfer_gpu.h"
+#include "st_gpu.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// IEEE half, round to nearest even; |x| beyond the largest half clamps to it
+// (a gradient factor that large saturates the push's clamp either way).
+static uint16_t to_half(float x) {
+    if (!(x == x)) return 0;
+    x = fmaxf(-65504.0f, fminf(65504.0f, x));
+    uint32_t u;
+    memcpy(&u, &x, 4);
+    uint32_t sign = (u >> 16) & 0x8000u;
+    float a = fabsf(x);
+    if (a < 6.103515625e-05f) // subnormal half: a multiple of 2^-24
+        return (uint16_t)(sign | (uint32_t)lrintf(a * 16777216.0f));
+    memcpy(&u, &a, 4);
+    uint32_t e = (u >> 23) - 112, m = u & 0x7fffffu;
+    uint32_t h = (e << 10) | (m >> 13), rest = m & 0x1fffu;
+    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) h++; // may carry into the exponent
+    return (uint16_t)(sign | (h > 0x7bffu ? 0x7bffu : h));
+}
+
+static uint32_t half2(float a, float b) {
+    return (uint32_t)to_half(a) | (uint32_t)to_half(b) << 16;
+}
+
+void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]) {
+    const tr_node *r = &t->nodes[receiver], *s = &t->nodes[t->link_node[k]];
+    float w = s->area > 0 ? t->link_w[k] / s->area : 0.0f;
+    // grad_x ln(cos_x cos_j / d^2) at the centroids, d = y - x: terms whose
+    // cosine is not well defined (a curved node) are left out, and only a
+    // flat receiver gets a gradient at all.
+    double d[3] = {s->c[0] - r->c[0], s->c[1] - r->c[1], s->c[2] - r->c[2]};
+    double d2 = fmax(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1e-12), dl = sqrt(d2);
+    double g[3] = {0, 0, 0};
+    if (cos(r->cone) > 0.9) {
+        double cr = r->n[0] * d[0] + r->n[1] * d[1] + r->n[2] * d[2];
+        double cs = -(s->n[0] * d[0] + s->n[1] * d[1] + s->n[2] * d[2]);
+        for (int i = 0; i < 3; i++) {
+            g[i] = 4.0 * d[i] / d2;
+            if (cr > 1e-3 * dl) g[i] -= r->n[i] / cr;
+            if (cos(s->cone) > 0.9 && cs > 0.2 * dl) g[i] += s->n[i] / cs;
+        }
+    }
+    out[0] = t->link_node[k];
+    memcpy(&out[1], &w, 4);
+    out[2] = half2((float)g[0], (float)g[1]);
+    out[3] = half2((float)g[2], (float)dl);
+}
+
+bool tr_gpu_load_shaders(tr_gpu *g, st_err *err) {
+    char defs[32];
+    snprintf(defs, sizeof defs, "AG_CHUNK %d\n", TRG_CHUNK);
+    return (g->sh_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", defs, err)) &&
+           (g->sh_links = st_shader_load_compute("atlas_gi/transfer_gather.comp", defs, err)) &&
+           (g->sh_sum = st_shader_load_compute("atlas_gi/transfer_sum.comp", defs, err)) &&
+           (g->sh_push =
+                st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", defs, err));
+}
+
+bool tr_gpu_reload_shaders(tr_gpu *g, st_err *err) {
+    st_shader *all[4] = {g->sh_reduce, g->sh_links, g->sh_sum, g->sh_push};
+    for (int i = 0; i < 4; i++)
+        if (all[i] && !st_shader_reload(all[i], err)) return false;
+    return true;
+}
+
+void tr_gpu_release(tr_gpu *g) {
+    st_gpu_track(-g->bytes);
+    g->bytes = 0;
+    memset(g->mem, 0, sizeof g->mem);
+    glDeleteTextures(TRG_COUNT, g->tex);
+    glDeleteTextures(1, &g->nodes_itex);
+    memset(g->tex, 0, sizeof g->tex);
+    g->nodes_itex = 0;
+    glDeleteBuffers(TRG_COUNT, g->buf);
+    memset(g->buf, 0, sizeof g->buf);
+    if (g->leaf_tex) glDeleteTextures(1, &g->leaf_tex);
+    g->leaf_tex = 0;
+    g->num_nodes = g->num_chunks = 0;
+}
+
+void tr_gpu_destroy(tr_gpu *g) {
+    tr_gpu_release(g);
+    st_shader_destroy(g->sh_reduce);
+    st_shader_destroy(g->sh_links);
+    st_shader_destroy(g->sh_sum);
+    st_shader_destroy(g->sh_push);
+    g->sh_reduce = g->sh_links = g->sh_sum = g->sh_push = NULL;
+}
+
+static GLuint buffer(size_t bytes, const void *data, long long *mem) {
+    GLuint b;
+    if (!bytes) bytes = 16; // GL wants a non-empty store
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(b, (GLsizeiptr)bytes, data, 0);
+    *mem += (long long)bytes;
+    return b;
+}
+
+bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
+    tr_gpu_release(g);
+    int nn = t->num_nodes;
+    // Chunks: each receiver's links in pieces of exactly TRG_CHUNK, the last
+    // one padded with links of weight 0, and whole workgroups of chunks: the
+    // link shader runs no divergent loop and no early return.
+    uint64_t nch = 0;
+    for (int i = 0; i < nn; i++)
+        nch += (t->link_off[i + 1] - t->link_off[i] + TRG_CHUNK - 1) / TRG_CHUNK;
+    nch = (nch + 63) / 64 * 64;
+    uint64_t nslots = nch * TRG_CHUNK;
+    GLint max_tbo = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    if (nch * 4 > (uint64_t)max_tbo || nslots > (uint64_t)max_tbo ||
+        (uint64_t)nn * 4 > (uint64_t)max_tbo || nn >= (1 << 24))
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "atlas_gi: %llu links in %d nodes exceed the GPU's texture buffer limit (%d "
+                       "texels); use a smaller transfer_leaves or a larger transfer_eps",
+                       (unsigned long long)t->num_links, nn, max_tbo);
+    float *nodes = calloc((size_t)(nn ? nn : 1) * 8, sizeof *nodes);
+    uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
+    uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
+    if (!nodes || !choff || !links) {
+        free(nodes), free(choff), free(links);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    }
+    uint64_t c = 0;
+    for (int i = 0; i < nn; i++) {
+        const tr_node *n = &t->nodes[i];
+        float *o = nodes + 8 * (size_t)i;
+        memcpy(o, n->c, 3 * sizeof(float));
+        o[3] = n->area;
+        int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, n->parent};
+        memcpy(o + 4, info, sizeof info);
+        choff[i] = (uint32_t)c;
+        uint32_t b = t->link_off[i], e = t->link_off[i + 1];
+        for (uint32_t k = b; k < e; k++)
+            tr_gpu_pack_link(t, i, k, links + 4 * (c * TRG_CHUNK + (k - b)));
+        c += (e - b + TRG_CHUNK - 1) / TRG_CHUNK;
+    }
+    choff[nn] = (uint32_t)c;
+    uint32_t nperm = nn ? t->nodes[0].end : 0;
+    long long *m = g->mem;
+    g->buf[TRG_NODES] = buffer((size_t)nn * 8 * sizeof(float), nodes, &m[TRG_MEM_NODES]);
+    g->buf[TRG_FLUX] = buffer((size_t)nn * 4 * sizeof(float), NULL, &m[TRG_MEM_NODES]);
+    g->buf[TRG_GATHER] = buffer((size_t)nn * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
+    g->buf[TRG_CHOFF] = buffer(((size_t)nn + 1) * sizeof(uint32_t), choff, &m[TRG_MEM_LINKS]);
+    g->buf[TRG_LINKS] = buffer(nslots * 4 * sizeof(uint32_t), links, &m[TRG_MEM_LINKS]);
+    g->buf[TRG_PERM] = buffer(nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM]);
+    g->buf[TRG_PARTIAL] = buffer(nch * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
+    free(nodes), free(choff), free(links);
+    static const GLenum fmt[TRG_COUNT] = {GL_RGBA32F,  GL_RGBA32F, GL_RGBA32F, GL_R32UI,
+                                          GL_RGBA32UI, GL_R32UI,   GL_RGBA32F};
+    glCreateTextures(GL_TEXTURE_BUFFER, TRG_COUNT, g->tex);
+    for (int i = 0; i < TRG_COUNT; i++)
+        glTextureBuffer(g->tex[i], fmt[i], g->buf[i]);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->nodes_itex);
+    glTextureBuffer(g->nodes_itex, GL_RGBA32I, g->buf[TRG_NODES]);
+    glCreateTextures(GL_TEXTURE_2D, 1, &g->leaf_tex);
+    glTextureStorage2D(g->leaf_tex, 1, GL_R32I, t->W, t->H);
+    glTextureParameteri(g->leaf_tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(g->leaf_tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureSubImage2D(g->leaf_tex, 0, 0, 0, t->W, t->H, GL_RED_INTEGER, GL_INT, t->texel_leaf);
+    m[TRG_MEM_LEAF] = (long long)t->W * t->H * 4;
+    for (int i = 0; i < TRG_MEM_COUNT; i++)
+        g->bytes += m[i];
+    st_gpu_track(g->bytes);
+    g->num_nodes = nn;
+    g->num_chunks = (int)nch;
+    return st_gl_check("atlas_gi transfer upload", err);
+}
+
+// The written buffers as storage buffers, every buffer as a buffer texture
+// (a shader's unused names are skipped).
+static void bind(const tr_gpu *g, st_shader *sh) {
+    static const int writes[3] = {TRG_FLUX, TRG_GATHER, TRG_PARTIAL};
+    for (int i = 0; i < 3; i++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)writes[i], g->buf[writes[i]]);
+    static const char *const names[TRG_COUNT] = {
+        "ag_nodes_tex", "ag_flux_tex", "ag_gathered_tex", "ag_chunk_off_tex",
+        "ag_links_tex", "ag_perm_tex", "ag_partial_tex"};
+    for (int i = 0; i < TRG_COUNT; i++)
+        st_shader_texture(sh, names[i], GL_TEXTURE_BUFFER, g->tex[i]);
+    st_shader_texture(sh, "ag_nodes_itex", GL_TEXTURE_BUFFER, g->nodes_itex);
+}
+
+// Storage-buffer writes become visible to the next pass' buffer-texture reads.
+static void barrier(void) {
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+static GLuint groups(int n) {
+    return (GLuint)((n + 63) / 64);
+}
+
+void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool use_prev,
+                   GLuint area) {
+    st_shader *r = g->sh_reduce;
+    st_shader_use(r);
+    bind(g, r);
+    st_shader_texture(r, "ag_l0", GL_TEXTURE_2D, l0);
+    st_shader_texture(r, "ag_prev", GL_TEXTURE_2D, prev);
+    st_shader_set_int(r, "ag_use_prev", use_prev);
+    st_shader_texture(r, "ag_area", GL_TEXTURE_2D, area);
+    for (int l = t->num_levels - 1; l >= 0; l--) {
+        int lb = t->level_begin[l], le = t->level_begin[l + 1];
+        st_shader_set_int(r, "ag_begin", lb);
+        st_shader_set_int(r, "ag_end", le);
+        glDispatchCompute(groups(le - lb), 1, 1);
+        barrier();
+    }
+}
+
+void tr_gpu_links(tr_gpu *g, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx) {
+    st_shader_use(g->sh_links);
+    if (sh_setup) sh_setup(ctx, g->sh_links); // before bind: it may bind textures too
+    bind(g, g->sh_links);
+    glDispatchCompute((GLuint)(g->num_chunks / 64), 1, 1); // a multiple of 64
+    barrier();
+    st_shader_use(g->sh_sum);
+    bind(g, g->sh_sum);
+    st_shader_set_int(g->sh_sum, "ag_num_nodes", g->num_nodes);
+    glDispatchCompute(groups(g->num_nodes), 1, 1);
+    barrier();
+}
+
+void tr_gpu_push(tr_gpu *g, GLuint albedo, GLuint pos) {
+    st_shader *p = g->sh_push;
+    st_shader_use(p);
+    bind(g, p);
+    st_shader_texture(p, "ag_leaf", GL_TEXTURE_2D, g->leaf_tex);
+    st_shader_texture(p, "ag_albedo", GL_TEXTURE_2D, albedo);
+    st_shader_texture(p, "ag_pos", GL_TEXTURE_2D, pos);
+    st_draw_fullscreen();
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}

@@ -1,0 +1,75 @@
+// atlas_gi: the precomputed transfer (transfer.h) on the GPU, and a relight
+// as GPU passes over it, with no read-back.
+//
+// Layout, chosen for llvmpipe (which runs 8 invocations per AVX2 vector and
+// one workgroup per thread):
+//   - links, 16 bytes each, grouped by receiver: sender node, w / A_sender
+//     (so the sender's flux needs no division by its area), the link's
+//     gradient factor grad ln(cos_x cos_j / d^2) as three halves (zero for
+//     a receiver that is not flat) and the centroid distance as a half (the
+//     medium). Everything about a link that does not depend on the light is
+//     computed once here, not per relight.
+//   - chunks of exactly TRG_CHUNK links of one receiver (padded with
+//     weight-0 links), one invocation per chunk: every invocation runs the
+//     same loop, so llvmpipe needs no per-lane masks in it (per receiver
+//     node the counts range from 1 to thousands); partial sums per chunk,
+//     then one invocation per node adds its chunks.
+//   - the passes read through buffer textures and write through storage
+//     buffers: llvmpipe turns a texel fetch into one vector gather, but a
+//     storage-buffer load into a loop with a bounds-check branch per lane.
+//   - per node, what the push to the texels needs in 4 vec4s: the gathered
+//     radiance and its x, y, z derivatives, with the centroid and the parent
+//     in the w components (one contiguous 64-byte read per ancestor).
+#ifndef ATLAS_GI_TRANSFER_GPU_H
+#define ATLAS_GI_TRANSFER_GPU_H
+#include "st_gl.h"
+#include "st_shader.h"
+#include "transfer.h"
+
+#define TRG_CHUNK 32 // links per chunk
+
+enum {
+    TRG_NODES,   // per node: centroid, area; child, first and end slot, parent
+    TRG_FLUX,    // per node: sum a_j L_j of its texels
+    TRG_GATHER,  // per node: 4 vec4 (above)
+    TRG_CHOFF,   // per node: its first chunk (num_nodes + 1)
+    TRG_LINKS,   // per link: uvec4 (above)
+    TRG_PERM,    // per texel slot: atlas texel y W + x
+    TRG_PARTIAL, // per chunk: 4 vec4 partial sums
+    TRG_COUNT
+};
+
+// Bytes per group, for --stats.
+enum { TRG_MEM_NODES, TRG_MEM_LINKS, TRG_MEM_GATHERED, TRG_MEM_PERM, TRG_MEM_LEAF, TRG_MEM_COUNT };
+
+typedef struct tr_gpu {
+    GLuint buf[TRG_COUNT];
+    GLuint tex[TRG_COUNT], nodes_itex; // buffer-texture views: the passes read through them
+    GLuint leaf_tex;                   // R32I: leaf node per atlas texel, -1 in gutters
+    int num_nodes, num_chunks;
+    long long mem[TRG_MEM_COUNT], bytes; // tracked in st_gpu_bytes()
+    st_shader *sh_reduce, *sh_links, *sh_sum, *sh_push;
+} tr_gpu;
+
+// One link as uploaded: the four words above. Exposed for the tests.
+void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]);
+
+bool tr_gpu_load_shaders(tr_gpu *g, st_err *err);
+bool tr_gpu_reload_shaders(tr_gpu *g, st_err *err);
+// Uploads t (replacing what was there); W x H is the atlas.
+bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err);
+// Frees the buffers (not the shaders).
+void tr_gpu_release(tr_gpu *g);
+void tr_gpu_destroy(tr_gpu *g);
+
+// A relight's steps for one bounce; binds its buffers itself.
+// Flux per node from L0 (+ prev when use_prev) times the texel areas.
+void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool use_prev,
+                   GLuint area);
+// The links' sums per node. `sh_setup` sets the world's uniforms (the medium)
+// on the link shader.
+void tr_gpu_links(tr_gpu *g, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx);
+// Per texel rho/pi times the sum over its leaf and ancestors, into the bound
+// framebuffer (attachment 0: this bounce; 1: the accumulation).
+void tr_gpu_push(tr_gpu *g, GLuint albedo, GLuint pos);
+#endif
