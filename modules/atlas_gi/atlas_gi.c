@@ -728,7 +728,7 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
         tr_gpu_reduce(&g->TG, T, g->tex[T_L0], g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1], b > 0,
                       g->tex[T_AREA]);
         prof_mark(g, ms, 0);
-        tr_gpu_links(&g->TG, links_setup, &lc);
+        tr_gpu_links(&g->TG, f->scene->medium.present, links_setup, &lc);
         prof_mark(g, ms, 1);
         GLuint fbo = g->fbo_gather[b & 1];
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);

@@ -6,26 +6,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-// IEEE half, round to nearest even; |x| beyond the largest half clamps to it
-// (a gradient factor that large saturates the push's clamp either way).
-static uint16_t to_half(float x) {
-    if (!(x == x)) return 0;
-    x = fmaxf(-65504.0f, fminf(65504.0f, x));
-    uint32_t u;
-    memcpy(&u, &x, 4);
-    uint32_t sign = (u >> 16) & 0x8000u;
-    float a = fabsf(x);
-    if (a < 6.103515625e-05f) // subnormal half: a multiple of 2^-24
-        return (uint16_t)(sign | (uint32_t)lrintf(a * 16777216.0f));
-    memcpy(&u, &a, 4);
-    uint32_t e = (u >> 23) - 112, m = u & 0x7fffffu;
-    uint32_t h = (e << 10) | (m >> 13), rest = m & 0x1fffu;
-    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) h++; // may carry into the exponent
-    return (uint16_t)(sign | (h > 0x7bffu ? 0x7bffu : h));
-}
-
-static uint32_t half2(float a, float b) {
-    return (uint32_t)to_half(a) | (uint32_t)to_half(b) << 16;
+void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]) {
+    double l = sqrt(n->n[0] * n->n[0] + n->n[1] * n->n[1] + n->n[2] * n->n[2]);
+    double z[3] = {0, 0, 1};
+    if (l > 0) z[0] = n->n[0] / l, z[1] = n->n[1] / l, z[2] = n->n[2] / l;
+    double a[3] = {fabs(z[0]) < 0.6 ? 1 : 0, fabs(z[0]) < 0.6 ? 0 : 1, 0};
+    double az = a[0] * z[0] + a[1] * z[1];
+    for (int i = 0; i < 3; i++)
+        t1[i] = a[i] - az * z[i];
+    double tl = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+    for (int i = 0; i < 3; i++)
+        t1[i] /= tl;
+    t2[0] = z[1] * t1[2] - z[2] * t1[1];
+    t2[1] = z[2] * t1[0] - z[0] * t1[2];
+    t2[2] = z[0] * t1[1] - z[1] * t1[0];
 }
 
 void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]) {
@@ -33,10 +27,11 @@ void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[
     float w = s->area > 0 ? t->link_w[k] / s->area : 0.0f;
     // grad_x ln(cos_x cos_j / d^2) at the centroids, d = y - x: terms whose
     // cosine is not well defined (a curved node) are left out, and only a
-    // flat receiver gets a gradient at all.
+    // flat receiver gets a gradient at all; its texels lie in its plane, so
+    // the gradient is stored along the plane's tangents.
     double d[3] = {s->c[0] - r->c[0], s->c[1] - r->c[1], s->c[2] - r->c[2]};
     double d2 = fmax(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1e-12), dl = sqrt(d2);
-    double g[3] = {0, 0, 0};
+    double g[3] = {0, 0, 0}, t1[3], t2[3];
     if (cos(r->cone) > 0.9) {
         double cr = r->n[0] * d[0] + r->n[1] * d[1] + r->n[2] * d[2];
         double cs = -(s->n[0] * d[0] + s->n[1] * d[1] + s->n[2] * d[2]);
@@ -46,25 +41,31 @@ void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[
             if (cos(s->cone) > 0.9 && cs > 0.2 * dl) g[i] += s->n[i] / cs;
         }
     }
+    tr_gpu_tangents(r, t1, t2);
     out[0] = t->link_node[k];
     memcpy(&out[1], &w, 4);
-    out[2] = half2((float)g[0], (float)g[1]);
-    out[3] = half2((float)g[2], (float)dl);
+    float gt[2] = {(float)(g[0] * t1[0] + g[1] * t1[1] + g[2] * t1[2]),
+                   (float)(g[0] * t2[0] + g[1] * t2[1] + g[2] * t2[2])};
+    memcpy(&out[2], gt, sizeof gt);
 }
 
 bool tr_gpu_load_shaders(tr_gpu *g, st_err *err) {
     char defs[32];
     snprintf(defs, sizeof defs, "AG_CHUNK %d\n", TRG_CHUNK);
+    char defs_medium[64];
+    snprintf(defs_medium, sizeof defs_medium, "%sAG_MEDIUM 1\n", defs);
     return (g->sh_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", defs, err)) &&
            (g->sh_links = st_shader_load_compute("atlas_gi/transfer_gather.comp", defs, err)) &&
+           (g->sh_links_medium =
+                st_shader_load_compute("atlas_gi/transfer_gather.comp", defs_medium, err)) &&
            (g->sh_sum = st_shader_load_compute("atlas_gi/transfer_sum.comp", defs, err)) &&
            (g->sh_push =
                 st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", defs, err));
 }
 
 bool tr_gpu_reload_shaders(tr_gpu *g, st_err *err) {
-    st_shader *all[4] = {g->sh_reduce, g->sh_links, g->sh_sum, g->sh_push};
-    for (int i = 0; i < 4; i++)
+    st_shader *all[5] = {g->sh_reduce, g->sh_links, g->sh_links_medium, g->sh_sum, g->sh_push};
+    for (int i = 0; i < 5; i++)
         if (all[i] && !st_shader_reload(all[i], err)) return false;
     return true;
 }
@@ -88,9 +89,10 @@ void tr_gpu_destroy(tr_gpu *g) {
     tr_gpu_release(g);
     st_shader_destroy(g->sh_reduce);
     st_shader_destroy(g->sh_links);
+    st_shader_destroy(g->sh_links_medium);
     st_shader_destroy(g->sh_sum);
     st_shader_destroy(g->sh_push);
-    g->sh_reduce = g->sh_links = g->sh_sum = g->sh_push = NULL;
+    g->sh_reduce = g->sh_links = g->sh_links_medium = g->sh_sum = g->sh_push = NULL;
 }
 
 static GLuint buffer(size_t bytes, const void *data, long long *mem) {
@@ -121,40 +123,47 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
                        "atlas_gi: %llu links in %d nodes exceed the GPU's texture buffer limit (%d "
                        "texels); use a smaller transfer_leaves or a larger transfer_eps",
                        (unsigned long long)t->num_links, nn, max_tbo);
-    float *nodes = calloc((size_t)(nn ? nn : 1) * 8, sizeof *nodes);
+    float *nodes = calloc((size_t)(nn ? nn : 1) * 16, sizeof *nodes);
     uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
     uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
-    if (!nodes || !choff || !links) {
-        free(nodes), free(choff), free(links);
+    uint32_t *recv = calloc((size_t)(nch ? nch : 1), sizeof *recv);
+    if (!nodes || !choff || !links || !recv) {
+        free(nodes), free(choff), free(links), free(recv);
         return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
     }
     uint64_t c = 0;
     for (int i = 0; i < nn; i++) {
         const tr_node *n = &t->nodes[i];
-        float *o = nodes + 8 * (size_t)i;
+        float *o = nodes + 16 * (size_t)i;
         memcpy(o, n->c, 3 * sizeof(float));
         o[3] = n->area;
         int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, n->parent};
         memcpy(o + 4, info, sizeof info);
+        double t1[3], t2[3];
+        tr_gpu_tangents(n, t1, t2);
+        for (int j = 0; j < 3; j++)
+            o[8 + j] = (float)t1[j], o[12 + j] = (float)t2[j];
         choff[i] = (uint32_t)c;
         uint32_t b = t->link_off[i], e = t->link_off[i + 1];
         for (uint32_t k = b; k < e; k++)
             tr_gpu_pack_link(t, i, k, links + 4 * (c * TRG_CHUNK + (k - b)));
-        c += (e - b + TRG_CHUNK - 1) / TRG_CHUNK;
+        for (uint32_t q = 0; q < (e - b + TRG_CHUNK - 1) / TRG_CHUNK; q++)
+            recv[c++] = (uint32_t)i;
     }
     choff[nn] = (uint32_t)c;
     uint32_t nperm = nn ? t->nodes[0].end : 0;
     long long *m = g->mem;
-    g->buf[TRG_NODES] = buffer((size_t)nn * 8 * sizeof(float), nodes, &m[TRG_MEM_NODES]);
+    g->buf[TRG_NODES] = buffer((size_t)nn * 16 * sizeof(float), nodes, &m[TRG_MEM_NODES]);
     g->buf[TRG_FLUX] = buffer((size_t)nn * 4 * sizeof(float), NULL, &m[TRG_MEM_NODES]);
     g->buf[TRG_GATHER] = buffer((size_t)nn * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
     g->buf[TRG_CHOFF] = buffer(((size_t)nn + 1) * sizeof(uint32_t), choff, &m[TRG_MEM_LINKS]);
     g->buf[TRG_LINKS] = buffer(nslots * 4 * sizeof(uint32_t), links, &m[TRG_MEM_LINKS]);
+    g->buf[TRG_CHRECV] = buffer(nch * sizeof(uint32_t), recv, &m[TRG_MEM_LINKS]);
     g->buf[TRG_PERM] = buffer(nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM]);
-    g->buf[TRG_PARTIAL] = buffer(nch * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
-    free(nodes), free(choff), free(links);
+    g->buf[TRG_PARTIAL] = buffer(nch * 12 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
+    free(nodes), free(choff), free(links), free(recv);
     static const GLenum fmt[TRG_COUNT] = {GL_RGBA32F,  GL_RGBA32F, GL_RGBA32F, GL_R32UI,
-                                          GL_RGBA32UI, GL_R32UI,   GL_RGBA32F};
+                                          GL_RGBA32UI, GL_R32UI,   GL_RGBA32F, GL_R32UI};
     glCreateTextures(GL_TEXTURE_BUFFER, TRG_COUNT, g->tex);
     for (int i = 0; i < TRG_COUNT; i++)
         glTextureBuffer(g->tex[i], fmt[i], g->buf[i]);
@@ -182,7 +191,7 @@ static void bind(const tr_gpu *g, st_shader *sh) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)writes[i], g->buf[writes[i]]);
     static const char *const names[TRG_COUNT] = {
         "ag_nodes_tex", "ag_flux_tex", "ag_gathered_tex", "ag_chunk_off_tex",
-        "ag_links_tex", "ag_perm_tex", "ag_partial_tex"};
+        "ag_links_tex", "ag_perm_tex", "ag_partial_tex",  "ag_chunk_recv_tex"};
     for (int i = 0; i < TRG_COUNT; i++)
         st_shader_texture(sh, names[i], GL_TEXTURE_BUFFER, g->tex[i]);
     st_shader_texture(sh, "ag_nodes_itex", GL_TEXTURE_BUFFER, g->nodes_itex);
@@ -215,10 +224,11 @@ void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool us
     }
 }
 
-void tr_gpu_links(tr_gpu *g, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx) {
-    st_shader_use(g->sh_links);
-    if (sh_setup) sh_setup(ctx, g->sh_links); // before bind: it may bind textures too
-    bind(g, g->sh_links);
+void tr_gpu_links(tr_gpu *g, bool medium, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx) {
+    st_shader *sh = medium ? g->sh_links_medium : g->sh_links;
+    st_shader_use(sh);
+    if (sh_setup) sh_setup(ctx, sh); // before bind: it may bind textures too
+    bind(g, sh);
     glDispatchCompute((GLuint)(g->num_chunks / 64), 1, 1); // a multiple of 64
     barrier();
     st_shader_use(g->sh_sum);

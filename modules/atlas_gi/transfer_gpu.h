@@ -3,12 +3,14 @@
 //
 // Layout, chosen for llvmpipe (which runs 8 invocations per AVX2 vector and
 // one workgroup per thread):
-//   - links, 16 bytes each, grouped by receiver: sender node, w / A_sender
-//     (so the sender's flux needs no division by its area), the link's
-//     gradient factor grad ln(cos_x cos_j / d^2) as three halves (zero for
-//     a receiver that is not flat) and the centroid distance as a half (the
-//     medium). Everything about a link that does not depend on the light is
-//     computed once here, not per relight.
+//   - links, 12 bytes each, grouped by receiver: sender node, w / A_sender
+//     (so the sender's flux needs no division by its area) and the link's
+//     gradient factor grad ln(cos_x cos_j / d^2) in the receiver's plane, as
+//     two halves along the receiver node's tangents (zero for a receiver
+//     that is not flat). Everything about a link that does not depend on
+//     the light is computed once here, not per relight; on llvmpipe the cost
+//     of the link pass is mostly the words fetched per link, so only what is
+//     needed is stored (the medium's segment length comes from the nodes).
 //   - chunks of exactly TRG_CHUNK links of one receiver (padded with
 //     weight-0 links), one invocation per chunk: every invocation runs the
 //     same loop, so llvmpipe needs no per-lane masks in it (per receiver
@@ -17,6 +19,9 @@
 //   - the passes read through buffer textures and write through storage
 //     buffers: llvmpipe turns a texel fetch into one vector gather, but a
 //     storage-buffer load into a loop with a bounds-check branch per lane.
+//   - per node: centroid and area, child, slots and parent, and the two
+//     tangents (4 texels); the sum pass turns the tangent derivatives back
+//     into x, y, z ones.
 //   - per node, what the push to the texels needs in 4 vec4s: the gathered
 //     radiance and its x, y, z derivatives, with the centroid and the parent
 //     in the w components (one contiguous 64-byte read per ancestor).
@@ -29,13 +34,14 @@
 #define TRG_CHUNK 32 // links per chunk
 
 enum {
-    TRG_NODES,   // per node: centroid, area; child, first and end slot, parent
+    TRG_NODES,   // per node: centroid, area; child, first and end slot, parent; t1; t2
     TRG_FLUX,    // per node: sum a_j L_j of its texels
     TRG_GATHER,  // per node: 4 vec4 (above)
     TRG_CHOFF,   // per node: its first chunk (num_nodes + 1)
-    TRG_LINKS,   // per link: uvec4 (above)
+    TRG_LINKS,   // per link: uvec3 (above)
     TRG_PERM,    // per texel slot: atlas texel y W + x
-    TRG_PARTIAL, // per chunk: 4 vec4 partial sums
+    TRG_PARTIAL, // per chunk: 3 vec4 partial sums (value, d/dt1, d/dt2)
+    TRG_CHRECV,  // per chunk: its receiver node (the medium)
     TRG_COUNT
 };
 
@@ -48,10 +54,13 @@ typedef struct tr_gpu {
     GLuint leaf_tex;                   // R32I: leaf node per atlas texel, -1 in gutters
     int num_nodes, num_chunks;
     long long mem[TRG_MEM_COUNT], bytes; // tracked in st_gpu_bytes()
-    st_shader *sh_reduce, *sh_links, *sh_sum, *sh_push;
+    st_shader *sh_reduce, *sh_links, *sh_links_medium, *sh_sum, *sh_push;
 } tr_gpu;
 
-// One link as uploaded: the four words above. Exposed for the tests.
+// A node's tangents t1, t2 (unit, orthogonal to its mean normal and each
+// other; arbitrary for a node without one).
+void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]);
+// One link as uploaded: the three words above.
 void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]);
 
 bool tr_gpu_load_shaders(tr_gpu *g, st_err *err);
@@ -66,9 +75,10 @@ void tr_gpu_destroy(tr_gpu *g);
 // Flux per node from L0 (+ prev when use_prev) times the texel areas.
 void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool use_prev,
                    GLuint area);
-// The links' sums per node. `sh_setup` sets the world's uniforms (the medium)
-// on the link shader.
-void tr_gpu_links(tr_gpu *g, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx);
+// The links' sums per node; `medium`: attenuated along each link (a shader
+// variant). `sh_setup` sets the world's uniforms (the medium) on the link
+// shader.
+void tr_gpu_links(tr_gpu *g, bool medium, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx);
 // Per texel rho/pi times the sum over its leaf and ancestors, into the bound
 // framebuffer (attachment 0: this bounce; 1: the accumulation).
 void tr_gpu_push(tr_gpu *g, GLuint albedo, GLuint pos);

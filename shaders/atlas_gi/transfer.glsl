@@ -6,8 +6,9 @@
 // with a branch per lane.
 #ifndef AG_TRANSFER_GLSL
 #define AG_TRANSFER_GLSL
-// Per node 2 texels: area-weighted centroid, area; first child (-1: leaf),
-// first and end texel slot, parent (-1: root). One buffer, two views.
+// Per node 4 texels: area-weighted centroid, area; first child (-1: leaf),
+// first and end texel slot, parent (-1: root); tangents t1, t2 of its mean
+// plane. One buffer, two views.
 uniform samplerBuffer ag_nodes_tex;
 uniform isamplerBuffer ag_nodes_itex;
 uniform samplerBuffer ag_flux_tex;      // per node: sum a_j L_j of its texels
@@ -16,11 +17,13 @@ uniform samplerBuffer ag_flux_tex;      // per node: sum a_j L_j of its texels
 // first-order correction; in a the centroid's x, y, z and the parent (a float).
 uniform samplerBuffer ag_gathered_tex;
 uniform usamplerBuffer ag_chunk_off_tex; // per node: its first chunk (num_nodes + 1)
-// Per link (chunk c: links c AG_CHUNK .. + AG_CHUNK): sender node, w / A_sender (float bits), the gradient factor's
-// x, y (half2) and z, centroid distance (half2).
+// Per link (chunk c: links c AG_CHUNK .. + AG_CHUNK): sender node,
+// w / A_sender (float bits), the gradient factor along the receiver's t1, t2
+// (half2).
 uniform usamplerBuffer ag_links_tex;
+uniform usamplerBuffer ag_chunk_recv_tex; // per chunk: its receiver node
 uniform usamplerBuffer ag_perm_tex;     // per texel slot: atlas texel y W + x
-uniform samplerBuffer ag_partial_tex;   // per chunk: 4 texels, as gathered
+uniform samplerBuffer ag_partial_tex;   // per chunk 3 texels: value, d/dt1, d/dt2
 layout(std430, binding = 1) writeonly buffer ag_tr_flux { vec4 ag_flux[]; };
 layout(std430, binding = 2) writeonly buffer ag_tr_gathered { vec4 ag_gathered[]; };
 layout(std430, binding = 6) writeonly buffer ag_tr_partial { vec4 ag_partial[]; };

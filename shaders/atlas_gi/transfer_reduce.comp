@@ -12,7 +12,7 @@ uniform sampler2D ag_area;
 void main() {
     int i = ag_begin + int(gl_GlobalInvocationID.x);
     if (i >= ag_end) return;
-    ivec4 info = texelFetch(ag_nodes_itex, 2 * i + 1);
+    ivec4 info = texelFetch(ag_nodes_itex, 4 * i + 1);
     vec3 f;
     if (info.x < 0) {
         int w = textureSize(ag_l0, 0).x;
