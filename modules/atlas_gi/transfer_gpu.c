@@ -7,9 +7,10 @@
 #include <string.h>
 
 void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]) {
-    double l = sqrt(n->n[0] * n->n[0] + n->n[1] * n->n[1] + n->n[2] * n->n[2]);
+    double m[3] = {n->n[0], n->n[1], n->n[2]};
+    double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     double z[3] = {0, 0, 1};
-    if (l > 0) z[0] = n->n[0] / l, z[1] = n->n[1] / l, z[2] = n->n[2] / l;
+    if (l > 0) z[0] = m[0] / l, z[1] = m[1] / l, z[2] = m[2] / l;
     double a[3] = {fabs(z[0]) < 0.6 ? 1 : 0, fabs(z[0]) < 0.6 ? 0 : 1, 0};
     double az = a[0] * z[0] + a[1] * z[1];
     for (int i = 0; i < 3; i++)
