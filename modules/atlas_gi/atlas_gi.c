@@ -715,8 +715,11 @@ static void links_setup(void *ctx, st_shader *sh) {
 static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
     if (!ensure_transfer(g, err)) return false;
     const transfer *T = &g->T;
-    const float zero[4] = {0, 0, 0, 0};
-    glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
+    // No clear of the accumulation: the last bounce's push writes every texel.
+    if (!T->num_nodes) {
+        const float zero[4] = {0, 0, 0, 0};
+        glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
+    }
     glViewport(0, 0, g->W, g->H);
     glDisable(GL_DEPTH_TEST);
     double ms[2][AG_PROF_STEPS] = {{0}};
