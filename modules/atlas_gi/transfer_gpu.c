@@ -124,12 +124,32 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
                        "atlas_gi: %llu links in %d nodes exceed the GPU's texture buffer limit (%d "
                        "texels); use a smaller transfer_leaves or a larger transfer_eps",
                        (unsigned long long)t->num_links, nn, max_tbo);
+    // The push walks from a texel's leaf up to the root; nodes without links
+    // add nothing, so the walk visits only those with links: per node its
+    // nearest proper ancestor with links (nodes are breadth first, parents
+    // before children), per texel the first node with links on its chain
+    // (-1: a gutter, -2: a surface texel that no link reaches).
+    int32_t *up = malloc((size_t)(nn ? nn : 1) * sizeof *up);
+    int32_t *first = malloc((size_t)t->W * t->H * sizeof *first);
+    if (up && first) {
+        for (int i = 0; i < nn; i++) {
+            int p = t->nodes[i].parent;
+            up[i] = p < 0 ? -1 : t->link_off[p + 1] > t->link_off[p] ? p : up[p];
+        }
+        for (size_t j = 0; j < (size_t)t->W * t->H; j++) {
+            int l = t->texel_leaf[j];
+            first[j] = l < 0                                 ? -1
+                       : t->link_off[l + 1] > t->link_off[l] ? l
+                       : up[l] >= 0                          ? up[l]
+                                                             : -2;
+        }
+    }
     float *nodes = calloc((size_t)(nn ? nn : 1) * 16, sizeof *nodes);
     uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
     uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
     uint32_t *recv = calloc((size_t)(nch ? nch : 1), sizeof *recv);
-    if (!nodes || !choff || !links || !recv) {
-        free(nodes), free(choff), free(links), free(recv);
+    if (!up || !first || !nodes || !choff || !links || !recv) {
+        free(up), free(first), free(nodes), free(choff), free(links), free(recv);
         return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
     }
     uint64_t c = 0;
@@ -138,7 +158,7 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
         float *o = nodes + 16 * (size_t)i;
         memcpy(o, n->c, 3 * sizeof(float));
         o[3] = n->area;
-        int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, n->parent};
+        int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, up[i]};
         memcpy(o + 4, info, sizeof info);
         double t1[3], t2[3];
         tr_gpu_tangents(n, t1, t2);
@@ -174,7 +194,9 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
     glTextureStorage2D(g->leaf_tex, 1, GL_R32I, t->W, t->H);
     glTextureParameteri(g->leaf_tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(g->leaf_tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureSubImage2D(g->leaf_tex, 0, 0, 0, t->W, t->H, GL_RED_INTEGER, GL_INT, t->texel_leaf);
+    glTextureSubImage2D(g->leaf_tex, 0, 0, 0, t->W, t->H, GL_RED_INTEGER, GL_INT, first);
+    free(up);
+    free(first);
     m[TRG_MEM_LEAF] = (long long)t->W * t->H * 4;
     for (int i = 0; i < TRG_MEM_COUNT; i++)
         g->bytes += m[i];

@@ -19,11 +19,13 @@
 //   - the passes read through buffer textures and write through storage
 //     buffers: llvmpipe turns a texel fetch into one vector gather, but a
 //     storage-buffer load into a loop with a bounds-check branch per lane.
-//   - per node: centroid and area, child, slots and parent, and the two
+//   - per node: centroid and area, child, slots and the nearest ancestor
+//     that has links (the push skips nodes that add nothing), and the two
 //     tangents (4 texels); the sum pass turns the tangent derivatives back
 //     into x, y, z ones.
 //   - per node, what the push to the texels needs in 4 vec4s: the gathered
-//     radiance and its x, y, z derivatives, with the centroid and the parent
+//     radiance and its x, y, z derivatives, with the centroid and that
+//     ancestor
 //     in the w components (one contiguous 64-byte read per ancestor).
 #ifndef ATLAS_GI_TRANSFER_GPU_H
 #define ATLAS_GI_TRANSFER_GPU_H
@@ -34,7 +36,7 @@
 #define TRG_CHUNK 32 // links per chunk
 
 enum {
-    TRG_NODES,   // per node: centroid, area; child, first and end slot, parent; t1; t2
+    TRG_NODES,   // per node: centroid, area; child, first and end slot, linked ancestor; t1; t2
     TRG_FLUX,    // per node: sum a_j L_j of its texels
     TRG_GATHER,  // per node: 4 vec4 (above)
     TRG_CHOFF,   // per node: its first chunk (num_nodes + 1)
@@ -51,7 +53,7 @@ enum { TRG_MEM_NODES, TRG_MEM_LINKS, TRG_MEM_GATHERED, TRG_MEM_PERM, TRG_MEM_LEA
 typedef struct tr_gpu {
     GLuint buf[TRG_COUNT];
     GLuint tex[TRG_COUNT], nodes_itex; // buffer-texture views: the passes read through them
-    GLuint leaf_tex;                   // R32I: leaf node per atlas texel, -1 in gutters
+    GLuint leaf_tex; // R32I: per texel the first node with links up from its leaf (-1 gutter)
     int num_nodes, num_chunks;
     long long mem[TRG_MEM_COUNT], bytes; // tracked in st_gpu_bytes()
     st_shader *sh_reduce, *sh_links, *sh_links_medium, *sh_sum, *sh_push;

@@ -7,14 +7,16 @@
 #ifndef AG_TRANSFER_GLSL
 #define AG_TRANSFER_GLSL
 // Per node 4 texels: area-weighted centroid, area; first child (-1: leaf),
-// first and end texel slot, parent (-1: root); tangents t1, t2 of its mean
+// first and end texel slot, nearest ancestor with links (-1: none); tangents
+// t1, t2 of its mean
 // plane. One buffer, two views.
 uniform samplerBuffer ag_nodes_tex;
 uniform isamplerBuffer ag_nodes_itex;
 uniform samplerBuffer ag_flux_tex;      // per node: sum a_j L_j of its texels
 // Per node 4 texels: the gathered radiance at the centroid and its
 // derivatives along x, y, z (rgb), so texels off the centroid get a
-// first-order correction; in a the centroid's x, y, z and the parent (a float).
+// first-order correction; in a the centroid's x, y, z and the nearest
+// ancestor with links (a float).
 uniform samplerBuffer ag_gathered_tex;
 uniform usamplerBuffer ag_chunk_off_tex; // per node: its first chunk (num_nodes + 1)
 // Per link (chunk c: links c AG_CHUNK .. + AG_CHUNK): sender node,

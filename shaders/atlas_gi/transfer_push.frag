@@ -1,11 +1,14 @@
 // Precomputed transfer, step 4: per atlas texel rho/pi times the sum of the
-// gathered values of its leaf and every ancestor (a node's links stand for
-// all texels under it), each corrected to first order for the texel's
-// offset from the node's centroid. Outputs as the gather's: this bounce, and the
-// running sum the resolve pass divides by the frame count (here 1).
+// gathered values of its leaf and every ancestor that has links (a node's
+// links stand for all texels under it), each corrected to first order for
+// the texel's offset from the node's centroid. Outputs as the gather's: this
+// bounce, and the running sum the resolve pass divides by the frame count
+// (here 1).
 #include "atlas_gi/transfer.glsl"
 #include "atlas_gi/estimator.glsl"
-uniform isampler2D ag_leaf; // leaf node per texel, -1 in gutters
+// Per texel the first node with links on the way up from its leaf (-1 in
+// gutters, -2 where no link reaches); each node names the next such one.
+uniform isampler2D ag_leaf;
 uniform sampler2D ag_albedo;
 uniform sampler2D ag_pos;
 layout(location = 0) out vec4 o_bounce;
@@ -14,7 +17,7 @@ layout(location = 1) out vec4 o_accum;
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     int n = texelFetch(ag_leaf, t, 0).r;
-    if (n < 0) {
+    if (n == -1) {
         o_bounce = vec4(0.0);
         o_accum = vec4(0.0);
         return;
