@@ -113,8 +113,9 @@ enum {
     T_COUNT
 };
 
-enum { AG_PROF_STEPS = 4, AG_PROF_MAX = 64 };
-static const char *const prof_names[AG_PROF_STEPS] = {"reduce", "links", "push", "resolve"};
+enum { AG_PROF_STEPS = 5, AG_PROF_MAX = 64 };
+static const char *const prof_names[AG_PROF_STEPS] = {"G-buffer", "reduce", "links", "push",
+                                                      "resolve"};
 
 typedef struct agi {
     st_world *w;
@@ -151,13 +152,14 @@ typedef struct agi {
     transfer T;
     bool have_transfer;
     tr_gpu TG; // its GPU copy and the relight's shaders
-    // profile=true: per relight step (reduce, links, push, resolve) the last
+    // profile=true: per relight step (prof_names) the last
     // AG_PROF_MAX wall and process CPU times in ms, and when the current
     // step began (CPU time: llvmpipe's work, less inflated by other
     // processes on a shared machine than the wall time).
     float prof[2][AG_PROF_STEPS][AG_PROF_MAX];
     int prof_n;
     double prof_t[2];
+    double prof_gb[2][AG_PROF_STEPS]; // the G-buffer pass of this relight (step 0)
     bool shadow;
     bool atlas_dirty, gb_dirty, restart;
     int frames;
@@ -637,7 +639,11 @@ static bool needed(void *self, int pass, const st_frame *f) {
     return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS)) || !g->converged;
 }
 
+static void prof_mark(agi *g, double (*acc)[AG_PROF_STEPS], int step);
+
 static bool gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
+    memset(g->prof_gb, 0, sizeof g->prof_gb);
+    prof_mark(g, NULL, 0);
     if ((f->changes & ST_CHANGE_GEOMETRY) && !(f->changes & ST_CHANGE_FIRST)) g->atlas_dirty = true;
     if (g->atlas_dirty && !build_atlas(g, err)) return false;
     bool shadow = st_world_has_module(g->w, "shadow_map");
@@ -662,6 +668,7 @@ static bool gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
     st_world_apply_uniforms(g->w, g->sh_gb, f);
     st_shader_texture(g->sh_gb, "ag_area_tex", GL_TEXTURE_2D, g->tex[T_AREA]);
     st_model_type_draw(&g->type, g->models, g->num_models, g->sh_gb);
+    prof_mark(g, g->prof_gb, 0);
     g->gb_dirty = false;
     g->have_cdf = false;
     g->restart = true;
@@ -687,7 +694,8 @@ static void resolve(agi *g) {
 }
 
 // profile=true: waits for the GPU and adds the time since the last mark to
-// *acc (NULL: only starts the clock). Without profile: nothing, no wait.
+// acc[wall, CPU][step] (NULL: only starts the clock). Without profile:
+// nothing, no wait.
 static void prof_mark(agi *g, double (*acc)[AG_PROF_STEPS], int step) {
     if (!ip(g, P_PROFILE)) return;
     glFinish();
@@ -722,7 +730,8 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
     }
     glViewport(0, 0, g->W, g->H);
     glDisable(GL_DEPTH_TEST);
-    double ms[2][AG_PROF_STEPS] = {{0}};
+    double ms[2][AG_PROF_STEPS] = {{g->prof_gb[0][0]}, {g->prof_gb[1][0]}};
+    memset(g->prof_gb, 0, sizeof g->prof_gb);
     prof_mark(g, NULL, 0);
     int bounces = ip(g, P_BOUNCES);
     links_ctx lc = {g, f};
@@ -730,9 +739,9 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
         bool last = b == bounces - 1;
         tr_gpu_reduce(&g->TG, T, g->tex[T_L0], g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1], b > 0,
                       g->tex[T_AREA]);
-        prof_mark(g, ms, 0);
-        tr_gpu_links(&g->TG, f->scene->medium.present, links_setup, &lc);
         prof_mark(g, ms, 1);
+        tr_gpu_links(&g->TG, f->scene->medium.present, links_setup, &lc);
+        prof_mark(g, ms, 2);
         GLuint fbo = g->fbo_gather[b & 1];
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, last ? GL_COLOR_ATTACHMENT1 : GL_NONE};
@@ -740,14 +749,14 @@ static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
         glDisablei(GL_BLEND, 0);
         glDisablei(GL_BLEND, 1);
         tr_gpu_push(&g->TG, g->tex[T_ALBEDO], g->tex[T_POS]);
-        prof_mark(g, ms, 2);
+        prof_mark(g, ms, 3);
     }
     for (int i = 0; i < TRG_COUNT; i++)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, 0);
     g->frames = 1;
     g->restart = false;
     resolve(g);
-    prof_mark(g, ms, 3);
+    prof_mark(g, ms, 4);
     if (ip(g, P_PROFILE)) {
         int k = g->prof_n % AG_PROF_MAX;
         for (int c = 0; c < 2; c++)
