@@ -3,14 +3,14 @@
 //
 // Layout, chosen for llvmpipe (which runs 8 invocations per AVX2 vector and
 // one workgroup per thread):
-//   - links, 12 bytes each, grouped by receiver: sender node, w / A_sender
+//   - links, 16 bytes each, grouped by receiver: sender node, w / A_sender
 //     (so the sender's flux needs no division by its area) and the link's
 //     gradient factor grad ln(cos_x cos_j / d^2) in the receiver's plane, as
-//     two halves along the receiver node's tangents (zero for a receiver
+//     two floats along the receiver node's tangents (zero for a receiver
 //     that is not flat). Everything about a link that does not depend on
-//     the light is computed once here, not per relight; on llvmpipe the cost
-//     of the link pass is mostly the words fetched per link, so only what is
-//     needed is stored (the medium's segment length comes from the nodes).
+//     the light is computed once here, not per relight (the medium's
+//     segment length comes from the nodes, in a shader variant: llvmpipe
+//     runs both sides of a branch inside a loop).
 //   - chunks of exactly TRG_CHUNK links of one receiver (padded with
 //     weight-0 links), one invocation per chunk: every invocation runs the
 //     same loop, so llvmpipe needs no per-lane masks in it (per receiver
@@ -25,8 +25,7 @@
 //     into x, y, z ones.
 //   - per node, what the push to the texels needs in 4 vec4s: the gathered
 //     radiance and its x, y, z derivatives, with the centroid and that
-//     ancestor
-//     in the w components (one contiguous 64-byte read per ancestor).
+//     ancestor in the w components (one contiguous 64-byte read per node).
 #ifndef ATLAS_GI_TRANSFER_GPU_H
 #define ATLAS_GI_TRANSFER_GPU_H
 #include "st_gl.h"
@@ -40,7 +39,7 @@ enum {
     TRG_FLUX,    // per node: sum a_j L_j of its texels
     TRG_GATHER,  // per node: 4 vec4 (above)
     TRG_CHOFF,   // per node: its first chunk (num_nodes + 1)
-    TRG_LINKS,   // per link: uvec3 (above)
+    TRG_LINKS,   // per link: uvec4 (above)
     TRG_PERM,    // per texel slot: atlas texel y W + x
     TRG_PARTIAL, // per chunk: 3 vec4 partial sums (value, d/dt1, d/dt2)
     TRG_CHRECV,  // per chunk: its receiver node (the medium)
@@ -62,7 +61,7 @@ typedef struct tr_gpu {
 // A node's tangents t1, t2 (unit, orthogonal to its mean normal and each
 // other; arbitrary for a node without one).
 void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]);
-// One link as uploaded: the three words above.
+// One link as uploaded: the four words above.
 void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]);
 
 bool tr_gpu_load_shaders(tr_gpu *g, st_err *err);
