@@ -150,7 +150,7 @@ typedef struct st_progress {
     bool converged;  // more frames would not change the result (beyond its tolerance)
     uint32_t frames; // frames accumulated into the current result
     double error;    // estimated remaining relative error (0: exact for its model)
-    char info[256];  // what the module precomputed, for --stats ("" if nothing)
+    char info[512];  // what the module precomputed, for --stats ("" if nothing)
 } st_progress;
 
 typedef struct st_plugin {

@@ -13,14 +13,17 @@
 // geometry or its parameters change, the G-buffer only when lights (or the
 // shadow map) change, the gather only when its inputs or parameters change or
 // while accumulation has not converged. A camera-only frame runs neither pass.
+#define _POSIX_C_SOURCE 200809L // clock_gettime (profile)
 #include "atlas.h"
 #include "bvh.h"
 #include "transfer.h"
+#include "transfer_gpu.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 enum {
     P_ATLAS_SIZE,
@@ -38,6 +41,7 @@ enum {
     P_MODE,
     P_TRANSFER_LEAVES,
     P_TRANSFER_EPS,
+    P_PROFILE,
     P_COUNT
 };
 
@@ -89,6 +93,9 @@ static const st_param_def params[P_COUNT] = {
      "transfer: a link's sender node may subtend at most this A/(pi d^2) (receivers a quarter of "
      "it); smaller is more "
      "accurate, with more links and a longer precompute"},
+    {"profile", ST_PARAM_BOOL, 0, 0, 1, NULL,
+     "transfer: wait for the GPU after every step of a relight and report the steps' median "
+     "times in --stats (benchmarks only: the waits slow the relight down)"},
 };
 
 enum {
@@ -119,9 +126,9 @@ static const char *const atlas_buffers[] = {
     "atlas_gi.points",        "atlas_gi.vertices",      "atlas_gi.indices",
     "atlas_gi.triangles",     "atlas_gi.triangles_tex", "atlas_gi.mesh_base",
     "atlas_gi.mesh_base_tex", "atlas_gi.bvh_nodes",     "atlas_gi.bvh_triangles"};
-static const char *const transfer_buffers[6] = {
-    "atlas_gi.transfer_nodes",         "atlas_gi.transfer_flux",  "atlas_gi.transfer_gathered",
-    "atlas_gi.transfer_links_offsets", "atlas_gi.transfer_links", "atlas_gi.transfer_texels"};
+enum { AG_PROF_STEPS = 5, AG_PROF_MAX = 64 };
+static const char *const prof_names[AG_PROF_STEPS] = {"G-buffer", "reduce", "links", "push",
+                                                      "resolve"};
 
 typedef struct agi {
     st_world *w;
@@ -157,9 +164,15 @@ typedef struct agi {
     // Precomputed transfer (mode=transfer), built on first use per atlas.
     transfer T;
     bool have_transfer;
-    GLuint tr_buf[6]; // nodes, flux, gathered, link offsets, links, texel slots
-    GLuint leaf_tex;
-    st_shader *sh_tr_reduce, *sh_tr_gather, *sh_tr_push;
+    tr_gpu TG; // its GPU copy and the relight's shaders
+    // profile=true: per relight step (prof_names) the last
+    // AG_PROF_MAX wall and process CPU times in ms, and when the current
+    // step began (CPU time: llvmpipe's work, less inflated by other
+    // processes on a shared machine than the wall time).
+    float prof[2][AG_PROF_STEPS][AG_PROF_MAX];
+    int prof_n;
+    double prof_t[2];
+    double prof_gb[2][AG_PROF_STEPS]; // the G-buffer pass of this relight (step 0)
     bool shadow;
     bool atlas_dirty, gb_dirty, restart;
     int frames;
@@ -175,12 +188,7 @@ static int ip(const agi *g, int k) {
 // ---- resources ----------------------------------------------------------------
 
 static void release_transfer(agi *g) {
-    for (int i = 0; i < 6; i++)
-        st_world_untrack(g->w, transfer_buffers[i]);
-    glDeleteBuffers(6, g->tr_buf);
-    memset(g->tr_buf, 0, sizeof g->tr_buf);
-    st_world_declare_target(g->w, "atlas_gi.leaf", NULL, &(st_err){0});
-    g->leaf_tex = 0;
+    tr_gpu_release(&g->TG);
     transfer_free(&g->T);
     g->have_transfer = false;
 }
@@ -438,53 +446,9 @@ static bool ensure_transfer(agi *g, st_err *err) {
     free(nrm);
     free(tris);
     if (!ok) return false;
-    const transfer *T = &g->T;
-    size_t nn = T->num_nodes ? (size_t)T->num_nodes : 1;
-    float *nodes = calloc(nn * 12, sizeof *nodes);
-    uint32_t *links = malloc((T->num_links ? T->num_links : 1) * 2 * sizeof *links);
-    if (!nodes || !links) {
-        free(nodes);
-        free(links);
-        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
-    }
-    for (int i = 0; i < T->num_nodes; i++) {
-        const tr_node *n = &T->nodes[i];
-        float *o8 = nodes + 12 * (size_t)i;
-        memcpy(o8, n->c, 3 * sizeof(float));
-        o8[3] = n->area;
-        memcpy(o8 + 4, n->n, 3 * sizeof(float));
-        o8[7] = cosf(n->cone);
-        int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, n->parent};
-        memcpy(o8 + 8, info, sizeof info);
-    }
-    for (uint64_t k = 0; k < T->num_links; k++) {
-        links[2 * k] = T->link_node[k];
-        memcpy(&links[2 * k + 1], &T->link_w[k], 4);
-    }
-    uint32_t zero_off[2] = {0, 0};
-    glCreateBuffers(6, g->tr_buf);
-    glNamedBufferStorage(g->tr_buf[0], (GLsizeiptr)(nn * 12 * sizeof(float)), nodes, 0);
-    glNamedBufferStorage(g->tr_buf[1], (GLsizeiptr)(nn * 4 * sizeof(float)), NULL, 0);
-    glNamedBufferStorage(g->tr_buf[2], (GLsizeiptr)(nn * 16 * sizeof(float)), NULL, 0);
-    glNamedBufferStorage(g->tr_buf[3], (GLsizeiptr)((nn + 1) * sizeof(uint32_t)),
-                         T->link_off ? T->link_off : zero_off, 0);
-    glNamedBufferStorage(g->tr_buf[4],
-                         (GLsizeiptr)((T->num_links ? T->num_links : 1) * 2 * sizeof(uint32_t)),
-                         links, 0);
-    uint32_t nperm = T->num_nodes ? T->nodes[0].end : 0;
-    glNamedBufferStorage(g->tr_buf[5], (GLsizeiptr)((nperm ? nperm : 1) * sizeof(uint32_t)),
-                         nperm ? T->perm : zero_off, 0);
-    free(nodes);
-    free(links);
-    for (int i = 0; i < 6; i++)
-        if (!st_world_track(g->w, transfer_buffers[i], GL_BUFFER, g->tr_buf[i], err)) return false;
-    const st_target_desc leaf = {GL_R32I, .width = g->W, .height = g->H, .filter = GL_NEAREST};
-    const st_target *lt = st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err);
-    if (!lt) return false;
-    g->leaf_tex = lt->color[0];
-    glTextureSubImage2D(g->leaf_tex, 0, 0, 0, g->W, g->H, GL_RED_INTEGER, GL_INT, T->texel_leaf);
+    if (!tr_gpu_upload(&g->TG, &g->T, err)) return false;
     g->have_transfer = true;
-    return st_gl_check("atlas_gi transfer upload", err);
+    return true;
 }
 
 // The sample texture (thesis 4.5): X_i = (i/N, radical inverse base 2 of i).
@@ -638,9 +602,7 @@ static void destroy(void *self) {
     st_shader_destroy(g->sh_gather);
     st_shader_destroy(g->sh_gather_vis);
     st_shader_destroy(g->sh_resolve);
-    st_shader_destroy(g->sh_tr_reduce);
-    st_shader_destroy(g->sh_tr_gather);
-    st_shader_destroy(g->sh_tr_push);
+    tr_gpu_destroy(&g->TG);
     free(g);
 }
 
@@ -651,21 +613,17 @@ static void *create(st_world *w, const double *p, st_err *err) {
         return NULL;
     }
     g->w = w;
+    g->TG.w = w;
     g->p = p;
     g->rel_err = INFINITY;
-    bool ok =
-        compile_gbuffer(g, st_world_has_module(w, "shadow_map"), err) &&
-        (g->sh_gather =
-             st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", NULL, err)) &&
-        (g->sh_gather_vis = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag",
-                                           "AG_VISIBILITY 1\n", err)) &&
-        (g->sh_resolve =
-             st_shader_load("common/fullscreen.vert", "atlas_gi/resolve.frag", NULL, err)) &&
-        (g->sh_tr_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", NULL, err)) &&
-        (g->sh_tr_gather = st_shader_load_compute("atlas_gi/transfer_gather.comp", NULL, err)) &&
-        (g->sh_tr_push =
-             st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", NULL, err)) &&
-        build_atlas(g, err);
+    bool ok = compile_gbuffer(g, st_world_has_module(w, "shadow_map"), err) &&
+              (g->sh_gather =
+                   st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", NULL, err)) &&
+              (g->sh_gather_vis = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag",
+                                                 "AG_VISIBILITY 1\n", err)) &&
+              (g->sh_resolve =
+                   st_shader_load("common/fullscreen.vert", "atlas_gi/resolve.frag", NULL, err)) &&
+              tr_gpu_load_shaders(&g->TG, err) && build_atlas(g, err);
     if (!ok) {
         destroy(g);
         return NULL;
@@ -697,7 +655,11 @@ static bool needed(void *self, int pass, const st_frame *f) {
     return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS)) || !g->converged;
 }
 
+static void prof_mark(agi *g, double (*acc)[AG_PROF_STEPS], int step);
+
 static bool gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
+    memset(g->prof_gb, 0, sizeof g->prof_gb);
+    prof_mark(g, NULL, 0);
     if ((f->changes & ST_CHANGE_GEOMETRY) && !(f->changes & ST_CHANGE_FIRST)) g->atlas_dirty = true;
     if (g->atlas_dirty && !build_atlas(g, err)) return false;
     bool shadow = st_world_has_module(g->w, "shadow_map");
@@ -722,6 +684,7 @@ static bool gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
     st_world_apply_uniforms(g->w, g->sh_gb, f);
     st_shader_texture(g->sh_gb, "ag_area_tex", GL_TEXTURE_2D, g->tex[T_AREA]);
     st_model_type_draw(&g->type, g->models, g->num_models, g->sh_gb);
+    prof_mark(g, g->prof_gb, 0);
     g->gb_dirty = false;
     g->have_cdf = false;
     g->restart = true;
@@ -746,58 +709,77 @@ static void resolve(agi *g) {
     st_draw_fullscreen();
 }
 
+// profile=true: waits for the GPU and adds the time since the last mark to
+// acc[wall, CPU][step] (NULL: only starts the clock). Without profile:
+// nothing, no wait.
+static void prof_mark(agi *g, double (*acc)[AG_PROF_STEPS], int step) {
+    if (!ip(g, P_PROFILE)) return;
+    glFinish();
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    double t[2] = {st_now_ms(), ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6};
+    for (int i = 0; i < 2; i++) {
+        if (acc) acc[i][step] += t[i] - g->prof_t[i];
+        g->prof_t[i] = t[i];
+    }
+}
+
 // mode=transfer: every bounce is a reduction up the cluster tree, one pass
 // over the links and a push down to the texels. Deterministic: one frame.
+typedef struct {
+    agi *g;
+    const st_frame *f;
+} links_ctx;
+
+static void links_setup(void *ctx, st_shader *sh) {
+    const links_ctx *c = ctx;
+    st_world_apply_uniforms(c->g->w, sh, c->f); // the medium
+}
+
 static bool transfer_pass(agi *g, const st_frame *f, st_err *err) {
     if (!ensure_transfer(g, err)) return false;
     const transfer *T = &g->T;
-    for (int i = 0; i < 6; i++)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, g->tr_buf[i]);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
+    // No clear of the accumulation: the last bounce's push writes every texel.
+    if (!T->num_nodes) {
+        const float zero[4] = {0, 0, 0, 0};
+        glClearTexImage(g->tex[T_ACCUM], 0, GL_RGBA, GL_FLOAT, zero);
+    }
     glViewport(0, 0, g->W, g->H);
     glDisable(GL_DEPTH_TEST);
+    double ms[2][AG_PROF_STEPS] = {{g->prof_gb[0][0]}, {g->prof_gb[1][0]}};
+    memset(g->prof_gb, 0, sizeof g->prof_gb);
+    prof_mark(g, NULL, 0);
     int bounces = ip(g, P_BOUNCES);
+    links_ctx lc = {g, f};
     for (int b = 0; b < bounces && T->num_nodes; b++) {
         bool last = b == bounces - 1;
-        GLuint prev = g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1];
-        st_shader *r = g->sh_tr_reduce;
-        st_shader_use(r);
-        st_shader_texture(r, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
-        st_shader_texture(r, "ag_prev", GL_TEXTURE_2D, prev);
-        st_shader_set_int(r, "ag_use_prev", b > 0);
-        st_shader_texture(r, "ag_area", GL_TEXTURE_2D, g->tex[T_AREA]);
-        for (int l = T->num_levels - 1; l >= 0; l--) {
-            int lb = T->level_begin[l], le = T->level_begin[l + 1];
-            st_shader_set_int(r, "ag_begin", lb);
-            st_shader_set_int(r, "ag_end", le);
-            glDispatchCompute((GLuint)((le - lb + 63) / 64), 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        }
-        st_shader_use(g->sh_tr_gather);
-        st_shader_set_int(g->sh_tr_gather, "ag_num_nodes", T->num_nodes);
-        st_world_apply_uniforms(g->w, g->sh_tr_gather, f); // the medium
-        glDispatchCompute((GLuint)((T->num_nodes + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        tr_gpu_reduce(&g->TG, T, g->tex[T_L0], g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1], b > 0,
+                      g->tex[T_AREA]);
+        prof_mark(g, ms, 1);
+        tr_gpu_links(&g->TG, f->scene->medium.present, links_setup, &lc);
+        prof_mark(g, ms, 2);
         GLuint fbo = g->fbo_gather[b & 1];
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, last ? GL_COLOR_ATTACHMENT1 : GL_NONE};
         glNamedFramebufferDrawBuffers(fbo, 2, bufs);
         glDisablei(GL_BLEND, 0);
         glDisablei(GL_BLEND, 1);
-        st_shader *p = g->sh_tr_push;
-        st_shader_use(p);
-        st_shader_texture(p, "ag_leaf", GL_TEXTURE_2D, g->leaf_tex);
-        st_shader_texture(p, "ag_albedo", GL_TEXTURE_2D, g->tex[T_ALBEDO]);
-        st_shader_texture(p, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
-        st_draw_fullscreen();
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        tr_gpu_push(&g->TG, g->tex[T_ALBEDO], g->tex[T_POS]);
+        prof_mark(g, ms, 3);
     }
-    for (int i = 0; i < 6; i++)
+    for (int i = 0; i < TRG_COUNT; i++)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, 0);
     g->frames = 1;
     g->restart = false;
     resolve(g);
+    prof_mark(g, ms, 4);
+    if (ip(g, P_PROFILE)) {
+        int k = g->prof_n % AG_PROF_MAX;
+        for (int c = 0; c < 2; c++)
+            for (int i = 0; i < AG_PROF_STEPS; i++)
+                g->prof[c][i][k] = (float)ms[c][i];
+        g->prof_n++;
+    }
     g->rel_err = 0;
     g->converged = true;
     return st_gl_check("atlas_gi transfer", err);
@@ -915,10 +897,10 @@ static void param_changed(void *self, int k) {
 
 static bool reload(void *self, st_err *err) {
     agi *g = self;
-    st_shader *all[8] = {g->sh_gb,      g->sh_gbp,       g->sh_gather,    g->sh_gather_vis,
-                         g->sh_resolve, g->sh_tr_reduce, g->sh_tr_gather, g->sh_tr_push};
-    for (int i = 0; i < 8; i++)
+    st_shader *all[5] = {g->sh_gb, g->sh_gbp, g->sh_gather, g->sh_gather_vis, g->sh_resolve};
+    for (int i = 0; i < 5; i++)
         if (!st_shader_reload(all[i], err)) return false;
+    if (!tr_gpu_reload_shaders(&g->TG, err)) return false;
     g->gb_dirty = true;
     return true;
 }
@@ -928,17 +910,25 @@ static bool progress(void *self, st_progress *out) {
     out->converged = g->converged;
     out->frames = (uint32_t)g->frames;
     out->error = g->rel_err;
-    if (g->have_transfer) {
-        const transfer *T = &g->T;
-        uint32_t texels = T->num_nodes ? T->nodes[0].end : 0;
-        snprintf(out->info, sizeof out->info,
-                 "transfer precompute %.2f s on %d threads, %u texels, %d nodes (<= %d texels per "
-                 "leaf), %llu links, "
-                 "%llu rays, %.1f MiB",
-                 T->seconds, T->threads, texels, T->num_nodes, T->leaf_texels,
-                 (unsigned long long)T->num_links, (unsigned long long)T->rays,
-                 transfer_bytes(T) / 1048576.0);
-    }
+    if (!g->have_transfer) return true;
+    const transfer *T = &g->T;
+    uint32_t texels = T->num_nodes ? T->nodes[0].end : 0;
+    const double mib = 1048576.0;
+    int n = snprintf(out->info, sizeof out->info,
+                     "transfer precompute %.2f s on %d threads, %u texels, %d nodes (<= %d texels "
+                     "per leaf), %llu links, %llu rays, %.1f MiB; GPU %.1f MiB (nodes %.1f, "
+                     "links %.1f, gathered %.1f, perm %.1f, leaf map %.1f)",
+                     T->seconds, T->threads, texels, T->num_nodes, T->leaf_texels,
+                     (unsigned long long)T->num_links, (unsigned long long)T->rays,
+                     transfer_bytes(T) / mib, g->TG.bytes / mib, g->TG.mem[TRG_MEM_NODES] / mib,
+                     g->TG.mem[TRG_MEM_LINKS] / mib, g->TG.mem[TRG_MEM_GATHERED] / mib,
+                     g->TG.mem[TRG_MEM_PERM] / mib, g->TG.mem[TRG_MEM_LEAF] / mib);
+    int np = g->prof_n < AG_PROF_MAX ? g->prof_n : AG_PROF_MAX;
+    for (int i = 0; i < AG_PROF_STEPS && np && n > 0 && (size_t)n < sizeof out->info; i++)
+        n += snprintf(
+            out->info + n, sizeof out->info - (size_t)n, "%s%s %.2f / %.2f",
+            i ? ", " : "; relight steps (median ms wall / process CPU, profile): ", prof_names[i],
+            st_median_f(g->prof[0][i], np), st_median_f(g->prof[1][i], np));
     return true;
 }
 

@@ -1,49 +1,43 @@
-// Precomputed transfer, step 2: per receiver node the sum over its links of
-// w times the sender node's area-weighted mean radiance, attenuated by the
-// medium along the segment between the two nodes' centroids (per channel).
-// Also the sum's gradient with respect to the receiver point: per link
-// grad ln(cos_x cos_j / d^2) at the centroids (receiver nodes are flat),
-// which removes the steps between neighbouring receiver nodes.
+// Precomputed transfer, step 2 of a relight: per chunk of one receiver's
+// links the sum of w/A_s times the sender node's flux (its area-weighted
+// mean radiance times w), attenuated by the medium along the segment
+// between the two nodes' centroids (per channel), and the same sum weighted
+// by each link's gradient factor along the receiver's tangents: the
+// gathered value's derivatives, which remove the steps between
+// neighbouring receiver nodes. Everything but the sender's flux was
+// computed at upload.
 #include "atlas_gi/transfer.glsl"
 #include "common/medium.glsl"
 layout(local_size_x = 64) in;
-uniform int ag_num_nodes;
+
+// Two halves (no inf/NaN) to floats with integer and float vector ops: the
+// exponent rebias as one multiply by 2^112 also covers subnormals. llvmpipe
+// runs unpackHalf2x16 lane by lane.
+vec2 ag_halves(uint h) {
+    uvec2 v = uvec2(h & 0xffffu, h >> 16);
+    vec2 m = uintBitsToFloat((v & 0x7fffu) << 13) * 5.192296858534828e+33;
+    return uintBitsToFloat(floatBitsToUint(m) | ((v & 0x8000u) << 16));
+}
 
 void main() {
-    int i = int(gl_GlobalInvocationID.x);
-    if (i >= ag_num_nodes) return;
-    uint b = ag_link_off[i], e = ag_link_off[i + 1];
-    vec3 sum = vec3(0.0), gx = vec3(0.0), gy = vec3(0.0), gz = vec3(0.0);
-    bool medium = st_has_medium != 0;
-    vec3 c = ag_nodes[i].ca.xyz, nr = ag_nodes[i].nc.xyz;
-    bool flat_r = ag_nodes[i].nc.w > 0.9; // the first-order correction needs one receiver plane
-    for (uint k = b; k < e; k++) {
-        uvec2 l = ag_links[k];
-        int s = int(l.x);
-        vec4 sa = ag_nodes[s].ca;
-        vec3 L = ag_flux[s].rgb / sa.w;
-        float w = uintBitsToFloat(l.y);
-        if (medium) L *= st_path_transmittance(distance(c, sa.xyz)); // sender -> receiver
-        vec3 wl = w * L;
+    int c = int(gl_GlobalInvocationID.x); // every chunk is real or weight-0 padding
+    vec3 sum = vec3(0.0), g1 = vec3(0.0), g2 = vec3(0.0);
+#ifdef AG_MEDIUM
+    vec3 cr = texelFetch(ag_nodes_tex, 4 * int(texelFetch(ag_chunk_recv_tex, c).r)).xyz;
+#endif
+    for (int j = 0; j < AG_CHUNK; j++) { // the same trip count in every lane
+        uvec4 l = texelFetch(ag_links_tex, c * AG_CHUNK + j);
+        vec3 wl = uintBitsToFloat(l.y) * texelFetch(ag_flux_tex, int(l.x)).rgb;
+        vec2 g = uintBitsToFloat(l.zw);
+#ifdef AG_MEDIUM // a variant: llvmpipe runs both sides of a branch in a loop
+        wl *= st_path_transmittance(distance(cr, texelFetch(ag_nodes_tex, 4 * int(l.x)).xyz));
+#endif
         sum += wl;
-        // grad_x ln k, k = (nr.d)(-ns.d)/|d|^4, d = y - x; terms whose cosine
-        // is not well defined (a curved sender node) are left out.
-        if (!flat_r) continue;
-        vec3 d = sa.xyz - c;
-        float d2 = max(dot(d, d), 1e-12);
-        vec3 g = 4.0 * d / d2;
-        float cr = dot(nr, d);
-        if (cr > 1e-3 * sqrt(d2)) g -= nr / cr;
-        vec4 ns = ag_nodes[s].nc;
-        float cs = -dot(ns.xyz, d);
-        if (ns.w > 0.9 && cs > 0.2 * sqrt(d2)) g += ns.xyz / cs;
-        gx += wl * g.x;
-        gy += wl * g.y;
-        gz += wl * g.z;
+        g1 += wl * g.x;
+        g2 += wl * g.y;
     }
-    int o = 4 * i;
-    ag_gathered[o] = vec4(sum, 0.0);
-    ag_gathered[o + 1] = vec4(gx, 0.0);
-    ag_gathered[o + 2] = vec4(gy, 0.0);
-    ag_gathered[o + 3] = vec4(gz, 0.0);
+    int o = 3 * c;
+    ag_partial[o] = vec4(sum, 0.0);
+    ag_partial[o + 1] = vec4(g1, 0.0);
+    ag_partial[o + 2] = vec4(g2, 0.0);
 }

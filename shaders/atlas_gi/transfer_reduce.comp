@@ -12,20 +12,20 @@ uniform sampler2D ag_area;
 void main() {
     int i = ag_begin + int(gl_GlobalInvocationID.x);
     if (i >= ag_end) return;
-    ag_node n = ag_nodes[i];
+    ivec4 info = texelFetch(ag_nodes_itex, 4 * i + 1);
     vec3 f;
-    if (n.info.x < 0) {
+    if (info.x < 0) {
         int w = textureSize(ag_l0, 0).x;
         f = vec3(0.0);
-        for (int k = n.info.y; k < n.info.z; k++) {
-            int j = int(ag_perm[k]);
+        for (int k = info.y; k < info.z; k++) {
+            int j = int(texelFetch(ag_perm_tex, k).r);
             ivec2 t = ivec2(j % w, j / w);
             vec3 L = texelFetch(ag_l0, t, 0).rgb;
             if (ag_use_prev != 0) L += texelFetch(ag_prev, t, 0).rgb;
             f += L * texelFetch(ag_area, t, 0).r;
         }
     } else {
-        f = ag_flux[n.info.x].rgb + ag_flux[n.info.x + 1].rgb;
+        f = texelFetch(ag_flux_tex, info.x).rgb + texelFetch(ag_flux_tex, info.x + 1).rgb;
     }
     ag_flux[i] = vec4(f, 0.0);
 }

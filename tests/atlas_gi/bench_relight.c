@@ -2,14 +2,26 @@
 // with atlas_gi's precomputed transfer, against a frame of the same scene
 // with direct light only (shadow_map, no atlas_gi) after the same move, both
 // worlds alive in one process and measured interleaved (medians of N moves),
-// plus the transfer's precompute statistics.
-//   bench_relight SCENE.json [SIZE] [MOVES]
+// plus the transfer's precompute statistics. Then a few more moves with
+// atlas_gi.profile=true for the relight's steps (the GPU waits between them
+// make those moves slower; they are not in the medians above).
+//   bench_relight SCENE.json [SIZE] [MOVES] [ATLAS]   (ATLAS 0: the scene's)
+#define _POSIX_C_SOURCE 200809L // clock_gettime
 #include "st_gl.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+// Process CPU time (ms): llvmpipe's work on all its threads, less inflated
+// than the wall time when other jobs share the cores.
+static double cpu_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 
 static double median(double *v, int n) {
     for (int i = 1; i < n; i++)
@@ -20,7 +32,7 @@ static double median(double *v, int n) {
     return n ? (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])) : 0;
 }
 
-static bool open_world(const char *path, int size, bool gi, st_scene *sc, st_world **w,
+static bool open_world(const char *path, int size, int atlas, bool gi, st_scene *sc, st_world **w,
                        st_err *err) {
     if (!st_scene_load(path, sc, err)) return false;
     sc->width = sc->height = size;
@@ -32,22 +44,31 @@ static bool open_world(const char *path, int size, bool gi, st_scene *sc, st_wor
     }
     st_world_opts o = {.timing = true};
     *w = st_world_create(sc, &o, err);
+    if (*w && gi && atlas > 0 && !st_world_set_param(*w, "atlas_gi", "atlas_size", atlas, err))
+        return false;
     return *w != NULL;
+}
+
+static void light_pos(const float *base, int m, float *p) {
+    p[0] = base[0] + 0.3f * (float)cos(m * 2.4);
+    p[1] = base[1] - 0.05f * (float)(m % 3);
+    p[2] = base[2] + 0.3f * (float)sin(m * 2.4);
 }
 
 int main(int argc, char **argv) {
     if (argc < 2) {
-        fprintf(stderr, "usage: bench_relight SCENE.json [SIZE] [MOVES]\n");
+        fprintf(stderr, "usage: bench_relight SCENE.json [SIZE] [MOVES] [ATLAS]\n");
         return 2;
     }
     int size = argc > 2 ? atoi(argv[2]) : 256, moves = argc > 3 ? atoi(argv[3]) : 9;
     if (moves < 1 || moves > 200) moves = 9;
+    int atlas = argc > 4 ? atoi(argv[4]) : 0;
     st_err err = {0};
     st_context *ctx = st_context_create_headless(&err);
     st_scene sg = {0}, sd = {0};
     st_world *wg = NULL, *wd = NULL;
-    if (!ctx || !open_world(argv[1], size, true, &sg, &wg, &err) ||
-        !open_world(argv[1], size, false, &sd, &wd, &err)) {
+    if (!ctx || !open_world(argv[1], size, atlas, true, &sg, &wg, &err) ||
+        !open_world(argv[1], size, 0, false, &sd, &wd, &err)) {
         fprintf(stderr, "bench_relight: %s\n", err.msg);
         return 1;
     }
@@ -65,17 +86,18 @@ int main(int argc, char **argv) {
     st_progress pr = {0};
     st_world_progress(wg, &pr);
     double *tg = calloc((size_t)moves, sizeof *tg), *td = calloc((size_t)moves, sizeof *td);
+    double *cg = calloc((size_t)moves, sizeof *cg), *cd = calloc((size_t)moves, sizeof *cd);
     float base[3], inten[3];
     memcpy(base, sg.lights[0].position, sizeof base);
     memcpy(inten, sg.lights[0].intensity, sizeof inten);
     int frames_max = 0;
     for (int m = 0; m < moves; m++) {
-        float p[3] = {base[0] + 0.3f * (float)cos(m * 2.4), base[1] - 0.05f * (m % 3),
-                      base[2] + 0.3f * (float)sin(m * 2.4)};
+        float p[3];
+        light_pos(base, m, p);
         for (int k = 0; k < 2; k++) {
             st_world *w = k ? wd : wg;
             if (!st_world_set_light(w, 0, p, inten, &err)) return 1;
-            double s = st_now_ms();
+            double s = st_now_ms(), sc = cpu_ms();
             int f = 0;
             // Frames until converged (one with the transfer).
             do {
@@ -84,23 +106,41 @@ int main(int argc, char **argv) {
             } while (k == 0 && st_world_progress(w, &pr) && !pr.converged && f < 10000);
             glFinish();
             (k ? td : tg)[m] = st_now_ms() - s;
+            (k ? cd : cg)[m] = cpu_ms() - sc;
             if (!k && f > frames_max) frames_max = f;
         }
     }
+    // Per-pass medians over the moves (CPU-side ms; llvmpipe runs on the CPU),
+    // before the profiled moves below.
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < st_world_num_pass_stats(k ? wd : wg); i++) {
+            const st_pass_stats *ps = st_world_pass_stats(k ? wd : wg, i);
+            fprintf(stderr, "  %s %s.%s: %u runs, median cpu %.2f ms, gpu %.2f ms\n",
+                    k ? "direct-only" : "relight", ps->module, ps->pass, ps->runs,
+                    st_median_f(ps->cpu_ms, ps->num_samples),
+                    st_median_f(ps->gpu_ms, ps->num_samples));
+        }
+    // The relight's steps: a few more moves with the GPU waits of profile=true.
+    if (!st_world_set_param(wg, "atlas_gi", "profile", 1, &err)) return 1;
+    for (int m = 0; m < 9; m++) {
+        float p[3];
+        light_pos(base, moves + m, p);
+        if (!st_world_set_light(wg, 0, p, inten, &err) || !st_world_frame(wg, &err)) return 1;
+    }
+    glFinish();
+    st_world_progress(wg, &pr);
     double mg = median(tg, moves), md = median(td, moves);
+    double mcg = median(cg, moves), mcd = median(cd, moves);
     printf("{\"scene\": \"%s\", \"size\": %d, \"moves\": %d, \"first_frame_ms\": %.1f, "
            "\"relight_ms_median\": %.2f, "
-           "\"direct_only_ms_median\": %.2f, \"ratio\": %.2f, \"frames_per_relight\": %d, "
+           "\"direct_only_ms_median\": %.2f, \"ratio\": %.2f, \"relight_cpu_ms_median\": %.2f, "
+           "\"direct_only_cpu_ms_median\": %.2f, \"cpu_ratio\": %.2f, \"frames_per_relight\": %d, "
            "\"info\": \"%s\"}\n",
-           argv[1], size, moves, first, mg, md, mg / md, frames_max, pr.info);
-    // Per-pass medians over the moves (CPU-side ms; llvmpipe runs on the CPU).
-    for (int i = 0; i < st_world_num_pass_stats(wg); i++) {
-        const st_pass_stats *ps = st_world_pass_stats(wg, i);
-        fprintf(stderr, "  %s.%s: %u runs, median %.2f ms\n", ps->module, ps->pass, ps->runs,
-                st_median_f(ps->cpu_ms, ps->num_samples));
-    }
+           argv[1], size, moves, first, mg, md, mg / md, mcg, mcd, mcg / mcd, frames_max, pr.info);
     free(tg);
     free(td);
+    free(cg);
+    free(cd);
     st_world_destroy(wg);
     st_world_destroy(wd);
     st_scene_free(&sg);

@@ -1,0 +1,303 @@
+// atlas_gi: the precomputed transfer on the GPU (transfer_gpu.h).
+#include "transfer_gpu.h"
+#include "st_gpu.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]) {
+    double m[3] = {n->n[0], n->n[1], n->n[2]};
+    double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    double z[3] = {0, 0, 1};
+    if (l > 0) z[0] = m[0] / l, z[1] = m[1] / l, z[2] = m[2] / l;
+    double a[3] = {fabs(z[0]) < 0.6 ? 1 : 0, fabs(z[0]) < 0.6 ? 0 : 1, 0};
+    double az = a[0] * z[0] + a[1] * z[1];
+    for (int i = 0; i < 3; i++)
+        t1[i] = a[i] - az * z[i];
+    double tl = sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]);
+    for (int i = 0; i < 3; i++)
+        t1[i] /= tl;
+    t2[0] = z[1] * t1[2] - z[2] * t1[1];
+    t2[1] = z[2] * t1[0] - z[0] * t1[2];
+    t2[2] = z[0] * t1[1] - z[1] * t1[0];
+}
+
+void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]) {
+    const tr_node *r = &t->nodes[receiver], *s = &t->nodes[t->link_node[k]];
+    float w = s->area > 0 ? t->link_w[k] / s->area : 0.0f;
+    // grad_x ln(cos_x cos_j / d^2) at the centroids, d = y - x: terms whose
+    // cosine is not well defined (a curved node) are left out, and only a
+    // flat receiver gets a gradient at all; its texels lie in its plane, so
+    // the gradient is stored along the plane's tangents.
+    double d[3] = {s->c[0] - r->c[0], s->c[1] - r->c[1], s->c[2] - r->c[2]};
+    double d2 = fmax(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1e-12), dl = sqrt(d2);
+    double g[3] = {0, 0, 0}, t1[3], t2[3];
+    if (cos(r->cone) > 0.9) {
+        double cr = r->n[0] * d[0] + r->n[1] * d[1] + r->n[2] * d[2];
+        double cs = -(s->n[0] * d[0] + s->n[1] * d[1] + s->n[2] * d[2]);
+        for (int i = 0; i < 3; i++) {
+            g[i] = 4.0 * d[i] / d2;
+            if (cr > 1e-3 * dl) g[i] -= r->n[i] / cr;
+            if (cos(s->cone) > 0.9 && cs > 0.2 * dl) g[i] += s->n[i] / cs;
+        }
+    }
+    tr_gpu_tangents(r, t1, t2);
+    out[0] = t->link_node[k];
+    memcpy(&out[1], &w, 4);
+    float gt[2] = {(float)(g[0] * t1[0] + g[1] * t1[1] + g[2] * t1[2]),
+                   (float)(g[0] * t2[0] + g[1] * t2[1] + g[2] * t2[2])};
+    memcpy(&out[2], gt, sizeof gt);
+}
+
+bool tr_gpu_load_shaders(tr_gpu *g, st_err *err) {
+    char defs[32];
+    snprintf(defs, sizeof defs, "AG_CHUNK %d\n", TRG_CHUNK);
+    char defs_medium[64];
+    snprintf(defs_medium, sizeof defs_medium, "%sAG_MEDIUM 1\n", defs);
+    return (g->sh_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", defs, err)) &&
+           (g->sh_links = st_shader_load_compute("atlas_gi/transfer_gather.comp", defs, err)) &&
+           (g->sh_links_medium =
+                st_shader_load_compute("atlas_gi/transfer_gather.comp", defs_medium, err)) &&
+           (g->sh_sum = st_shader_load_compute("atlas_gi/transfer_sum.comp", defs, err)) &&
+           (g->sh_push =
+                st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", defs, err));
+}
+
+bool tr_gpu_reload_shaders(tr_gpu *g, st_err *err) {
+    st_shader *all[5] = {g->sh_reduce, g->sh_links, g->sh_links_medium, g->sh_sum, g->sh_push};
+    for (int i = 0; i < 5; i++)
+        if (all[i] && !st_shader_reload(all[i], err)) return false;
+    return true;
+}
+
+// World names of the buffers and their buffer-texture views (--stats, debuggers).
+static const char *const buf_name[TRG_COUNT] = {
+    "atlas_gi.transfer_nodes",    "atlas_gi.transfer_flux",
+    "atlas_gi.transfer_gathered", "atlas_gi.transfer_chunk_offsets",
+    "atlas_gi.transfer_links",    "atlas_gi.transfer_texels",
+    "atlas_gi.transfer_partial",  "atlas_gi.transfer_chunk_receivers"};
+
+static void untrack(tr_gpu *g) {
+    if (!g->w) return;
+    char name[96];
+    for (int i = 0; i < TRG_COUNT; i++) {
+        if (g->buf[i]) st_world_untrack(g->w, buf_name[i]);
+        snprintf(name, sizeof name, "%s_tex", buf_name[i]);
+        if (g->tex[i]) st_world_untrack(g->w, name);
+    }
+    if (g->nodes_itex) st_world_untrack(g->w, "atlas_gi.transfer_nodes_itex");
+    if (g->leaf_tex) st_world_declare_target(g->w, "atlas_gi.leaf", NULL, &(st_err){0});
+}
+
+static bool track(tr_gpu *g, st_err *err) {
+    char name[96];
+    for (int i = 0; i < TRG_COUNT; i++) {
+        snprintf(name, sizeof name, "%s_tex", buf_name[i]);
+        if (!st_world_track(g->w, buf_name[i], GL_BUFFER, g->buf[i], err) ||
+            !st_world_track(g->w, name, GL_TEXTURE, g->tex[i], err))
+            return false;
+    }
+    return st_world_track(g->w, "atlas_gi.transfer_nodes_itex", GL_TEXTURE, g->nodes_itex, err);
+}
+
+void tr_gpu_release(tr_gpu *g) {
+    untrack(g);
+    g->bytes = 0;
+    memset(g->mem, 0, sizeof g->mem);
+    glDeleteTextures(TRG_COUNT, g->tex);
+    glDeleteTextures(1, &g->nodes_itex);
+    memset(g->tex, 0, sizeof g->tex);
+    g->nodes_itex = 0;
+    glDeleteBuffers(TRG_COUNT, g->buf);
+    memset(g->buf, 0, sizeof g->buf);
+    g->leaf_tex = 0; // the world's target, forgotten above
+    g->num_nodes = g->num_chunks = 0;
+}
+
+void tr_gpu_destroy(tr_gpu *g) {
+    tr_gpu_release(g);
+    st_shader_destroy(g->sh_reduce);
+    st_shader_destroy(g->sh_links);
+    st_shader_destroy(g->sh_links_medium);
+    st_shader_destroy(g->sh_sum);
+    st_shader_destroy(g->sh_push);
+    g->sh_reduce = g->sh_links = g->sh_links_medium = g->sh_sum = g->sh_push = NULL;
+}
+
+static GLuint buffer(size_t bytes, const void *data, long long *mem) {
+    GLuint b;
+    if (!bytes) bytes = 16; // GL wants a non-empty store
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(b, (GLsizeiptr)bytes, data, 0);
+    *mem += (long long)bytes;
+    return b;
+}
+
+bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
+    tr_gpu_release(g);
+    int nn = t->num_nodes;
+    // Chunks: each receiver's links in pieces of exactly TRG_CHUNK, the last
+    // one padded with links of weight 0, and whole workgroups of chunks: the
+    // link shader runs no divergent loop and no early return.
+    uint64_t nch = 0;
+    for (int i = 0; i < nn; i++)
+        nch += (t->link_off[i + 1] - t->link_off[i] + TRG_CHUNK - 1) / TRG_CHUNK;
+    nch = (nch + 63) / 64 * 64;
+    uint64_t nslots = nch * TRG_CHUNK;
+    GLint max_tbo = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    if (nch * 4 > (uint64_t)max_tbo || nslots > (uint64_t)max_tbo ||
+        (uint64_t)nn * 4 > (uint64_t)max_tbo || nn >= (1 << 24))
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "atlas_gi: %llu links in %d nodes exceed the GPU's texture buffer limit (%d "
+                       "texels); use a smaller transfer_leaves or a larger transfer_eps",
+                       (unsigned long long)t->num_links, nn, max_tbo);
+    // The push walks from a texel's leaf up to the root; nodes without links
+    // add nothing, so the walk visits only those with links: per node its
+    // nearest proper ancestor with links (nodes are breadth first, parents
+    // before children), per texel the first node with links on its chain
+    // (-1: a gutter, -2: a surface texel that no link reaches).
+    int32_t *up = malloc((size_t)(nn ? nn : 1) * sizeof *up);
+    int32_t *first = malloc((size_t)t->W * t->H * sizeof *first);
+    if (up && first) {
+        for (int i = 0; i < nn; i++) {
+            int p = t->nodes[i].parent;
+            up[i] = p < 0 ? -1 : t->link_off[p + 1] > t->link_off[p] ? p : up[p];
+        }
+        for (size_t j = 0; j < (size_t)t->W * t->H; j++) {
+            int l = t->texel_leaf[j];
+            first[j] = l < 0                                 ? -1
+                       : t->link_off[l + 1] > t->link_off[l] ? l
+                       : up[l] >= 0                          ? up[l]
+                                                             : -2;
+        }
+    }
+    float *nodes = calloc((size_t)(nn ? nn : 1) * 16, sizeof *nodes);
+    uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
+    uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
+    uint32_t *recv = calloc((size_t)(nch ? nch : 1), sizeof *recv);
+    if (!up || !first || !nodes || !choff || !links || !recv) {
+        free(up), free(first), free(nodes), free(choff), free(links), free(recv);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    }
+    uint64_t c = 0;
+    for (int i = 0; i < nn; i++) {
+        const tr_node *n = &t->nodes[i];
+        float *o = nodes + 16 * (size_t)i;
+        memcpy(o, n->c, 3 * sizeof(float));
+        o[3] = n->area;
+        int32_t info[4] = {n->child, (int32_t)n->begin, (int32_t)n->end, up[i]};
+        memcpy(o + 4, info, sizeof info);
+        double t1[3], t2[3];
+        tr_gpu_tangents(n, t1, t2);
+        for (int j = 0; j < 3; j++)
+            o[8 + j] = (float)t1[j], o[12 + j] = (float)t2[j];
+        choff[i] = (uint32_t)c;
+        uint32_t b = t->link_off[i], e = t->link_off[i + 1];
+        for (uint32_t k = b; k < e; k++)
+            tr_gpu_pack_link(t, i, k, links + 4 * (c * TRG_CHUNK + (k - b)));
+        for (uint32_t q = 0; q < (e - b + TRG_CHUNK - 1) / TRG_CHUNK; q++)
+            recv[c++] = (uint32_t)i;
+    }
+    choff[nn] = (uint32_t)c;
+    uint32_t nperm = nn ? t->nodes[0].end : 0;
+    long long *m = g->mem;
+    g->buf[TRG_NODES] = buffer((size_t)nn * 16 * sizeof(float), nodes, &m[TRG_MEM_NODES]);
+    g->buf[TRG_FLUX] = buffer((size_t)nn * 4 * sizeof(float), NULL, &m[TRG_MEM_NODES]);
+    g->buf[TRG_GATHER] = buffer((size_t)nn * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
+    g->buf[TRG_CHOFF] = buffer(((size_t)nn + 1) * sizeof(uint32_t), choff, &m[TRG_MEM_LINKS]);
+    g->buf[TRG_LINKS] = buffer(nslots * 4 * sizeof(uint32_t), links, &m[TRG_MEM_LINKS]);
+    g->buf[TRG_CHRECV] = buffer(nch * sizeof(uint32_t), recv, &m[TRG_MEM_LINKS]);
+    g->buf[TRG_PERM] = buffer(nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM]);
+    g->buf[TRG_PARTIAL] = buffer(nch * 12 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
+    free(nodes), free(choff), free(links), free(recv);
+    static const GLenum fmt[TRG_COUNT] = {GL_RGBA32F,  GL_RGBA32F, GL_RGBA32F, GL_R32UI,
+                                          GL_RGBA32UI, GL_R32UI,   GL_RGBA32F, GL_R32UI};
+    glCreateTextures(GL_TEXTURE_BUFFER, TRG_COUNT, g->tex);
+    for (int i = 0; i < TRG_COUNT; i++)
+        glTextureBuffer(g->tex[i], fmt[i], g->buf[i]);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->nodes_itex);
+    glTextureBuffer(g->nodes_itex, GL_RGBA32I, g->buf[TRG_NODES]);
+    const st_target_desc leaf = {GL_R32I, .width = t->W, .height = t->H, .filter = GL_NEAREST};
+    const st_target *lt = st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err);
+    if (lt) {
+        g->leaf_tex = lt->color[0];
+        glTextureSubImage2D(g->leaf_tex, 0, 0, 0, t->W, t->H, GL_RED_INTEGER, GL_INT, first);
+    }
+    free(up);
+    free(first);
+    m[TRG_MEM_LEAF] = (long long)t->W * t->H * 4;
+    for (int i = 0; i < TRG_MEM_COUNT; i++)
+        g->bytes += m[i];
+    if (!lt || !track(g, err)) return false;
+    g->num_nodes = nn;
+    g->num_chunks = (int)nch;
+    return st_gl_check("atlas_gi transfer upload", err);
+}
+
+// The written buffers as storage buffers, every buffer as a buffer texture
+// (a shader's unused names are skipped).
+static void bind(const tr_gpu *g, st_shader *sh) {
+    static const int writes[3] = {TRG_FLUX, TRG_GATHER, TRG_PARTIAL};
+    for (int i = 0; i < 3; i++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)writes[i], g->buf[writes[i]]);
+    static const char *const names[TRG_COUNT] = {
+        "ag_nodes_tex", "ag_flux_tex", "ag_gathered_tex", "ag_chunk_off_tex",
+        "ag_links_tex", "ag_perm_tex", "ag_partial_tex",  "ag_chunk_recv_tex"};
+    for (int i = 0; i < TRG_COUNT; i++)
+        st_shader_texture(sh, names[i], GL_TEXTURE_BUFFER, g->tex[i]);
+    st_shader_texture(sh, "ag_nodes_itex", GL_TEXTURE_BUFFER, g->nodes_itex);
+}
+
+// Storage-buffer writes become visible to the next pass' buffer-texture reads.
+static void barrier(void) {
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+static GLuint groups(int n) {
+    return (GLuint)((n + 63) / 64);
+}
+
+void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool use_prev,
+                   GLuint area) {
+    st_shader *r = g->sh_reduce;
+    st_shader_use(r);
+    bind(g, r);
+    st_shader_texture(r, "ag_l0", GL_TEXTURE_2D, l0);
+    st_shader_texture(r, "ag_prev", GL_TEXTURE_2D, prev);
+    st_shader_set_int(r, "ag_use_prev", use_prev);
+    st_shader_texture(r, "ag_area", GL_TEXTURE_2D, area);
+    for (int l = t->num_levels - 1; l >= 0; l--) {
+        int lb = t->level_begin[l], le = t->level_begin[l + 1];
+        st_shader_set_int(r, "ag_begin", lb);
+        st_shader_set_int(r, "ag_end", le);
+        glDispatchCompute(groups(le - lb), 1, 1);
+        barrier();
+    }
+}
+
+void tr_gpu_links(tr_gpu *g, bool medium, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx) {
+    st_shader *sh = medium ? g->sh_links_medium : g->sh_links;
+    st_shader_use(sh);
+    if (sh_setup) sh_setup(ctx, sh); // before bind: it may bind textures too
+    bind(g, sh);
+    glDispatchCompute((GLuint)(g->num_chunks / 64), 1, 1); // a multiple of 64
+    barrier();
+    st_shader_use(g->sh_sum);
+    bind(g, g->sh_sum);
+    st_shader_set_int(g->sh_sum, "ag_num_nodes", g->num_nodes);
+    glDispatchCompute(groups(g->num_nodes), 1, 1);
+    barrier();
+}
+
+void tr_gpu_push(tr_gpu *g, GLuint albedo, GLuint pos) {
+    st_shader *p = g->sh_push;
+    st_shader_use(p);
+    bind(g, p);
+    st_shader_texture(p, "ag_leaf", GL_TEXTURE_2D, g->leaf_tex);
+    st_shader_texture(p, "ag_albedo", GL_TEXTURE_2D, albedo);
+    st_shader_texture(p, "ag_pos", GL_TEXTURE_2D, pos);
+    st_draw_fullscreen();
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
