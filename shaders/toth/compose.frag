@@ -19,6 +19,7 @@ uniform int toth_samples;  // equiangular: visibility steps of a refined pixel
 uniform int toth_jitter;
 uniform int toth_bisect;
 uniform float toth_refine; // fraction spread over the taps above which a pixel is marched here
+uniform int toth_refine_taps; // fewer taps on the pixel's surface than this: marched here
 layout(location = 0) out vec4 o_radiance;
 
 // spread: how much the taps that were mixed differ (max - min over the
@@ -34,6 +35,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     vec2 fr = f - vec2(b);
     vec4 sum = vec4(0.0);
     float wsum = 0.0, best = 1e30;
+    int used = 0;
     vec4 nearest = vec4(0.0);
     float s = toth_ray_length(g, p);
     for (int k = 0; k < 4; k++) {
@@ -45,6 +47,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
         if (toth_similar(g, gq)) {
             sum += (bil + 1e-3) * v;
             wsum += bil + 1e-3;
+            used += q == b + o ? 1 : 0; // a tap clamped at the border extrapolates
             lo = min(lo, v);
             hi = max(hi, v);
         }
@@ -55,7 +58,11 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
         }
     }
     vec4 d = hi - lo;
-    spread = wsum > 0.0 ? max(max(d.x, d.y), max(d.z, d.w)) : 1.0;
+    // Taps that show another surface (a silhouette or a crease), or that are
+    // clamped at the image border, leave the others as a one-sided guess
+    // that can agree with itself: below toth_refine_taps usable taps, count
+    // that as full disagreement, so such pixels march their own ray too.
+    spread = used >= toth_refine_taps ? max(max(d.x, d.y), max(d.z, d.w)) : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
 }
 
