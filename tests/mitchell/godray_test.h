@@ -6,6 +6,9 @@
 #define GODRAY_TEST_H
 #include "st_test_render.h"
 #include "st_world.h"
+#include "godray_screen.h"
+#include "st_test_support.h"
+#include <cjson/cJSON.h>
 
 // ---- images in GL orientation: w x h texels of nc floats, row 0 bottom ----
 
@@ -223,6 +226,95 @@ static inline bool gt_frames(st_world *w, int frames, st_image *img) {
         return false;
     }
     return true;
+}
+
+// A test scene of res x res pixels as JSON in buf: `camera` (a JSON object),
+// `lights` and `geometry` (JSON array contents), an optional medium, and
+// `module` with `params` (params NULL: no module).
+static inline const char *gt_scene_json(char *buf, size_t n, int res, const char *camera,
+                                        const char *lights, const char *geometry,
+                                        const char *medium, const char *module,
+                                        const char *params) {
+    snprintf(buf, n,
+             "{\"image\": {\"width\": %d, \"height\": %d},\n \"camera\": %s,\n \"lights\": [%s],\n"
+             " \"geometry\": [%s],\n%s%s%s \"modules\": [%s%s%s%s%s]}\n",
+             res, res, camera, lights, geometry, medium ? " \"medium\": " : "",
+             medium ? medium : "", medium ? ",\n" : "", params ? "{\"name\": \"" : "",
+             params ? module : "", params ? "\", \"params\": {" : "", params ? params : "",
+             params ? "}}" : "");
+    return buf;
+}
+
+// The scene with a god-ray module minus the same scene without it (the
+// medium also dims the surfaces, so the baseline keeps it), and the first
+// light's screen projection in the first world.
+typedef struct {
+    st_image with, without, effect;
+    godray_light light;
+} gt_pair;
+
+static inline void gt_pair_free(gt_pair *r) {
+    st_image_free(&r->with);
+    st_image_free(&r->without);
+    st_image_free(&r->effect);
+}
+
+static inline bool gt_render_pair(const char *json_with, const char *json_without, gt_pair *r) {
+    memset(r, 0, sizeof *r);
+    st_scene a, b;
+    gt_scene(json_with, &a);
+    gt_scene(json_without, &b);
+    st_world *wa = gt_world(&a), *wb = gt_world(&b);
+    bool ok = gt_frames(wa, 1, &r->with) && gt_frames(wb, 1, &r->without);
+    const st_camera *c = st_world_camera(wa);
+    if (a.num_lights > 0)
+        r->light =
+            godray_project(c->view_proj, c->near_z, a.width, a.height, a.lights[0].position, 0.5);
+    st_world_destroy(wa);
+    st_world_destroy(wb);
+    st_scene_free(&a);
+    st_scene_free(&b);
+    if (!ok) return false;
+    st_err err = {0};
+    size_t n = (size_t)r->with.width * r->with.height * 3;
+    if (!st_image_alloc(&r->effect, r->with.width, r->with.height, 3, &err)) return false;
+    for (size_t i = 0; i < n; i++)
+        r->effect.data[i] = r->with.data[i] - r->without.data[i];
+    return true;
+}
+
+// `strahl render --stats=json --frames 2` of the scene `json`: per pass of
+// `module` (at most max), its name and counts. Returns how many passes were
+// listed, -1 when the command or its output failed.
+typedef struct {
+    char pass[64];
+    int runs, skipped, culled;
+} gt_pass_count;
+
+static inline int gt_cli_pass_stats(const char *json, const char *module, gt_pass_count *out,
+                                    int max) {
+    char path[512], exr[512];
+    int rc, n = 0;
+    snprintf(path, sizeof path, "%s/%s_idle.json", ST_TEST_SCRATCH, module);
+    snprintf(exr, sizeof exr, "%s/%s_idle.exr", ST_TEST_SCRATCH, module);
+    st_test_write(path, json);
+    cJSON *j = st_test_stats_json(path, exr, "--frames 2", &rc);
+    if (rc != 0 || !j) {
+        cJSON_Delete(j);
+        return -1;
+    }
+    cJSON *p, *passes = cJSON_GetObjectItem(j, "passes");
+    cJSON_ArrayForEach(p, passes) {
+        if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, module) || n >= max) continue;
+        snprintf(out[n].pass, sizeof out[n].pass, "%s",
+                 cJSON_GetObjectItem(p, "pass")->valuestring);
+        out[n].runs = cJSON_GetObjectItem(p, "runs")->valueint;
+        out[n].skipped = cJSON_GetObjectItem(p, "skipped")->valueint;
+        out[n].culled = cJSON_GetObjectItem(p, "culled")->valueint;
+        n++;
+    }
+    cJSON_Delete(j);
+    return n;
 }
 
 // Sums of a module's pass stats whose name starts with `pass` ("blur" matches

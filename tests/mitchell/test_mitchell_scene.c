@@ -30,49 +30,20 @@ static const char *scene_json(const char *lights, const char *geometry, const ch
         "{\"position\": [%g, %g, %g], \"target\": [%g, %g, 0], \"up\": [0, 1, 0], \"fov_y\": 40, "
         "\"near\": 0.05, \"far\": 100}",
         CAM[0], CAM[1], CAM[2], CAM[0], CAM[1]);
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": %d, \"height\": %d},\n \"camera\": %s,\n \"lights\": [%s],\n"
-             " \"geometry\": [%s],\n%s%s%s \"modules\": [%s%s%s]}\n",
-             RES, RES, camera ? camera : cam, lights, geometry, medium ? " \"medium\": " : "",
-             medium ? medium : "", medium ? ",\n" : "",
-             params ? "{\"name\": \"mitchell\", \"params\": {" : "", params ? params : "",
-             params ? "}}" : ""); // params NULL: no module
-    return json;
+    return gt_scene_json(json, sizeof json, RES, camera ? camera : cam, lights, geometry, medium,
+                         "mitchell", params);
 }
 
 static const char *MEDIUM = "{\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 0.01, 0.01]}";
 
-// Renders the scene with and without the module; effect = difference (the
-// medium also dims the surfaces, so the baseline keeps it).
-typedef struct {
-    st_image with, without, effect;
-} render_pair;
-
-static void free_pair(render_pair *r) {
-    st_image_free(&r->with);
-    st_image_free(&r->without);
-    st_image_free(&r->effect);
-}
-
+// The scene with and without the module (effect = the difference).
 static bool render_effect(const char *lights, const char *geometry, const char *params,
-                          const char *camera, render_pair *r) {
-    memset(r, 0, sizeof *r);
-    st_scene a, b;
-    gt_scene(scene_json(lights, geometry, MEDIUM, params, camera), &a);
-    gt_scene(scene_json(lights, geometry, MEDIUM, NULL, camera), &b);
-    st_world *wa = gt_world(&a), *wb = gt_world(&b);
-    bool ok = gt_frames(wa, 1, &r->with) && gt_frames(wb, 1, &r->without);
-    st_world_destroy(wa);
-    st_world_destroy(wb);
-    st_scene_free(&a);
-    st_scene_free(&b);
-    if (!ok) return false;
-    st_err err = {0};
-    st_image_alloc(&r->effect, RES, RES, 3, &err);
-    for (int i = 0; i < RES * RES * 3; i++)
-        r->effect.data[i] = r->with.data[i] - r->without.data[i];
-    CHECK(st_test_all_finite(&r->with), "finite output");
-    return true;
+                          const char *camera, gt_pair *r) {
+    char with[sizeof json];
+    snprintf(with, sizeof with, "%s", scene_json(lights, geometry, MEDIUM, params, camera));
+    bool ok = gt_render_pair(with, scene_json(lights, geometry, MEDIUM, NULL, camera), r);
+    CHECK(ok && st_test_all_finite(&r->with), "finite output");
+    return ok;
 }
 
 // ---- occlusion image content ------------------------------------------------
@@ -133,7 +104,7 @@ static void test_occlusion_content(void) {
              "\"resolution\": 1, "
              "\"sky\": 1, \"light_radius\": %g",
              RADIUS_A);
-    render_pair r;
+    gt_pair r;
     if (!render_effect(lights, geo, params, NULL, &r)) return;
     const double expect[5][3] = {
         {0.2, 0.3, 0.6}, {0.5, 1, 2}, {0, 0, 0}, {0, 0, 0}, {1, 0.5, 0.25}};
@@ -163,7 +134,7 @@ static void test_occlusion_content(void) {
         CHECK(count[c] >= 4, "%s: %d robust pixels", names[c], count[c]);
         CHECK(worst[c] < 1e-4, "%s: max error %g", names[c], worst[c]);
     }
-    free_pair(&r);
+    gt_pair_free(&r);
 }
 
 // ---- the light's own pixel ---------------------------------------------------
@@ -171,7 +142,7 @@ static void test_occlusion_content(void) {
 static void test_light_pixel(void) {
     // Light on the view axis: uv (0.5, 0.5) is the centre of pixel (16, 16),
     // the step there is 0, every tap reads the sphere's tint.
-    render_pair r;
+    gt_pair r;
     const char *light =
         "{\"type\": \"point\", \"position\": [0, 0, 0], \"intensity\": [3, 1.5, 0.3]}";
     const char *params =
@@ -196,7 +167,7 @@ static void test_light_pixel(void) {
         }
     printf("light pixel: point-symmetry error %.3g of peak %.3g\n", asym, peak);
     CHECK(asym < 0.05 * peak, "shafts symmetric about the light: %g of %g", asym, peak);
-    free_pair(&r);
+    gt_pair_free(&r);
 }
 
 // ---- several lights add up -----------------------------------------------------
@@ -213,7 +184,7 @@ static void test_additive(void) {
     snprintf(both, sizeof both, "%s, %s", l1, l2);
     const char *params = "\"n\": 32, \"density\": 1, \"exposure\": 0.05, \"light_radius\": 0.15, "
                          "\"resolution\": 0.5";
-    render_pair a, b, ab;
+    gt_pair a, b, ab;
     if (!render_effect(l1, geo, params, NULL, &a) || !render_effect(l2, geo, params, NULL, &b) ||
         !render_effect(both, geo, params, NULL, &ab))
         return;
@@ -226,9 +197,9 @@ static void test_additive(void) {
            peak);
     CHECK(peak > 0.05, "shafts visible: peak %g", peak);
     CHECK(worst < 1e-5 * fmax(1, peak), "lights add up: %g", worst);
-    free_pair(&a);
-    free_pair(&b);
-    free_pair(&ab);
+    gt_pair_free(&a);
+    gt_pair_free(&b);
+    gt_pair_free(&ab);
 }
 
 // ---- fading off screen and behind the camera --------------------------------------
@@ -344,32 +315,21 @@ static void test_idle(void) {
     st_scene_free(&sc);
 
     // The same through the command line's --stats=json.
-    char path[512], out[512];
-    int rc;
-    snprintf(path, sizeof path, "%s/idle.json", ST_TEST_SCRATCH);
-    snprintf(out, sizeof out, "%s/idle.exr", ST_TEST_SCRATCH);
-    st_test_write(path, scene_json(light, "", NULL, "", NULL));
-    cJSON *j = st_test_stats_json(path, out, "--frames 2", &rc);
-    CHECK(rc == 0, "strahl render rc %d", rc);
-    CHECK(j != NULL, "--stats=json output is JSON");
-    int seen = 0;
-    cJSON *p, *passes = j ? cJSON_GetObjectItem(j, "passes") : NULL;
-    cJSON_ArrayForEach(p, passes) {
-        if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, "mitchell")) continue;
-        const char *pass = cJSON_GetObjectItem(p, "pass")->valuestring;
-        int runs = cJSON_GetObjectItem(p, "runs")->valueint,
-            skipped = cJSON_GetObjectItem(p, "skipped")->valueint,
-            culled = cJSON_GetObjectItem(p, "culled")->valueint;
-        if (!strcmp(pass, "blur")) {
+    gt_pass_count pc[8];
+    int n = gt_cli_pass_stats(scene_json(light, "", NULL, "", NULL), "mitchell", pc, 8), seen = 0;
+    CHECK(n >= 0, "strahl render --stats=json");
+    for (int k = 0; k < n; k++) {
+        if (!strcmp(pc[k].pass, "blur")) {
             seen++;
-            CHECK(runs == 0 && skipped == 2, "json blur: runs %d skipped %d", runs, skipped);
-        } else if (!strcmp(pass, "occlusion")) {
+            CHECK(pc[k].runs == 0 && pc[k].skipped == 2, "json blur: runs %d skipped %d",
+                  pc[k].runs, pc[k].skipped);
+        } else if (!strcmp(pc[k].pass, "occlusion")) {
             seen++;
-            CHECK(runs == 0 && culled == 2, "json occlusion: runs %d culled %d", runs, culled);
+            CHECK(pc[k].runs == 0 && pc[k].culled == 2, "json occlusion: runs %d culled %d",
+                  pc[k].runs, pc[k].culled);
         }
     }
     CHECK(seen == 2, "--stats=json lists mitchell's blur and occlusion passes (%d)", seen);
-    cJSON_Delete(j);
 }
 
 // ---- stress -------------------------------------------------------------------------

@@ -21,17 +21,12 @@ static const char *MEDIUM = "{\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 
 
 static const char *scene_json(const char *lights, const char *geometry, const char *medium,
                               const char *params, const char *camera_pos) {
-    snprintf(
-        json, sizeof json,
-        "{\"image\": {\"width\": %d, \"height\": %d},\n"
-        " \"camera\": {\"position\": [%s], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40,"
-        " \"near\": 0.05, \"far\": 100},\n \"lights\": [%s],\n \"geometry\": [%s],\n%s%s%s"
-        " \"modules\": [%s%s%s]}\n",
-        RES, RES, camera_pos ? camera_pos : "0, 0, 5", lights, geometry,
-        medium ? " \"medium\": " : "", medium ? medium : "", medium ? ",\n" : "",
-        params ? "{\"name\": \"sousa\", \"params\": {" : "", params ? params : "",
-        params ? "}}" : ""); // params NULL: no module
-    return json;
+    char cam[256];
+    snprintf(cam, sizeof cam,
+             "{\"position\": [%s], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fov_y\": 40, "
+             "\"near\": 0.05, \"far\": 100}",
+             camera_pos ? camera_pos : "0, 0, 5");
+    return gt_scene_json(json, sizeof json, RES, cam, lights, geometry, medium, "sousa", params);
 }
 
 // Wall at z = -3 (8 m from the camera, perpendicular to the view) with a
@@ -42,39 +37,14 @@ static const char *WALL =
     "{\"quad\": {\"corner\": [-0.5, -4, -3], \"u\": [1, 0, 0], \"v\": [0, 4.3, 0]}},"
     "{\"quad\": {\"corner\": [-0.5, 1, -3], \"u\": [1, 0, 0], \"v\": [0, 3, 0]}}";
 
-typedef struct {
-    st_image with, without, effect;
-    float light_uv[2], fade;
-} render_pair;
-
-static void free_pair(render_pair *r) {
-    st_image_free(&r->with);
-    st_image_free(&r->without);
-    st_image_free(&r->effect);
-}
-
+// The scene with and without the module (effect = the difference).
 static bool render_effect(const char *lights, const char *geometry, const char *params,
-                          render_pair *r) {
-    memset(r, 0, sizeof *r);
-    st_scene a, b;
-    gt_scene(scene_json(lights, geometry, MEDIUM, params, NULL), &a);
-    gt_scene(scene_json(lights, geometry, MEDIUM, NULL, NULL), &b);
-    st_world *wa = gt_world(&a), *wb = gt_world(&b);
-    bool ok = gt_frames(wa, 1, &r->with) && gt_frames(wb, 1, &r->without);
-    const st_camera *c = st_world_camera(wa);
-    godray_light l = godray_project(c->view_proj, c->near_z, RES, RES, a.lights[0].position, 0.5);
-    r->light_uv[0] = l.uv[0], r->light_uv[1] = l.uv[1], r->fade = l.fade;
-    st_world_destroy(wa);
-    st_world_destroy(wb);
-    st_scene_free(&a);
-    st_scene_free(&b);
-    if (!ok) return false;
-    st_err err = {0};
-    st_image_alloc(&r->effect, RES, RES, 3, &err);
-    for (int i = 0; i < RES * RES * 3; i++)
-        r->effect.data[i] = r->with.data[i] - r->without.data[i];
-    CHECK(st_test_all_finite(&r->with), "finite output");
-    return true;
+                          gt_pair *r) {
+    char with[sizeof json];
+    snprintf(with, sizeof with, "%s", scene_json(lights, geometry, MEDIUM, params, NULL));
+    bool ok = gt_render_pair(with, scene_json(lights, geometry, MEDIUM, NULL, NULL), r);
+    CHECK(ok && st_test_all_finite(&r->with), "finite output");
+    return ok;
 }
 
 static void test_end_to_end(int taps, float brightness) {
@@ -83,7 +53,7 @@ static void test_end_to_end(int taps, float brightness) {
     char params[128];
     snprintf(params, sizeof params, "\"taps\": %d, \"brightness\": %g, \"resolution\": 1", taps,
              brightness);
-    render_pair r;
+    gt_pair r;
     if (!render_effect(light, WALL, params, &r)) return;
     // The mask the plugin should see: 8/far on the wall, 1 in the hole
     // (pixel centres; GL orientation, row 0 at the bottom).
@@ -99,7 +69,7 @@ static void test_end_to_end(int taps, float brightness) {
             gimg_at(&mask, x, y)[0] = in ? 1.0f : 8.0f / 100.0f;
         }
     const float tint[3] = {1, 0.8f, 0.5f};
-    ref_sousa(&mask, &zero, r.light_uv, taps, brightness, tint, r.fade, &ref);
+    ref_sousa(&mask, &zero, r.light.uv, taps, brightness, tint, r.light.fade, &ref);
     double worst = 0, peak = 0;
     for (int j = 0; j < RES; j++)
         for (int i = 0; i < RES; i++)
@@ -111,12 +81,12 @@ static void test_end_to_end(int taps, float brightness) {
     printf(
         "end to end, TAPS %d, brightness %.2f: %d hole pixels, light uv (%.3f, %.3f), fade %.2f, "
         "largest shaft %.3f, max |gpu - C| / max(1, |C|) = %.3g\n",
-        taps, brightness, hole, r.light_uv[0], r.light_uv[1], r.fade, peak, worst);
-    CHECK(hole > 20 && r.fade == 1, "setup: %d hole pixels, fade %g", hole, r.fade);
+        taps, brightness, hole, r.light.uv[0], r.light.uv[1], r.light.fade, peak, worst);
+    CHECK(hole > 20 && r.light.fade == 1, "setup: %d hole pixels, fade %g", hole, r.light.fade);
     CHECK(peak > 0.1, "shafts visible: %g", peak);
     CHECK(worst < 1e-3, "end to end vs C: %g", worst);
     free(mask.px), free(zero.px), free(ref.px);
-    free_pair(&r);
+    gt_pair_free(&r);
 }
 
 static void test_additive(void) {
@@ -126,7 +96,7 @@ static void test_additive(void) {
         "{\"type\": \"point\", \"position\": [-1.5, -0.8, -6], \"intensity\": [1, 0.5, 0.2]}";
     char both[512];
     snprintf(both, sizeof both, "%s, %s", l1, l2);
-    render_pair a, b, ab;
+    gt_pair a, b, ab;
     const char *params = "\"resolution\": 0.5";
     if (!render_effect(l1, WALL, params, &a) || !render_effect(l2, WALL, params, &b) ||
         !render_effect(both, WALL, params, &ab))
@@ -140,7 +110,7 @@ static void test_additive(void) {
            peak);
     CHECK(peak > 0.05, "shafts visible: %g", peak);
     CHECK(worst < 1e-5 * fmax(1, peak), "lights add up: %g", worst);
-    free_pair(&a), free_pair(&b), free_pair(&ab);
+    gt_pair_free(&a), gt_pair_free(&b), gt_pair_free(&ab);
 }
 
 // ---- fading -------------------------------------------------------------------
@@ -257,31 +227,19 @@ static void test_idle(void) {
     st_scene_free(&sc);
 
     // --stats=json of the command line, no medium.
-    char path[512], out[512];
-    int rc;
-    snprintf(path, sizeof path, "%s/idle.json", ST_TEST_SCRATCH);
-    snprintf(out, sizeof out, "%s/idle.exr", ST_TEST_SCRATCH);
-    st_test_write(path, scene_json(light, WALL, NULL, "", NULL));
-    cJSON *j = st_test_stats_json(path, out, "--frames 2", &rc);
-    CHECK(rc == 0, "strahl render rc %d", rc);
-    CHECK(j != NULL, "--stats=json output is JSON");
-    int seen = 0;
-    cJSON *p, *passes = j ? cJSON_GetObjectItem(j, "passes") : NULL;
-    cJSON_ArrayForEach(p, passes) {
-        if (strcmp(cJSON_GetObjectItem(p, "module")->valuestring, "sousa")) continue;
-        const char *pass = cJSON_GetObjectItem(p, "pass")->valuestring;
-        int runs = cJSON_GetObjectItem(p, "runs")->valueint,
-            skipped = cJSON_GetObjectItem(p, "skipped")->valueint,
-            culled = cJSON_GetObjectItem(p, "culled")->valueint;
-        seen++;
-        if (!strcmp(pass, "blur3")) {
-            CHECK(runs == 0 && skipped == 2, "json %s: runs %d skipped %d", pass, runs, skipped);
+    gt_pass_count pc[8];
+    int seen = gt_cli_pass_stats(scene_json(light, WALL, NULL, "", NULL), "sousa", pc, 8);
+    CHECK(seen >= 0, "strahl render --stats=json");
+    for (int k = 0; k < seen; k++) {
+        if (!strcmp(pc[k].pass, "blur3")) {
+            CHECK(pc[k].runs == 0 && pc[k].skipped == 2, "json %s: runs %d skipped %d", pc[k].pass,
+                  pc[k].runs, pc[k].skipped);
         } else {
-            CHECK(runs == 0 && culled == 2, "json %s: runs %d culled %d", pass, runs, culled);
+            CHECK(pc[k].runs == 0 && pc[k].culled == 2, "json %s: runs %d culled %d", pc[k].pass,
+                  pc[k].runs, pc[k].culled);
         }
     }
     CHECK(seen == 4, "--stats=json lists sousa's 4 passes (%d)", seen);
-    cJSON_Delete(j);
 }
 
 // ---- stress ---------------------------------------------------------------------
