@@ -41,6 +41,7 @@ void st_path_join(char *out, size_t n, const char *dir, const char *rel);
 void st_path_dir(char *out, size_t n, const char *path);
 
 double st_now_ms(void); // monotonic clock in milliseconds
+double st_cpu_ms(void); // CPU time of the whole process (all threads) in milliseconds
 
 // The prefix libstrahl was installed to, found from the library's own file
 // (<prefix>/lib/libstrahl.so), so an installed tree works wherever it was

@@ -1155,6 +1155,22 @@ void st_world_reset_samples(st_world *w) {
         w->stats[i].num_samples = 0;
 }
 
+static int cmp_d(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double st_median_d(const double *v, int n) {
+    if (n <= 0) return 0;
+    double *t = malloc((size_t)n * sizeof *t);
+    if (!t) return 0;
+    memcpy(t, v, (size_t)n * sizeof *t);
+    qsort(t, (size_t)n, sizeof *t, cmp_d);
+    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    free(t);
+    return m;
+}
+
 static int cmp_f(const void *a, const void *b) {
     float x = *(const float *)a, y = *(const float *)b;
     return (x > y) - (x < y);

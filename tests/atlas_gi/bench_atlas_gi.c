@@ -68,15 +68,6 @@ static st_world *open_world(const st_scene *sc, int atlas, int samples, bool acc
     return w;
 }
 
-static int cmp_d(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-static double median(double *v, int n) {
-    qsort(v, (size_t)n, sizeof *v, cmp_d);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // The share of atlas texels that stand for surface (as the plugin builds it).
 static double occupancy(const st_scene *sc, int size) {
     atlas a;
@@ -200,7 +191,7 @@ int main(int argc, char **argv) {
             printf("%s: atlas %d, %d samples: gather %.2f ms without visibility, %.2f ms with "
                    "(%.2fx); "
                    "atlas rebuild + G-buffer after a geometry change %.1f ms\n",
-                   base, sizes[0], nvis, ms[0], ms[1], ms[1] / ms[0], median(rebuild, 3));
+                   base, sizes[0], nvis, ms[0], ms[1], ms[1] / ms[0], st_median_d(rebuild, 3));
             st_world_destroy(wv[0]);
             st_world_destroy(wv[1]);
         }
@@ -255,7 +246,7 @@ int main(int argc, char **argv) {
         }
         double m[5];
         for (int k = 0; k < 5; k++)
-            m[k] = median(t[k], n), free(t[k]);
+            m[k] = st_median_d(t[k], n), free(t[k]);
         printf("%s: atlas_gi cached (atlas %d), median frame ms over %d interleaved rounds: "
                "unchanged %.3f, "
                "camera moved 1 mm %.3f (ratio %.3f), orbit %.3f; without atlas_gi: 1 mm %.3f, "

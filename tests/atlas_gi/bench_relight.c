@@ -17,21 +17,6 @@
 
 // Process CPU time (ms): llvmpipe's work on all its threads, less inflated
 // than the wall time when other jobs share the cores.
-static double cpu_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-static double median(double *v, int n) {
-    for (int i = 1; i < n; i++)
-        for (int j = i; j > 0 && v[j] < v[j - 1]; j--) {
-            double t = v[j];
-            v[j] = v[j - 1], v[j - 1] = t;
-        }
-    return n ? (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2])) : 0;
-}
-
 static bool open_world(const char *path, int size, int atlas, bool gi, st_scene *sc, st_world **w,
                        st_err *err) {
     if (!st_scene_load(path, sc, err)) return false;
@@ -97,7 +82,7 @@ int main(int argc, char **argv) {
         for (int k = 0; k < 2; k++) {
             st_world *w = k ? wd : wg;
             if (!st_world_set_light(w, 0, p, inten, &err)) return 1;
-            double s = st_now_ms(), sc = cpu_ms();
+            double s = st_now_ms(), sc = st_cpu_ms();
             int f = 0;
             // Frames until converged (one with the transfer).
             do {
@@ -106,7 +91,7 @@ int main(int argc, char **argv) {
             } while (k == 0 && st_world_progress(w, &pr) && !pr.converged && f < 10000);
             glFinish();
             (k ? td : tg)[m] = st_now_ms() - s;
-            (k ? cd : cg)[m] = cpu_ms() - sc;
+            (k ? cd : cg)[m] = st_cpu_ms() - sc;
             if (!k && f > frames_max) frames_max = f;
         }
     }
@@ -129,8 +114,8 @@ int main(int argc, char **argv) {
     }
     glFinish();
     st_world_progress(wg, &pr);
-    double mg = median(tg, moves), md = median(td, moves);
-    double mcg = median(cg, moves), mcd = median(cd, moves);
+    double mg = st_median_d(tg, moves), md = st_median_d(td, moves);
+    double mcg = st_median_d(cg, moves), mcd = st_median_d(cd, moves);
     printf("{\"scene\": \"%s\", \"size\": %d, \"moves\": %d, \"first_frame_ms\": %.1f, "
            "\"relight_ms_median\": %.2f, "
            "\"direct_only_ms_median\": %.2f, \"ratio\": %.2f, \"relight_cpu_ms_median\": %.2f, "

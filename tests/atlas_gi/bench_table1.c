@@ -21,12 +21,6 @@
 #include <string.h>
 #include <time.h>
 
-static double cpu_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 static int parse_list(const char *s, int *out, int max) {
     int n = 0;
     for (const char *p = s; *p && n < max;) {
@@ -38,27 +32,17 @@ static int parse_list(const char *s, int *out, int max) {
     return n;
 }
 
-static int cmp_d(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-    qsort(v, (size_t)n, sizeof *v, cmp_d);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // One frame, finished; wall and CPU ms.
 static bool frame(st_world *w, double *wall, double *cpu) {
     st_err err = {0};
-    double t0 = st_now_ms(), c0 = cpu_ms();
+    double t0 = st_now_ms(), c0 = st_cpu_ms();
     if (!st_world_frame(w, &err)) {
         fprintf(stderr, "frame: %s\n", err.msg);
         return false;
     }
     glFinish();
     if (wall) *wall = st_now_ms() - t0;
-    if (cpu) *cpu = cpu_ms() - c0;
+    if (cpu) *cpu = st_cpu_ms() - c0;
     return true;
 }
 
@@ -93,8 +77,8 @@ static bool gather_cell(const char *path, int px, int atlas, int n, int frames, 
     for (int f = 0; ok && f < frames; f++)
         ok = frame(w, &tw[f], &tc[f]);
     if (ok) {
-        out[0] = median(tw, frames);
-        out[1] = median(tc, frames);
+        out[0] = st_median_d(tw, frames);
+        out[1] = st_median_d(tc, frames);
     }
     free(tw);
     free(tc);
@@ -135,8 +119,8 @@ static bool transfer_row(const char *path, int px, int atlas, int moves, double 
         ok = st_world_set_light(w, 0, q, inten, &err) && frame(w, &tw[m], &tc[m]);
     }
     if (ok && tw && tc) {
-        out[2] = median(tw, moves);
-        out[3] = median(tc, moves);
+        out[2] = st_median_d(tw, moves);
+        out[3] = st_median_d(tc, moves);
     }
     free(tw);
     free(tc);
@@ -199,7 +183,7 @@ int main(int argc, char **argv) {
            "|---|---:|---:|---:|\n");
     char info[512];
     for (int a = 0; a < ntsizes; a++) {
-        double r[4];
+        double r[4] = {0};
         if (!transfer_row(scene, px, tsizes[a], frames, r, info, sizeof info)) return 1;
         printf("| %d | %.0f | %.2f | %.0f / %.0f |\n", tsizes[a], r[0], r[1], r[2], r[3]);
         fprintf(stderr, "  atlas %d: %s\n", tsizes[a], info);
