@@ -5,15 +5,30 @@
 // light's path from where it enters the scene (cascades.h), re-fitted only
 // when the camera's slices leave their fitted region. The regular pass and
 // volumetric modules test visibility against them with a slope-scaled bias
-// and optional PCF.
+// and optional PCF. refine=true settles the lookups whose neighbourhood is
+// ambiguous (a shadow edge within two texels, or PCF taps that disagree)
+// with an exact ray against the scene's triangles (a BVH on the GPU,
+// modules/common/st_bvh.h), so surface shadow edges are where the geometry
+// puts them, not where the map's texels do.
 #include "cascades.h"
+#include "st_bvh.h"
 #include "st_world.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_RESOLUTION, P_BIAS, P_SLOPE_BIAS, P_PCF, P_PCF_RADIUS, P_CASCADES, P_SPLIT, P_COUNT };
+enum {
+    P_RESOLUTION,
+    P_BIAS,
+    P_SLOPE_BIAS,
+    P_PCF,
+    P_PCF_RADIUS,
+    P_CASCADES,
+    P_SPLIT,
+    P_REFINE,
+    P_COUNT
+};
 
 static const st_param_def params[P_COUNT] = {
     {"resolution", ST_PARAM_INT, 1024, 16, 8192, NULL, "cube face size in texels"},
@@ -27,6 +42,9 @@ static const st_param_def params[P_COUNT] = {
      "directional lights: shadow cascades over the view"},
     {"cascade_split", ST_PARAM_FLOAT, 0.75, 0, 1, NULL,
      "directional lights: 0 uniform, 1 logarithmic split distances (practical split scheme)"},
+    {"refine", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "surfaces: where the map is ambiguous (taps two texels around disagree, or PCF taps do), "
+     "an exact ray against the scene's triangles decides"},
 };
 
 typedef struct shadow_map {
@@ -43,6 +61,7 @@ typedef struct shadow_map {
     bool sun_dirty[ST_MAX_LIGHTS]; // fitted anew but not rendered yet
     GLuint sun_array;
     st_shader *cascade;
+    st_bvh_gpu bvh; // refine: the scene's triangles (bvh.nodes = 0: not built)
 } shadow_map;
 
 static void release(shadow_map *s) {
@@ -151,6 +170,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
 static void destroy(void *self) {
     shadow_map *s = self;
     release(s);
+    st_bvh_gpu_free(&s->bvh);
     st_shader_destroy(s->depth);
     st_shader_destroy(s->cascade);
     free(s);
@@ -215,9 +235,29 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
     return st_gl_check("shadow cascades", err);
 }
 
+// The BVH for refine, built on first use and again when the geometry changes.
+static bool ensure_bvh(shadow_map *s, int pass, const st_frame *f, st_err *err) {
+    if (s->p[P_REFINE] == 0) {
+        st_bvh_gpu_free(&s->bvh);
+        return true;
+    }
+    if (s->bvh.nodes && (pass > 0 || !(f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY))))
+        return true;
+    uint32_t n = 0;
+    float *c = st_bvh_scene_corners(f->scene, &n, err);
+    if (!c) return false;
+    st_bvh b;
+    bool ok = st_bvh_build(&b, c, n, err);
+    free(c);
+    if (!ok) return false;
+    ok = st_bvh_upload(&s->bvh, &b, err);
+    st_bvh_free(&b);
+    return ok;
+}
+
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     shadow_map *s = self;
-    if (!allocate(s, err)) return false;
+    if (!allocate(s, err) || !ensure_bvh(s, pass, f, err)) return false;
     if (s->sun_slot[pass] >= 0) return render_cascades(s, s->sun_slot[pass], f, err);
     const float *lp = f->scene->lights[pass].position;
     // Cube face directions and up vectors of the GL cube-map convention.
@@ -273,6 +313,15 @@ static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f
     glUniform1f(loc, (float)((shadow_map *)self)->p[P_PCF_RADIUS]);
 }
 
+// Also binds the BVH's buffers for the shader about to draw (other modules
+// bind their own storage buffers at other points).
+static void u_refine(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    shadow_map *s = self;
+    bool on = s->p[P_REFINE] != 0 && s->bvh.nodes;
+    if (on) st_bvh_bind(&s->bvh);
+    glUniform1i(loc, on);
+}
+
 static void u_suns(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, ((shadow_map *)self)->sun_array);
 }
@@ -315,6 +364,7 @@ static const st_uniform uniforms_table[] = {
     {"st_shadow_slope", u_slope},
     {"st_shadow_pcf", u_pcf},
     {"st_shadow_pcf_radius", u_pcf_radius},
+    {"st_shadow_refine", u_refine},
 };
 
 static int uniforms(void *self, const st_uniform **out) {
