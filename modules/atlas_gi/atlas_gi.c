@@ -178,8 +178,7 @@ static void release_atlas_gpu(agi *g) {
     st_bvh_gpu_free(&g->B_gpu);
     GLuint texs[2] = {g->tri_tex, g->base_tex};
     glDeleteTextures(2, texs);
-    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->tri_tex =
-        g->base_tex = 0;
+    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->tri_tex = g->base_tex = 0;
     if (g->type.vao) st_model_type_destroy(&g->type);
     free(g->models);
     free(g->gmeshes);

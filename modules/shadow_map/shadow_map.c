@@ -379,7 +379,8 @@ static bool reload(void *self, st_err *err) {
 
 ST_PLUGIN(.name = "shadow_map",
           .description = "shadow maps: distance cube maps for point and spot lights, cascades for "
-                         "directional ones (slope-scaled bias, optional PCF)",
+                         "directional ones (slope-scaled bias, optional PCF); ambiguous surface "
+                         "lookups settled by an exact ray against the scene's triangles",
           ST_PARAMS(params), .provides = "shadow_map",
           .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,

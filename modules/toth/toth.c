@@ -33,17 +33,21 @@ enum {
     P_NODES,
     P_REFINE,
     P_BISECT,
+    P_MIN_ROWS,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
 
 // Defaults (the Pareto front of docs/benchmarks.md, tools/bench_all.sh):
 // equi-angular sampling, the visible fraction marched at quarter resolution
-// in 32 steps with 4 halvings per shadow boundary, pixels whose upsampling
-// taps disagree by more than 0.2 marched at full resolution, the unshadowed
-// integral with 16 Gauss-Legendre nodes per full-resolution pixel.
+// (at least 48 rows) in 64 steps with 4 halvings per shadow
+// boundary, pixels whose upsampling taps disagree by more than 0.2 (or show
+// another surface) marched at full resolution, the unshadowed integral with
+// 16 Gauss-Legendre nodes per full-resolution pixel. 64 steps, not 32: the
+// cross-check's window scenes (8 cm mullions, docs/accuracy.md) need them
+// for NRMSE <= 0.05 against Cycles.
 static const st_param_def params[P_COUNT] = {
-    {"samples", ST_PARAM_INT, 32, 1, 1024, NULL,
+    {"samples", ST_PARAM_INT, 64, 1, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved)"},
     {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
@@ -51,7 +55,8 @@ static const st_param_def params[P_COUNT] = {
     {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "per-pixel offset of the samples within their steps (banding -> noise)"},
     {"resolution", ST_PARAM_ENUM, 2, 0, 0, "full|half|quarter",
-     "march resolution; below full, the in-scattered light is upsampled depth-aware"},
+     "march resolution (raised where the march would have fewer than min_rows rows); below full, "
+     "the in-scattered light is upsampled depth-aware"},
     {"integrator", ST_PARAM_ENUM, 0, 0, 0, "energy|thesis|thesis_far",
      "energy: Hillaire's step, exact for a constant source; thesis: the thesis' Riemann sum "
      "(source at the near end of each step); thesis_far: at the far end"},
@@ -73,6 +78,9 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: halvings that locate a shadow boundary inside a step (0 = trapezoid of the "
      "step's "
      "two lookups)"},
+    {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
+     "the march resolution is raised (quarter -> half -> full) until the march has at least this "
+     "many rows (0 = resolution as set)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -93,8 +101,17 @@ static int interleave(const toth *t) {
     return m;
 }
 
-static int scale(const toth *t) {
-    return 1 << (int)t->p[P_RESOLUTION];
+// The march's divisor for an image `height` rows high. A march of fewer
+// than min_rows rows is too coarse for shafts a few pixels wide: most
+// pixels then disagree with their taps and are marched again at full
+// resolution, which costs more than a finer march (96x96 window_hg of the
+// cross-check: half resolution faster than quarter and closer to Cycles), so
+// the divisor halves until the march has that many rows.
+static int scale(const toth *t, int height) {
+    int s = 1 << (int)t->p[P_RESOLUTION];
+    while (s > 1 && height / s < (int)t->p[P_MIN_ROWS])
+        s /= 2;
+    return s;
 }
 
 // The pass a slot index stands for (the gather exists only when interleaved).
@@ -197,7 +214,7 @@ static bool ensure_target(st_target *rt, int w, int h, st_err *err) {
 }
 
 static void march_size(const toth *t, const st_frame *f, int *w, int *h) {
-    int s = scale(t);
+    int s = scale(t, f->height);
     *w = (f->width + s - 1) / s;
     *h = (f->height + s - 1) / s;
 }
@@ -214,8 +231,8 @@ static GLuint rendertarget(void *self, int pass) {
     }
 }
 
-static void set_common(toth *t, st_shader *sh) {
-    st_shader_set_int(sh, "toth_scale", scale(t));
+static void set_common(toth *t, st_shader *sh, const st_frame *f) {
+    st_shader_set_int(sh, "toth_scale", scale(t, f->height));
     st_shader_set_float(sh, "toth_tolerance", (float)t->p[P_TOLERANCE]);
     st_shader_set_int(sh, "toth_interleave", interleave(t));
 }
@@ -235,7 +252,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     }
     switch (kind) {
     case PASS_MARCH:
-        set_common(t, t->march);
+        set_common(t, t->march, f);
         st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
         st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
@@ -243,7 +260,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
         break;
     case PASS_GATHER:
-        set_common(t, t->gather);
+        set_common(t, t->gather, f);
         st_shader_set_int(t->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, t->march_rt.color[0]);
         break;
@@ -251,7 +268,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         // Without lights (march skipped) there is nothing to upsample.
         bool lit = f->scene->num_lights > 0 && t->march_rt.fbo;
         const st_target *src = interleave(t) > 1 ? &t->gather_rt : &t->march_rt;
-        set_common(t, t->compose);
+        set_common(t, t->compose, f);
         st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
         st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
@@ -288,7 +305,8 @@ static st_shader *shader(void *self, int pass) {
 // A new march size or interleave changes the targets; drop them so the next
 // frame allocates what it needs (and nothing stale is upsampled).
 static void param_changed(void *self, int index) {
-    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES) release(self);
+    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
+        release(self);
 }
 
 static bool reload(void *self, st_err *err) {

@@ -92,6 +92,7 @@ float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool 
     ambiguous = false;
     vec3 v = p - st_light_pos[light];
     float d = length(v);
+    if (st_shadow_pcf == 0 && !probe) return st_shadow_test(light, v, d, bias);
     vec3 dir = v / max(d, 1e-20);
     vec3 t = normalize(abs(dir.y) < 0.9 ? cross(dir, vec3(0, 1, 0)) : cross(dir, vec3(1, 0, 0)));
     vec3 b = cross(dir, t);
@@ -99,7 +100,7 @@ float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool 
         float vis = st_shadow_test(light, v, d, bias);
         // An edge within two texels of p puts one of 8 taps on its other side.
         float rad = 2.0 * st_shadow_texel(d);
-        for (int k = 0; probe && k < 8 && !ambiguous; k++) {
+        for (int k = 0; k < 8 && !ambiguous; k++) {
             float ang = float(k) * 0.78539816;
             vec3 o = (cos(ang) * t + sin(ang) * b) * rad;
             ambiguous = st_shadow_test(light, v + o, d, bias + rad * tan_i) != vis;

@@ -28,6 +28,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     spread = 0.0;
     if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0);
     vec4 lo = vec4(1e30), hi = vec4(-1e30);
+    bool other = false; // a tap shows another surface
     // March pixel k traces full pixel k * scale + (scale - 1) / 2.
     vec2 f = (vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale);
     ivec2 b = ivec2(floor(f));
@@ -47,6 +48,8 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
             wsum += bil + 1e-3;
             lo = min(lo, v);
             hi = max(hi, v);
+        } else {
+            other = true;
         }
         float diff = abs(toth_ray_length(gq) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
         if (diff < best) {
@@ -55,7 +58,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
         }
     }
     vec4 d = hi - lo;
-    spread = wsum > 0.0 ? max(max(d.x, d.y), max(d.z, d.w)) : 1.0;
+    spread = wsum > 0.0 && !other ? max(max(d.x, d.y), max(d.z, d.w)) : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
 }
 
