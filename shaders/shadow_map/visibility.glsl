@@ -31,7 +31,8 @@ void st_shadow_sun_basis(vec3 L, out vec3 u, out vec3 v) {
 // A directional light: the cascade covering p's view depth; its texels are
 // 2 half / res wide. Outside every fitted square nothing is known: lit.
 // `ambiguous` (refine): 8 taps two texels around p do not all agree with
-// the centre, or the PCF taps disagree.
+// the centre, the centre is lit only thanks to the bias, p lies outside
+// every fitted square, or the PCF taps disagree.
 float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool probe, out bool ambiguous) {
     ambiguous = false;
     int slot = st_shadow_sun_slot[light];
@@ -43,18 +44,26 @@ float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool 
     vec3 L = -st_light_dir[light], u, v;
     st_shadow_sun_basis(L, u, v);
     vec2 uv = (vec2(dot(p, u), dot(p, v)) - r.xy) / r.z * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+        ambiguous = probe; // nothing known here: the exact ray decides
+        return 1.0;
+    }
     float path = st_light_shape[light].z - dot(p, L);
     float texel = 2.0 * r.z / st_shadow_res;
     float bias = texel * bias_texels;
     float layer = float(slot * st_shadow_cascade_count + c);
     if (st_shadow_pcf == 0) {
-        float vis = path - bias <= texture(st_shadow_suns, vec3(uv, layer)).r ? 1.0 : 0.0;
+        float stored = texture(st_shadow_suns, vec3(uv, layer)).r;
+        float vis = path - bias <= stored ? 1.0 : 0.0;
+        // Lit only thanks to the bias: something sits in front by more than
+        // half of it (a near occluder; at grazing incidence it can be the
+        // receiver's own surface, and the ray then only costs time).
+        ambiguous = probe && vis > 0.0 && stored < path - 0.5 * bias;
         for (int k = 0; probe && k < 8 && !ambiguous; k++) {
             float ang = float(k) * 0.78539816;
             vec2 o = vec2(cos(ang), sin(ang)) * 2.0 / st_shadow_res;
-            float stored = texture(st_shadow_suns, vec3(uv + o, layer)).r;
-            ambiguous = (path - bias - 2.0 * texel * tan_i <= stored ? 1.0 : 0.0) != vis;
+            float tap = texture(st_shadow_suns, vec3(uv + o, layer)).r;
+            ambiguous = (path - bias - 2.0 * texel * tan_i <= tap ? 1.0 : 0.0) != vis;
         }
         return vis;
     }
@@ -97,7 +106,12 @@ float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool 
     vec3 t = normalize(abs(dir.y) < 0.9 ? cross(dir, vec3(0, 1, 0)) : cross(dir, vec3(1, 0, 0)));
     vec3 b = cross(dir, t);
     if (st_shadow_pcf == 0) {
-        float vis = st_shadow_test(light, v, d, bias);
+        float stored = texture(st_shadow_cubes, vec4(v, float(light))).r;
+        float vis = d - bias <= stored ? 1.0 : 0.0;
+        // Lit only thanks to the bias: something sits in front by more than
+        // half of it (a near occluder; at grazing incidence it can be the
+        // receiver's own surface, and the ray then only costs time).
+        ambiguous = vis > 0.0 && stored < d - 0.5 * bias;
         // An edge within two texels of p puts one of 8 taps on its other side.
         float rad = 2.0 * st_shadow_texel(d);
         for (int k = 0; k < 8 && !ambiguous; k++) {

@@ -5,6 +5,9 @@
 // the oracle) gets exactly that: shadowed pixels are 0 and lit ones within
 // 1% of the closed form, edge pixels included, also with PCF. refine=false
 // must disagree somewhere, or the test could not see what refine does.
+// The same for a directional light (cascades of 64 texels), with the CPU
+// reference's exact shadow rays as the oracle: no pixel lit in one and dark
+// in the other.
 #include "st_test_support.h"
 #include "st_test_render.h"
 
@@ -55,6 +58,31 @@ static int mismatches(const st_test_cam *c, const st_image *img, int *decided) {
     return bad;
 }
 
+static void write_sun(const char *path, const char *params) {
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 96, \"height\": 96},\n"
+             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
+             "\"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
+             " \"lights\": [{\"type\": \"directional\", \"direction\": [0.4, -1, 0.3], "
+             "\"irradiance\": [2, 2, 2]}],\n"
+             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
+             "0]}, \"albedo\": [%g, %g, %g]},\n"
+             "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
+             " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 64%s}}]}\n",
+             RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], params);
+    st_test_write(path, json);
+}
+
+// Pixels lit in one image and black in the other.
+static int lit_differs(const st_image *a, const st_image *b) {
+    int n = 0;
+    for (int j = 0; j < a->height; j++)
+        for (int i = 0; i < a->width; i++)
+            n += (st_image_px(a, i, j)[0] > 0) != (st_image_px(b, i, j)[0] > 0);
+    return n;
+}
+
 int main(void) {
     char scene[512], out[512];
     snprintf(scene, sizeof scene, "%s/refine.json", ST_TEST_SCRATCH);
@@ -80,5 +108,31 @@ int main(void) {
                   "refine=false at 32 texels must miss edges (else the test is blind): %d", bad);
         st_image_free(&img);
     }
+
+    char ref[512], cmd[2048];
+    static char buf[1 << 14];
+    snprintf(ref, sizeof ref, "%s/refine_sun_ref.exr", ST_TEST_SCRATCH);
+    write_sun(scene, "");
+    snprintf(cmd, sizeof cmd, "%s reference %s -o %s --bounces 0 --spp 1 2>&1", ST_TEST_STRAHL,
+             scene, ref);
+    CHECK(st_test_capture(buf, sizeof buf, cmd) == 0, "reference: %s", buf);
+    st_image exact = {0};
+    if (!st_test_read(ref, &exact)) return st_test_summary("test_shadow_refine");
+    for (int k = 0; k < 2; k++) {
+        write_sun(scene, k ? ", \"refine\": false" : "");
+        CHECK(st_test_render(scene, out, NULL) == 0, "render (sun, refine %d)", !k);
+        st_image img = {0};
+        if (!st_test_read(out, &img)) continue;
+        int n = lit_differs(&img, &exact);
+        printf("directional light, cascades of 64 texels, refine %s: %d pixels lit in one of "
+               "shadow_map and the reference only\n",
+               k ? "false" : "true", n);
+        if (k)
+            CHECK(n >= 5, "sun, refine=false must miss edges (else the test is blind): %d", n);
+        else
+            CHECK(n == 0, "sun, refine: %d pixels off the exact shadow", n);
+        st_image_free(&img);
+    }
+    st_image_free(&exact);
     return st_test_summary("test_shadow_refine");
 }
