@@ -5,11 +5,11 @@
 // light's path from where it enters the scene (cascades.h), re-fitted only
 // when the camera's slices leave their fitted region. The regular pass and
 // volumetric modules test visibility against them with a slope-scaled bias
-// and optional PCF. refine=true settles the lookups that are ambiguous (a
-// shadow edge within two texels, PCF taps that disagree, a receiver lit
-// only thanks to the bias) with an exact ray against the scene's triangles
-// (a BVH on the GPU, modules/common/st_bvh.h), so surface shadow edges are
-// where the geometry puts them, not where the map's texels do.
+// and optional PCF. refine=true settles the hard lookups that are ambiguous
+// (a shadow edge within two texels, a receiver lit only thanks to the bias)
+// with an exact ray against the scene's triangles (a BVH on the GPU,
+// modules/common/st_bvh.h), so surface shadow edges are where the geometry
+// puts them, not where the map's texels do.
 #include "cascades.h"
 #include "st_bvh.h"
 #include "st_world.h"
@@ -43,8 +43,8 @@ static const st_param_def params[P_COUNT] = {
     {"cascade_split", ST_PARAM_FLOAT, 0.75, 0, 1, NULL,
      "directional lights: 0 uniform, 1 logarithmic split distances (practical split scheme)"},
     {"refine", ST_PARAM_BOOL, 1, 0, 1, NULL,
-     "surfaces: where the map is ambiguous (taps two texels around disagree, PCF taps do, or "
-     "the lookup is lit only thanks to the bias), an exact ray against the scene's triangles "
+     "surfaces without PCF: where the map is ambiguous (taps two texels around disagree, or the "
+     "lookup is lit only thanks to the bias), an exact ray against the scene's triangles "
      "decides"},
 };
 

@@ -3,14 +3,16 @@
 // sampling=equiangular (default): the in-scattered light is the unshadowed
 // integral times each light's visible fraction.
 //   march   (march resolution)  the visible fraction of every light along the
-//           view ray: steps equal in the angle seen from the light (Kulla &
-//           Fajardo 2012), shadow_map lookups at both ends of each step, a
-//           boundary inside a step located by bisection
+//           view ray, parametrized by the angle seen from the light (Kulla &
+//           Fajardo 2012): steps with equal shares of a density that is half
+//           the unshadowed integrand, half uniform in that angle, shadow_map
+//           lookups at both ends of each step, a boundary inside a step
+//           located by bisection
 //   gather  (M > 1 only)  averages the fractions of the M x M block
 //   compose (full resolution)  the unshadowed integral per pixel by
 //           Gauss-Legendre in that angle (no texture fetch), times the
 //           fraction upsampled depth-aware (or marched here where the taps
-//           disagree), plus L_surface e^(-sigma_t s)
+//           disagree or show another surface), plus L_surface e^(-sigma_t s)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and

@@ -31,8 +31,8 @@ void st_shadow_sun_basis(vec3 L, out vec3 u, out vec3 v) {
 // A directional light: the cascade covering p's view depth; its texels are
 // 2 half / res wide. Outside every fitted square nothing is known: lit.
 // `ambiguous` (refine): 8 taps two texels around p do not all agree with
-// the centre, the centre is lit only thanks to the bias, p lies outside
-// every fitted square, or the PCF taps disagree.
+// the centre, the centre is lit only thanks to the bias, or p lies outside
+// every fitted square (never with PCF, whose filtered edge is wanted).
 float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool probe, out bool ambiguous) {
     ambiguous = false;
     int slot = st_shadow_sun_slot[light];
@@ -75,7 +75,7 @@ float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool 
         float stored = texture(st_shadow_suns, vec3(uv + o, layer)).r;
         sum += path - bias - rad * texel * tan_i <= stored ? 1.0 : 0.0;
     }
-    ambiguous = probe && sum > 0.0 && sum < 16.0;
+    // PCF softens edges on purpose: its filtered value stands.
     return sum / 16.0;
 }
 
@@ -96,7 +96,8 @@ float st_shadow_test(int light, vec3 dir, float d, float bias) {
 // Visibility of point p from light `light`, bias in metres. PCF taps look
 // along neighbouring directions but compare the receiver's own distance, so
 // a tap on a sloped receiver needs tan_i times its offset as extra bias.
-// `ambiguous` as for st_shadow_sun_amb (computed only when probe is set).
+// `ambiguous` as for st_shadow_sun_amb (computed only when probe is set; never
+// with PCF).
 float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool probe, out bool ambiguous) {
     ambiguous = false;
     vec3 v = p - st_light_pos[light];
@@ -131,7 +132,7 @@ float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool 
         vec3 o = (cos(ang) * t + sin(ang) * b) * rad;
         sum += st_shadow_test(light, v + o, d, bias + rad * tan_i);
     }
-    ambiguous = probe && sum > 0.0 && sum < 16.0;
+    // PCF softens edges on purpose: its filtered value stands.
     return sum / 16.0;
 }
 

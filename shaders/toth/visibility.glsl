@@ -1,9 +1,10 @@
 // toth: the visible fraction of each light's in-scattering along a view ray,
-// with the march samples placed equi-angularly (see equiangular.glsl). Light
-// l's share of the unshadowed integral is weighted by the smooth angular
-// integrand, so the fraction sum(w V) / sum(w) is exact for a fully lit or
-// fully shadowed ray at any sample count and the samples crowd where the
-// light contributes most. Lights 0..2 get a channel each; lights 3.. share
+// with the march samples placed in the equi-angular parametrization (see
+// equiangular.glsl) by the integrand (toth_cdf below). Light l's share of
+// the unshadowed integral is weighted by the smooth angular integrand, so
+// the fraction sum(w V) / sum(w) is exact for a fully lit or fully shadowed
+// ray at any sample count and the samples crowd where the light contributes
+// most. Lights 0..2 get a channel each; lights 3.. share
 // the fourth (exact when they see the same occluders).
 //
 // Each step looks up the shadow map at both ends. Where the two disagree
