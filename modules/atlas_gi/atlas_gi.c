@@ -15,7 +15,7 @@
 // while accumulation has not converged. A camera-only frame runs neither pass.
 #define _POSIX_C_SOURCE 200809L // clock_gettime (profile)
 #include "atlas.h"
-#include "bvh.h"
+#include "st_bvh.h"
 #include "transfer.h"
 #include "transfer_gpu.h"
 #include "st_world.h"
@@ -135,7 +135,8 @@ typedef struct agi {
     const double *p;
     atlas A;
     double extent;
-    bvh B;
+    st_bvh B;
+    st_bvh_gpu B_gpu;
     bool have_bvh;
     st_mesh *gmeshes; // shallow copies of A.meshes[i].mesh for the model type
     st_model_type type;
@@ -159,7 +160,6 @@ typedef struct agi {
     int num_points;
     GLuint tri_buf, tri_tex, base_buf, base_tex;
     int lookup; // 0: uv1, 1: triangle table
-    GLuint nodes_ssbo, tris_ssbo;
     st_shader *sh_gb, *sh_gbp, *sh_gather, *sh_gather_vis, *sh_resolve;
     // Precomputed transfer (mode=transfer), built on first use per atlas.
     transfer T;
@@ -203,19 +203,19 @@ static void release_atlas_gpu(agi *g) {
     glDeleteFramebuffers(4, fbos);
     g->fbo_gb = g->fbo_gather[0] = g->fbo_gather[1] = g->fbo_resolve = 0;
     if (g->pts_vao) glDeleteVertexArrays(1, &g->pts_vao);
-    GLuint bufs[5] = {g->pts_vbo, g->tri_buf, g->base_buf, g->nodes_ssbo, g->tris_ssbo};
-    glDeleteBuffers(5, bufs);
+    GLuint bufs[3] = {g->pts_vbo, g->tri_buf, g->base_buf};
+    glDeleteBuffers(3, bufs);
+    st_bvh_gpu_free(&g->B_gpu);
     GLuint texs[2] = {g->tri_tex, g->base_tex};
     glDeleteTextures(2, texs);
-    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->nodes_ssbo = g->tris_ssbo = g->tri_tex =
-        g->base_tex = 0;
+    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->tri_tex = g->base_tex = 0;
     if (g->type.vao) st_model_type_destroy(&g->type);
     free(g->models);
     free(g->gmeshes);
     g->models = NULL;
     g->gmeshes = NULL;
     g->num_models = 0;
-    bvh_free(&g->B);
+    st_bvh_free(&g->B);
     g->have_bvh = false;
     release_transfer(g);
     atlas_free(&g->A);
@@ -397,20 +397,14 @@ static bool ensure_bvh(agi *g, st_err *err) {
     uint32_t n = 0;
     float *c = scene_triangles(g, &n, err);
     if (!c) return false;
-    bool ok = bvh_build(&g->B, c, n, err);
+    bool ok = st_bvh_build(&g->B, c, n, err);
     free(c);
-    if (!ok) return false;
-    glCreateBuffers(1, &g->nodes_ssbo);
-    glNamedBufferStorage(g->nodes_ssbo, (GLsizeiptr)(g->B.num_nodes * 8 * sizeof(float)),
-                         g->B.nodes, 0);
-    glCreateBuffers(1, &g->tris_ssbo);
-    glNamedBufferStorage(g->tris_ssbo, (GLsizeiptr)((n ? n : 1) * 12 * sizeof(float)), g->B.tris,
-                         0);
-    if (!st_world_track(g->w, atlas_buffers[7], GL_BUFFER, g->nodes_ssbo, err) ||
-        !st_world_track(g->w, atlas_buffers[8], GL_BUFFER, g->tris_ssbo, err))
+    if (!ok || !st_bvh_upload(&g->B_gpu, &g->B, err)) return false;
+    if (!st_world_track(g->w, atlas_buffers[7], GL_BUFFER, g->B_gpu.nodes, err) ||
+        !st_world_track(g->w, atlas_buffers[8], GL_BUFFER, g->B_gpu.tris, err))
         return false;
     g->have_bvh = true;
-    return st_gl_check("atlas_gi bvh", err);
+    return true;
 }
 
 // The precomputed transfer, built on first use per atlas from the G-buffer's
@@ -805,10 +799,7 @@ static bool gather_pass(agi *g, const st_frame *f, st_err *err) {
     bool power = ip(g, P_SAMPLING) == 1 && ip(g, P_ESTIMATOR) == 0;
     if (power && !g->have_cdf && !build_cdf(g, err)) return false;
     power = power && g->have_cdf;
-    if (vis) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g->nodes_ssbo);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g->tris_ssbo);
-    }
+    if (vis) st_bvh_bind(&g->B_gpu);
     for (int b = 0; b < bounces; b++) {
         bool last = b == bounces - 1;
         GLuint fbo = g->fbo_gather[b & 1];

@@ -5,15 +5,30 @@
 // light's path from where it enters the scene (cascades.h), re-fitted only
 // when the camera's slices leave their fitted region. The regular pass and
 // volumetric modules test visibility against them with a slope-scaled bias
-// and optional PCF.
+// and optional PCF. refine=true settles the hard lookups that are ambiguous
+// (a shadow edge within two texels, a receiver lit only thanks to the bias)
+// with an exact ray against the scene's triangles (a BVH on the GPU,
+// modules/common/st_bvh.h), so surface shadow edges are where the geometry
+// puts them, not where the map's texels do.
 #include "cascades.h"
+#include "st_bvh.h"
 #include "st_world.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum { P_RESOLUTION, P_BIAS, P_SLOPE_BIAS, P_PCF, P_PCF_RADIUS, P_CASCADES, P_SPLIT, P_COUNT };
+enum {
+    P_RESOLUTION,
+    P_BIAS,
+    P_SLOPE_BIAS,
+    P_PCF,
+    P_PCF_RADIUS,
+    P_CASCADES,
+    P_SPLIT,
+    P_REFINE,
+    P_COUNT
+};
 
 static const st_param_def params[P_COUNT] = {
     {"resolution", ST_PARAM_INT, 1024, 16, 8192, NULL, "cube face size in texels"},
@@ -27,6 +42,10 @@ static const st_param_def params[P_COUNT] = {
      "directional lights: shadow cascades over the view"},
     {"cascade_split", ST_PARAM_FLOAT, 0.75, 0, 1, NULL,
      "directional lights: 0 uniform, 1 logarithmic split distances (practical split scheme)"},
+    {"refine", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "surfaces without PCF: where the map is ambiguous (taps two texels around disagree, or the "
+     "lookup is lit only thanks to the bias), an exact ray against the scene's triangles "
+     "decides"},
 };
 
 typedef struct shadow_map {
@@ -41,6 +60,7 @@ typedef struct shadow_map {
     sm_sun suns[ST_MAX_LIGHTS];
     bool sun_dirty[ST_MAX_LIGHTS]; // fitted anew but not rendered yet
     st_shader *cascade;
+    st_bvh_gpu bvh; // refine: the scene's triangles (bvh.nodes = 0: not built)
 } shadow_map;
 
 // The world's targets: one distance cube per light (layers of a cube-map
@@ -120,8 +140,18 @@ static void *create(st_world *w, const double *p, st_err *err) {
     return s;
 }
 
+// World-tracked (--stats): untracked before they go.
+static void bvh_release(shadow_map *s) {
+    if (s->bvh.nodes) {
+        st_world_untrack(s->w, "shadow_map.bvh_nodes");
+        st_world_untrack(s->w, "shadow_map.bvh_triangles");
+    }
+    st_bvh_gpu_free(&s->bvh);
+}
+
 static void destroy(void *self) {
     shadow_map *s = self;
+    bvh_release(s);
     st_shader_destroy(s->depth);
     st_shader_destroy(s->cascade);
     free(s);
@@ -185,8 +215,31 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
     return st_gl_check("shadow cascades", err);
 }
 
+// The BVH for refine, built on first use and again when the geometry changes.
+static bool ensure_bvh(shadow_map *s, int pass, const st_frame *f, st_err *err) {
+    if (s->p[P_REFINE] == 0) {
+        bvh_release(s);
+        return true;
+    }
+    if (s->bvh.nodes && (pass > 0 || !(f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY))))
+        return true;
+    uint32_t n = 0;
+    float *c = st_bvh_scene_corners(f->scene, &n, err);
+    if (!c) return false;
+    st_bvh b;
+    bool ok = st_bvh_build(&b, c, n, err);
+    free(c);
+    if (!ok) return false;
+    bvh_release(s);
+    ok = st_bvh_upload(&s->bvh, &b, err);
+    st_bvh_free(&b);
+    return ok && st_world_track(s->w, "shadow_map.bvh_nodes", GL_BUFFER, s->bvh.nodes, err) &&
+           st_world_track(s->w, "shadow_map.bvh_triangles", GL_BUFFER, s->bvh.tris, err);
+}
+
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     shadow_map *s = self;
+    if (!ensure_bvh(s, pass, f, err)) return false;
     if (s->sun_slot[pass] >= 0) return render_cascades(s, s->sun_slot[pass], f, err);
     const float *lp = f->scene->lights[pass].position;
     // Cube face directions and up vectors of the GL cube-map convention.
@@ -241,6 +294,15 @@ static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f
     glUniform1f(loc, (float)((shadow_map *)self)->p[P_PCF_RADIUS]);
 }
 
+// Also binds the BVH's buffers for the shader about to draw (other modules
+// bind their own storage buffers at other points).
+static void u_refine(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    shadow_map *s = self;
+    bool on = s->p[P_REFINE] != 0 && s->bvh.nodes;
+    if (on) st_bvh_bind(&s->bvh);
+    glUniform1i(loc, on);
+}
+
 static void u_suns(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, texture(self, "shadow_map.suns"));
 }
@@ -283,6 +345,7 @@ static const st_uniform uniforms_table[] = {
     {"st_shadow_slope", u_slope},
     {"st_shadow_pcf", u_pcf},
     {"st_shadow_pcf_radius", u_pcf_radius},
+    {"st_shadow_refine", u_refine},
 };
 
 static int uniforms(void *self, const st_uniform **out) {
@@ -304,7 +367,8 @@ static bool reload(void *self, st_err *err) {
 
 ST_PLUGIN(.name = "shadow_map",
           .description = "shadow maps: distance cube maps for point and spot lights, cascades for "
-                         "directional ones (slope-scaled bias, optional PCF)",
+                         "directional ones (slope-scaled bias, optional PCF); ambiguous surface "
+                         "lookups settled by an exact ray against the scene's triangles",
           ST_PARAMS(params), .provides = "shadow_map",
           .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,

@@ -3,14 +3,16 @@
 // sampling=equiangular (default): the in-scattered light is the unshadowed
 // integral times each light's visible fraction.
 //   march   (march resolution)  the visible fraction of every light along the
-//           view ray: steps equal in the angle seen from the light (Kulla &
-//           Fajardo 2012), shadow_map lookups at both ends of each step, a
-//           boundary inside a step located by bisection
+//           view ray, parametrized by the angle seen from the light (Kulla &
+//           Fajardo 2012): steps with equal shares of a density that is half
+//           the unshadowed integrand, half uniform in that angle, shadow_map
+//           lookups at both ends of each step, a boundary inside a step
+//           located by bisection
 //   gather  (M > 1 only)  averages the fractions of the M x M block
 //   compose (full resolution)  the unshadowed integral per pixel by
 //           Gauss-Legendre in that angle (no texture fetch), times the
 //           fraction upsampled depth-aware (or marched here where the taps
-//           disagree), plus L_surface e^(-sigma_t s)
+//           disagree or show another surface), plus L_surface e^(-sigma_t s)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
@@ -34,17 +36,21 @@ enum {
     P_REFINE,
     P_BISECT,
     P_REFINE_TAPS,
+    P_MIN_ROWS,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
 
 // Defaults (the Pareto front of docs/benchmarks.md, tools/bench_all.sh):
 // equi-angular sampling, the visible fraction marched at quarter resolution
-// in 32 steps with 4 halvings per shadow boundary, pixels whose upsampling
-// taps disagree by more than 0.2 marched at full resolution, the unshadowed
-// integral with 16 Gauss-Legendre nodes per full-resolution pixel.
+// (at least 48 rows) in 64 steps with 4 halvings per shadow
+// boundary, pixels whose upsampling taps disagree by more than 0.2 (or show
+// another surface) marched at full resolution, the unshadowed integral with
+// 16 Gauss-Legendre nodes per full-resolution pixel. 64 steps, not 32: the
+// cross-check's window scenes (8 cm mullions, docs/accuracy.md) need them
+// for NRMSE <= 0.05 against Cycles.
 static const st_param_def params[P_COUNT] = {
-    {"samples", ST_PARAM_INT, 32, 1, 1024, NULL,
+    {"samples", ST_PARAM_INT, 64, 1, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved)"},
     {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
@@ -52,7 +58,8 @@ static const st_param_def params[P_COUNT] = {
     {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "per-pixel offset of the samples within their steps (banding -> noise)"},
     {"resolution", ST_PARAM_ENUM, 2, 0, 0, "full|half|quarter",
-     "march resolution; below full, the in-scattered light is upsampled depth-aware"},
+     "march resolution (raised where the march would have fewer than min_rows rows); below full, "
+     "the in-scattered light is upsampled depth-aware"},
     {"integrator", ST_PARAM_ENUM, 0, 0, 0, "energy|thesis|thesis_far",
      "energy: Hillaire's step, exact for a constant source; thesis: the thesis' Riemann sum "
      "(source at the near end of each step); thesis_far: at the far end"},
@@ -74,10 +81,14 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: halvings that locate a shadow boundary inside a step (0 = trapezoid of the "
      "step's "
      "two lookups)"},
-    {"refine_taps", ST_PARAM_INT, 2, 1, 4, NULL,
-     "equiangular below full resolution: a pixel with fewer upsampling taps on its own surface (or "
-     "not clamped at the image border) than this marches its own ray; 4 also refines every crease "
-     "and silhouette (more accurate shafts there, about 2x the time in a colonnade)"},
+    {"refine_taps", ST_PARAM_INT, 4, 1, 4, NULL,
+     "equiangular below full resolution: a pixel with fewer upsampling taps on its own surface "
+     "inside the image than this marches its own ray (4: every silhouette, crease and border "
+     "pixel; 2: only where at most one tap is usable, faster with many creases, less accurate "
+     "there)"},
+    {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
+     "the march resolution is raised (quarter -> half -> full) until the march has at least this "
+     "many rows (0 = resolution as set)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -87,6 +98,8 @@ typedef struct toth {
     const double *p;
     st_shader *march, *gather, *compose;
     st_pass_info info;
+    int height;     // image rows the targets were declared for
+    int decl_scale; // the divisor they were declared with
 } toth;
 
 // Steps cannot be shared by more pixels than there are steps.
@@ -97,8 +110,17 @@ static int interleave(const toth *t) {
     return m;
 }
 
-static int scale(const toth *t) {
-    return 1 << (int)t->p[P_RESOLUTION];
+// The march's divisor for an image `height` rows high. A march of fewer
+// than min_rows rows is too coarse for shafts a few pixels wide: most
+// pixels then disagree with their taps and are marched again at full
+// resolution, which costs more than a finer march (96x96 window_hg of the
+// cross-check: half resolution faster than quarter and closer to Cycles), so
+// the divisor halves until the march has that many rows.
+static int scale(const toth *t, int height) {
+    int s = 1 << (int)t->p[P_RESOLUTION];
+    while (s > 1 && height / s < (int)t->p[P_MIN_ROWS])
+        s /= 2;
+    return s;
 }
 
 // The pass a slot index stands for (the gather exists only when interleaved).
@@ -116,8 +138,11 @@ static bool medium_scatters(const st_scene *sc) {
 // The march (and, interleaved, the gather) output at march resolution, owned
 // by the world: the screen divided by the scale, rounded up. Every read is a
 // texelFetch; nearest keeps a stray sampled read honest.
-static bool declare_targets(toth *t, st_err *err) {
-    const st_target_desc d = {GL_RGBA32F, .divisor = scale(t), .filter = GL_NEAREST};
+// Re-declared when the image height moves the divisor (min_rows).
+static bool declare_targets(toth *t, int height, st_err *err) {
+    t->height = height;
+    t->decl_scale = scale(t, height);
+    const st_target_desc d = {GL_RGBA32F, .divisor = t->decl_scale, .filter = GL_NEAREST};
     return st_world_declare_target(t->w, "toth.march", &d, err) &&
            st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err);
 }
@@ -145,7 +170,8 @@ static void *create(st_world *w, const double *p, st_err *err) {
     }
     t->w = w;
     t->p = p;
-    if (!declare_targets(t, err) || !load_shaders(&t->march, &t->gather, &t->compose, err)) {
+    if (!declare_targets(t, st_world_scene(w)->height, err) ||
+        !load_shaders(&t->march, &t->gather, &t->compose, err)) {
         free(t);
         return NULL;
     }
@@ -188,12 +214,19 @@ static const st_pass_info *pass_info(void *self, int pass) {
 // Nothing runs without a scattering medium; without lights only the
 // surface extinction (compose) is left to do.
 static bool needed(void *self, int pass, const st_frame *f) {
+    toth *t = self;
+    // needed() runs for every pass before the world binds targets: a new
+    // image height that changes the march divisor re-declares them here.
+    if (pass == 0 && scale(t, f->height) != t->decl_scale) {
+        st_err ignore = {0}; // only fails for a bad name, which create already caught
+        declare_targets(t, f->height, &ignore);
+    }
     if (!medium_scatters(f->scene)) return false;
     return pass_kind(self, pass) == PASS_COMPOSE || f->scene->num_lights > 0;
 }
 
 static void set_common(toth *t, st_shader *sh) {
-    st_shader_set_int(sh, "toth_scale", scale(t));
+    st_shader_set_int(sh, "toth_scale", t->decl_scale);
     st_shader_set_float(sh, "toth_tolerance", (float)t->p[P_TOLERANCE]);
     st_shader_set_int(sh, "toth_interleave", interleave(t));
 }
@@ -260,8 +293,8 @@ static st_shader *shader(void *self, int pass) {
 // A new march scale or interleave re-describes the targets.
 static void param_changed(void *self, int index) {
     st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES)
-        declare_targets(self, &ignore);
+    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
+        declare_targets(self, ((toth *)self)->height, &ignore);
 }
 
 static bool reload(void *self, st_err *err) {

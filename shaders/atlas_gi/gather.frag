@@ -7,7 +7,7 @@
 #include "atlas_gi/estimator.glsl"
 #include "common/medium.glsl"
 #ifdef AG_VISIBILITY
-#include "atlas_gi/bvh.glsl"
+#include "common/bvh.glsl"
 #endif
 uniform sampler2D ag_pos;    // position, area
 uniform sampler2D ag_normal; // normal, valid
@@ -68,7 +68,7 @@ void main() {
         if (ag_use_prev != 0) L += texelFetch(ag_prev, j, 0).rgb;
         if (L == vec3(0.0)) continue;
 #ifdef AG_VISIBILITY
-        if (ag_occluded(x + nx * ag_offset, pa.xyz + nj * ag_offset)) continue;
+        if (st_bvh_occluded(x + nx * ag_offset, pa.xyz + nj * ag_offset)) continue;
 #endif
         L *= st_path_transmittance(d2 * inversesqrt(d2)); // sender -> receiver
         sum += L * (ag_sample_weight(ag_estimator, cx, cj, pa.w, d2) * ws);

@@ -4,6 +4,7 @@
 #ifndef ST_SHADOW_MAP_VISIBILITY_GLSL
 #define ST_SHADOW_MAP_VISIBILITY_GLSL
 #include "common/uniforms.glsl"
+#include "common/bvh.glsl"
 #define ST_HAS_VISIBILITY 1
 uniform samplerCubeArray st_shadow_cubes;
 uniform float st_shadow_res;
@@ -11,6 +12,7 @@ uniform float st_shadow_bias;  // texels
 uniform float st_shadow_slope; // texels per unit tan(incidence)
 uniform int st_shadow_pcf;
 uniform float st_shadow_pcf_radius;
+uniform int st_shadow_refine; // 1: ambiguous surface lookups traced exactly (common/bvh.glsl)
 // Directional lights (modules/shadow_map/cascades.h): slot per light (-1:
 // none), cascades ending at view depths st_shadow_cascade_far, each a square
 // (centre u, v; half size) in the light's basis, layer slot * 4 + cascade.
@@ -28,7 +30,11 @@ void st_shadow_sun_basis(vec3 L, out vec3 u, out vec3 v) {
 
 // A directional light: the cascade covering p's view depth; its texels are
 // 2 half / res wide. Outside every fitted square nothing is known: lit.
-float st_shadow_sun(int light, vec3 p, float bias_texels, float tan_i) {
+// `ambiguous` (refine): 8 taps two texels around p do not all agree with
+// the centre, the centre is lit only thanks to the bias, or p lies outside
+// every fitted square (never with PCF, whose filtered edge is wanted).
+float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool probe, out bool ambiguous) {
+    ambiguous = false;
     int slot = st_shadow_sun_slot[light];
     if (slot < 0) return 1.0;
     float depth = -(st_view * vec4(p, 1.0)).z;
@@ -38,12 +44,29 @@ float st_shadow_sun(int light, vec3 p, float bias_texels, float tan_i) {
     vec3 L = -st_light_dir[light], u, v;
     st_shadow_sun_basis(L, u, v);
     vec2 uv = (vec2(dot(p, u), dot(p, v)) - r.xy) / r.z * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+        ambiguous = probe; // nothing known here: the exact ray decides
+        return 1.0;
+    }
     float path = st_light_shape[light].z - dot(p, L);
     float texel = 2.0 * r.z / st_shadow_res;
     float bias = texel * bias_texels;
     float layer = float(slot * st_shadow_cascade_count + c);
-    if (st_shadow_pcf == 0) return path - bias <= texture(st_shadow_suns, vec3(uv, layer)).r ? 1.0 : 0.0;
+    if (st_shadow_pcf == 0) {
+        float stored = texture(st_shadow_suns, vec3(uv, layer)).r;
+        float vis = path - bias <= stored ? 1.0 : 0.0;
+        // Lit only thanks to the bias: something sits in front by more than
+        // half of it (a near occluder; at grazing incidence it can be the
+        // receiver's own surface, and the ray then only costs time).
+        ambiguous = probe && vis > 0.0 && stored < path - 0.5 * bias;
+        for (int k = 0; probe && k < 8 && !ambiguous; k++) {
+            float ang = float(k) * 0.78539816;
+            vec2 o = vec2(cos(ang), sin(ang)) * 2.0 / st_shadow_res;
+            float tap = texture(st_shadow_suns, vec3(uv + o, layer)).r;
+            ambiguous = (path - bias - 2.0 * texel * tan_i <= tap ? 1.0 : 0.0) != vis;
+        }
+        return vis;
+    }
     float sum = 0.0;
     for (int k = 0; k < 16; k++) { // Vogel disk, as for the cubes
         float rad = st_shadow_pcf_radius * sqrt((float(k) + 0.5) / 16.0);
@@ -52,7 +75,13 @@ float st_shadow_sun(int light, vec3 p, float bias_texels, float tan_i) {
         float stored = texture(st_shadow_suns, vec3(uv + o, layer)).r;
         sum += path - bias - rad * texel * tan_i <= stored ? 1.0 : 0.0;
     }
+    // PCF softens edges on purpose: its filtered value stands.
     return sum / 16.0;
+}
+
+float st_shadow_sun(int light, vec3 p, float bias_texels, float tan_i) {
+    bool ambiguous;
+    return st_shadow_sun_amb(light, p, bias_texels, tan_i, false, ambiguous);
 }
 
 // World size of one cube texel at distance d (a face spans 2d).
@@ -67,14 +96,33 @@ float st_shadow_test(int light, vec3 dir, float d, float bias) {
 // Visibility of point p from light `light`, bias in metres. PCF taps look
 // along neighbouring directions but compare the receiver's own distance, so
 // a tap on a sloped receiver needs tan_i times its offset as extra bias.
-float st_shadow_visibility_biased(int light, vec3 p, float bias, float tan_i) {
+// `ambiguous` as for st_shadow_sun_amb (computed only when probe is set; never
+// with PCF).
+float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool probe, out bool ambiguous) {
+    ambiguous = false;
     vec3 v = p - st_light_pos[light];
-    if (st_shadow_pcf == 0) return st_shadow_test(light, v, length(v), bias);
-    // 16 taps on a disk perpendicular to the light direction.
     float d = length(v);
+    if (st_shadow_pcf == 0 && !probe) return st_shadow_test(light, v, d, bias);
     vec3 dir = v / max(d, 1e-20);
     vec3 t = normalize(abs(dir.y) < 0.9 ? cross(dir, vec3(0, 1, 0)) : cross(dir, vec3(1, 0, 0)));
     vec3 b = cross(dir, t);
+    if (st_shadow_pcf == 0) {
+        float stored = texture(st_shadow_cubes, vec4(v, float(light))).r;
+        float vis = d - bias <= stored ? 1.0 : 0.0;
+        // Lit only thanks to the bias: something sits in front by more than
+        // half of it (a near occluder; at grazing incidence it can be the
+        // receiver's own surface, and the ray then only costs time).
+        ambiguous = vis > 0.0 && stored < d - 0.5 * bias;
+        // An edge within two texels of p puts one of 8 taps on its other side.
+        float rad = 2.0 * st_shadow_texel(d);
+        for (int k = 0; k < 8 && !ambiguous; k++) {
+            float ang = float(k) * 0.78539816;
+            vec3 o = (cos(ang) * t + sin(ang) * b) * rad;
+            ambiguous = st_shadow_test(light, v + o, d, bias + rad * tan_i) != vis;
+        }
+        return vis;
+    }
+    // 16 taps on a disk perpendicular to the light direction.
     float r = st_shadow_pcf_radius * st_shadow_texel(d);
     float sum = 0.0;
     for (int k = 0; k < 16; k++) {
@@ -84,23 +132,51 @@ float st_shadow_visibility_biased(int light, vec3 p, float bias, float tan_i) {
         vec3 o = (cos(ang) * t + sin(ang) * b) * rad;
         sum += st_shadow_test(light, v + o, d, bias + rad * tan_i);
     }
+    // PCF softens edges on purpose: its filtered value stands.
     return sum / 16.0;
+}
+
+float st_shadow_visibility_biased(int light, vec3 p, float bias, float tan_i) {
+    bool ambiguous;
+    return st_shadow_visibility_amb(light, p, bias, tan_i, false, ambiguous);
+}
+
+// The exact answer (refine): is the segment from surface point p (normal n,
+// facing the light) to the light free of triangles? It starts a hair off the
+// surface along n, 1e-5 of its length (the reference offsets 1e-5 of the
+// scene's diagonal), so p's own triangle does not count; a larger offset
+// moves the edges of grazing shadows visibly.
+float st_shadow_exact(int light, vec3 p, vec3 n) {
+    vec3 q;
+    if (st_light_type[light] == 1) {
+        vec3 L = -st_light_dir[light];
+        q = p + L * max(st_light_shape[light].z - dot(p, L), 1e-3);
+    } else {
+        q = st_light_pos[light];
+    }
+    vec3 o = p + n * (1e-5 * distance(p, q));
+    return st_bvh_occluded_t(o, q, 1e-6) ? 0.0 : 1.0;
 }
 
 // Surfaces: the bias grows with the slope, since a texel covers a longer
 // stretch of distance the more obliquely it sees the surface.
 float st_visibility(int light, vec3 p, vec3 n) {
+    bool probe = st_shadow_refine != 0, ambiguous;
+    float vis;
     if (st_light_type[light] == 1) { // directional
         float c = clamp(dot(n, -st_light_dir[light]), 1e-3, 1.0);
         float tan_i = min(sqrt(1.0 - c * c) / c, 20.0);
-        return st_shadow_sun(light, p, st_shadow_bias + st_shadow_slope * tan_i, tan_i);
+        vis = st_shadow_sun_amb(light, p, st_shadow_bias + st_shadow_slope * tan_i, tan_i, probe, ambiguous);
+        if (st_shadow_sun_slot[light] < 0) return vis;
+    } else {
+        vec3 l = st_light_pos[light] - p;
+        float d = length(l);
+        float c = clamp(dot(n, l / max(d, 1e-20)), 1e-3, 1.0);
+        float tan_i = min(sqrt(1.0 - c * c) / c, 20.0);
+        float bias = st_shadow_texel(d) * (st_shadow_bias + st_shadow_slope * tan_i);
+        vis = st_shadow_visibility_amb(light, p, bias, tan_i, probe, ambiguous);
     }
-    vec3 l = st_light_pos[light] - p;
-    float d = length(l);
-    float c = clamp(dot(n, l / max(d, 1e-20)), 1e-3, 1.0);
-    float tan_i = min(sqrt(1.0 - c * c) / c, 20.0);
-    float bias = st_shadow_texel(d) * (st_shadow_bias + st_shadow_slope * tan_i);
-    return st_shadow_visibility_biased(light, p, bias, tan_i);
+    return ambiguous ? st_shadow_exact(light, p, n) : vis;
 }
 
 // Points in a volume have no normal: constant bias only.

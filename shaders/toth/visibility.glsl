@@ -1,9 +1,10 @@
 // toth: the visible fraction of each light's in-scattering along a view ray,
-// with the march samples placed equi-angularly (see equiangular.glsl). Light
-// l's share of the unshadowed integral is weighted by the smooth angular
-// integrand, so the fraction sum(w V) / sum(w) is exact for a fully lit or
-// fully shadowed ray at any sample count and the samples crowd where the
-// light contributes most. Lights 0..2 get a channel each; lights 3.. share
+// with the march samples placed in the equi-angular parametrization (see
+// equiangular.glsl) by the integrand (toth_cdf below). Light l's share of
+// the unshadowed integral is weighted by the smooth angular integrand, so
+// the fraction sum(w V) / sum(w) is exact for a fully lit or fully shadowed
+// ray at any sample count and the samples crowd where the light contributes
+// most. Lights 0..2 get a channel each; lights 3.. share
 // the fourth (exact when they see the same occluders).
 //
 // Each step looks up the shadow map at both ends. Where the two disagree
@@ -24,11 +25,17 @@ float toth_vis_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
     return st_visibility_point(l, o + t * dir);
 }
 
-// The lit fraction of the step [a, b] whose ends see va and vb.
-float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, int bisect) {
-    if (va == vb) return va;
+// The lit part of the step [a, b] whose ends see va and vb, weighted by
+// the integrand: where a boundary is located inside the step, the lit
+// sub-interval's own midpoint weighs it (the integrand varies across a
+// step, most where the phase function peaks); otherwise the step's weight w.
+// x: the boundary located (-1: none).
+float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, int bisect,
+                    float w, vec3 grey, out float x) {
+    x = -1.0;
+    if (va == vb) return w * va;
     // Not a clean on/off boundary (PCF): the trapezoid.
-    if (abs(va - vb) < 0.5 || bisect <= 0) return 0.5 * (va + vb);
+    if (abs(va - vb) < 0.5 || bisect <= 0) return w * 0.5 * (va + vb);
     float lo = a, hi = b;
     for (int k = 0; k < bisect; k++) {
         float m = 0.5 * (lo + hi);
@@ -36,14 +43,55 @@ float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float 
         if (abs(vm - va) < abs(vm - vb)) lo = m;
         else hi = m;
     }
-    float x = (0.5 * (lo + hi) - a) / (b - a); // the boundary, as a fraction of the step
-    return va > vb ? x : 1.0 - x;
+    x = 0.5 * (lo + hi);
+    float la = va > vb ? a : x, lb = va > vb ? x : b;
+    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), grey).x * (lb - la) : 0.0;
 }
 
-// Steps first, first + stride, ... < n of n equal steps in theta; the
-// grid is shifted by u in [0, 1) of a step (the first and last steps are
-// shortened to stay in [0, len]). Returns the fraction per channel (1 where a
-// light adds nothing, so the full-resolution product stays exact).
+// Where the steps go: equal shares of a density in theta that is half
+// uniform and half the unshadowed integrand (phase function, extinction,
+// spot falloff) tabulated at TOTH_CDF_CELLS cell midpoints, so the lookups
+// crowd where the light scatters most toward the camera (a forward-peaked
+// phase function puts most of a ray's light on a short stretch of it) and
+// still cover the rest. toth_cdf_at maps a share y in [0, 1] to theta.
+#define TOTH_CDF_CELLS 16
+struct toth_cdf {
+    float c[TOTH_CDF_CELLS + 1];
+    float len;
+};
+
+toth_cdf toth_cdf_build(toth_eq e, vec3 grey) {
+    toth_cdf d;
+    d.len = e.len;
+    float cell = e.len / float(TOTH_CDF_CELLS), total = 0.0;
+    float q[TOTH_CDF_CELLS];
+    for (int k = 0; k < TOTH_CDF_CELLS; k++) {
+        q[k] = toth_eq_integrand(e, (float(k) + 0.5) * cell, grey).x;
+        total += q[k];
+    }
+    d.c[0] = 0.0;
+    for (int k = 0; k < TOTH_CDF_CELLS; k++) {
+        float share = total > 0.0 ? q[k] / total : 1.0 / float(TOTH_CDF_CELLS);
+        d.c[k + 1] = d.c[k] + 0.75 * share + 0.25 / float(TOTH_CDF_CELLS);
+    }
+    d.c[TOTH_CDF_CELLS] = 1.0;
+    return d;
+}
+
+// k: the cell to start the search from (shares are asked in increasing order).
+float toth_cdf_at(toth_cdf d, float y, inout int k) {
+    if (y <= 0.0) return 0.0;
+    if (y >= 1.0) return d.len;
+    while (k < TOTH_CDF_CELLS - 1 && y >= d.c[k + 1]) k++;
+    float span = d.c[k + 1] - d.c[k];
+    float f = span > 0.0 ? clamp((y - d.c[k]) / span, 0.0, 1.0) : 0.0;
+    return (float(k) + f) * d.len / float(TOTH_CDF_CELLS);
+}
+
+// Steps first, first + stride, ... < n of n steps with equal shares of that
+// density; the grid is shifted by u in [0, 1) of a share (the first and last
+// steps are shortened to stay in [0, len]). Returns the fraction per channel
+// (1 where a light adds nothing, so the full-resolution product stays exact).
 vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stride, float u, int bisect,
                            vec3 sigma_t) {
     n = max(n, 1);
@@ -55,19 +103,21 @@ vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stri
     for (int l = 0; l < st_num_lights; l++) {
         toth_eq e = toth_light_frame(o, dir, s, l);
         if (!(e.len > 0.0)) continue;
-        float step = e.len / float(n);
+        toth_cdf cdf = toth_cdf_build(e, grey);
+        int ka = 0, kb = 0;
         int c = min(l, 3);
-        // Steps i = 0..n: [(i - 1 + u) step, (i + u) step] clipped to [0, len].
+        // Steps i = 0..n: shares [(i - 1 + u) / n, (i + u) / n].
         float prev_b = -1.0, vprev = 0.0;
         for (int i = first; i <= n; i += stride) {
-            float a = max((float(i) - 1.0 + u) * step, 0.0);
-            float b = min((float(i) + u) * step, e.len);
+            float a = toth_cdf_at(cdf, (float(i) - 1.0 + u) / float(n), ka);
+            float b = toth_cdf_at(cdf, (float(i) + u) / float(n), kb);
             if (!(b > a)) continue;
             float w = toth_eq_integrand(e, 0.5 * (a + b), grey).x * (b - a);
             if (!(w > 0.0)) continue;
             float va = a == prev_b ? vprev : toth_vis_at(l, e, o, dir, a);
             float vb = toth_vis_at(l, e, o, dir, b);
-            num[c] += w * toth_vis_step(l, e, o, dir, a, b, va, vb, bisect);
+            float x;
+            num[c] += toth_vis_step(l, e, o, dir, a, b, va, vb, bisect, w, grey, x);
             den[c] += w;
             prev_b = b;
             vprev = vb;

@@ -15,8 +15,8 @@ int main(void) {
     fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_"
                "median,error_rmse,"
                "rmse\n");
-    // toth defaults: samples 32, interleave 1, resolution quarter.
-    const int samples[3] = {8, 32, 256};
+    // toth defaults: samples 64, interleave 1, resolution quarter.
+    const int samples[3] = {8, 64, 256};
     const char *res[2] = {"full", "quarter"};
     for (int r = 0; r < 2; r++)
         for (int il = 1; il <= 2; il++)

@@ -52,15 +52,7 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // toth (equi-angular, issue 11) at its defaults. The light in view
-    // (light_visible: NRMSE 0.0079) and hidden_light's relMSE (0.0012) now
-    // pass. What is left sits at the edges of the lit floor patches under
-    // the openings and stays at the full-resolution 256-step march (window_hg
-    // NRMSE 0.177) and at shadow_map.resolution=4096 (0.169): shadow-map
-    // visibility against Cycles' exact edges, in images whose mean is small.
-    {"window_hg", "toth", "nrmse", 0.222},
-    {"window_iso", "toth", "nrmse", 0.206},
-    {"hidden_light", "toth", "nrmse", 0.240},
+    // None at present: every bound holds at the defaults.
     {NULL, NULL, NULL, 0},
 };
 

@@ -28,22 +28,28 @@ static int count_module(cJSON *j, const char *module, int *runs, int *skipped) {
 
 // The GPU memory table: rows sum to gpu_bytes and to the per-owner totals;
 // shadow_map's two 64^2 R32F cubes and their depth, and its 1 x 1 cascade
-// placeholder (no directional light), by formula.
+// placeholder (no directional light), and the refine pass's BVH over the
+// box's 12 triangles (48 bytes each; nodes 32 bytes each), by formula.
 static void check_memory(cJSON *j) {
-    double rows = 0, owners = 0, cubes = -1;
+    double rows = 0, owners = 0, cubes = -1, bvh_nodes = -1, bvh_tris = -1;
     cJSON *e;
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "memory")) {
-        rows += cJSON_GetObjectItem(e, "bytes")->valuedouble;
-        if (!strcmp(cJSON_GetObjectItem(e, "name")->valuestring, "shadow_map.cubes"))
-            cubes = cJSON_GetObjectItem(e, "bytes")->valuedouble;
+        const char *name = cJSON_GetObjectItem(e, "name")->valuestring;
+        double b = cJSON_GetObjectItem(e, "bytes")->valuedouble;
+        rows += b;
+        if (!strcmp(name, "shadow_map.cubes")) cubes = b;
+        if (!strcmp(name, "shadow_map.bvh_nodes")) bvh_nodes = b;
+        if (!strcmp(name, "shadow_map.bvh_triangles")) bvh_tris = b;
     }
+    CHECK(bvh_tris == 12 * 48, "shadow_map.bvh_triangles: %.0f bytes", bvh_tris);
+    CHECK(bvh_nodes > 0 && fmod(bvh_nodes, 32) == 0, "shadow_map.bvh_nodes: %.0f bytes", bvh_nodes);
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "memory_by_owner")) owners += e->valuedouble;
     double total = cJSON_GetObjectItem(j, "gpu_bytes")->valuedouble;
     CHECK(rows == total && owners == total, "memory rows %.0f, owners %.0f, gpu_bytes %.0f", rows,
           owners, total);
     CHECK(cubes == 64 * 64 * 4 * (2 * 6 + 1), "shadow_map.cubes: %.0f bytes", cubes);
     cJSON *sm = cJSON_GetObjectItem(cJSON_GetObjectItem(j, "memory_by_owner"), "shadow_map");
-    CHECK(sm && sm->valuedouble == cubes + 4, "shadow_map owns %.0f bytes",
+    CHECK(sm && sm->valuedouble == cubes + 4 + bvh_nodes + bvh_tris, "shadow_map owns %.0f bytes",
           sm ? sm->valuedouble : -1);
 }
 

@@ -34,7 +34,8 @@ static const char *scene_json =
     "2}},\n"
     "  {\"name\": \"atlas_gi\", \"params\": {\"mode\": \"gather\", \"samples\": 8, \"atlas_size\": "
     "64}},\n"
-    "  {\"name\": \"toth\", \"params\": {\"resolution\": \"quarter\", \"interleave\": 2}},\n"
+    "  {\"name\": \"toth\", \"params\": {\"resolution\": \"quarter\", \"min_rows\": 0, "
+    "\"interleave\": 2}},\n"
     "  {\"name\": \"ssgi\", \"params\": {\"samples\": 8}}]}\n";
 
 static const char *godray_json =

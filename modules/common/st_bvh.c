@@ -1,5 +1,6 @@
-// atlas_gi: binned-SAH BVH build (see bvh.h).
-#include "bvh.h"
+// Binned-SAH BVH build (see st_bvh.h).
+#include "st_bvh.h"
+#include "st_gpu.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -57,7 +58,7 @@ static void split(build *B, uint32_t ni, uint32_t lo, uint32_t hi, int depth) {
         box_grow(&cb, &p);
     }
     uint32_t n = hi - lo;
-    if (n <= LEAF || depth >= BVH_MAX_DEPTH - 1) {
+    if (n <= LEAF || depth >= ST_BVH_MAX_DEPTH - 1) {
         put_node(B, ni, &b, (int32_t)lo, (int32_t)n);
         return;
     }
@@ -125,7 +126,7 @@ static void split(build *B, uint32_t ni, uint32_t lo, uint32_t hi, int depth) {
     split(B, left + 1, mid, hi, depth + 1);
 }
 
-bool bvh_build(bvh *out, const float *corners, uint32_t n, st_err *err) {
+bool st_bvh_build(st_bvh *out, const float *corners, uint32_t n, st_err *err) {
     memset(out, 0, sizeof *out);
     build B = {.corners = corners};
     size_t cap = 2 * (size_t)(n ? n : 1);
@@ -185,8 +186,56 @@ bool bvh_build(bvh *out, const float *corners, uint32_t n, st_err *err) {
     return true;
 }
 
-void bvh_free(bvh *b) {
+void st_bvh_free(st_bvh *b) {
     free(b->nodes);
     free(b->tris);
     memset(b, 0, sizeof *b);
+}
+
+float *st_bvh_scene_corners(const st_scene *sc, uint32_t *count, st_err *err) {
+    size_t n = 0;
+    for (int m = 0; m < sc->num_meshes; m++)
+        n += sc->meshes[m].num_triangles;
+    float *c = malloc((n ? n : 1) * 9 * sizeof *c);
+    if (!c) {
+        st_fail(err, ST_ERR_RUNTIME, "bvh: out of memory for %zu triangles", n);
+        return NULL;
+    }
+    size_t k = 0;
+    for (int m = 0; m < sc->num_meshes; m++) {
+        const st_mesh *me = &sc->meshes[m];
+        const float *M = me->model; // column-major
+        for (uint32_t t = 0; t < me->num_triangles; t++, k++)
+            for (int v = 0; v < 3; v++) {
+                const float *p = me->positions + 3 * (size_t)me->indices[3 * (size_t)t + v];
+                for (int r = 0; r < 3; r++)
+                    c[9 * k + 3 * v + r] =
+                        M[r] * p[0] + M[4 + r] * p[1] + M[8 + r] * p[2] + M[12 + r];
+            }
+    }
+    *count = (uint32_t)n;
+    return c;
+}
+
+bool st_bvh_upload(st_bvh_gpu *g, const st_bvh *b, st_err *err) {
+    st_bvh_gpu_free(g);
+    glCreateBuffers(1, &g->nodes);
+    glNamedBufferStorage(g->nodes, (GLsizeiptr)(b->num_nodes * 8 * sizeof(float)), b->nodes, 0);
+    glCreateBuffers(1, &g->tris);
+    glNamedBufferStorage(
+        g->tris, (GLsizeiptr)((b->num_tris ? b->num_tris : 1) * 12 * sizeof(float)), b->tris, 0);
+    g->num_tris = b->num_tris;
+    g->bytes = ((long long)b->num_nodes * 8 + (b->num_tris ? b->num_tris : 1) * 12LL) * 4;
+    return st_gl_check("bvh upload", err);
+}
+
+void st_bvh_bind(const st_bvh_gpu *g) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ST_BVH_BINDING_NODES, g->nodes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ST_BVH_BINDING_TRIS, g->tris);
+}
+
+void st_bvh_gpu_free(st_bvh_gpu *g) {
+    if (g->nodes) glDeleteBuffers(1, &g->nodes);
+    if (g->tris) glDeleteBuffers(1, &g->tris);
+    memset(g, 0, sizeof *g);
 }

@@ -1,13 +1,14 @@
-// Visibility for the gather: any-hit traversal of the BVH (modules/atlas_gi/
-// bvh.h for the layout) along the open segment between two surface points.
-#ifndef AG_BVH_GLSL
-#define AG_BVH_GLSL
-layout(std430, binding = 0) readonly buffer ag_bvh_nodes { vec4 ag_nodes[]; };
-layout(std430, binding = 1) readonly buffer ag_bvh_tris { vec4 ag_tris[]; };
+// Exact visibility: any-hit traversal of the triangle BVH of
+// modules/common/st_bvh.h (layout there) along an open segment. The binding
+// points match ST_BVH_BINDING_NODES / _TRIS; st_bvh_bind() binds them.
+#ifndef ST_BVH_GLSL
+#define ST_BVH_GLSL
+layout(std430, binding = 6) readonly buffer st_bvh_nodes_buf { vec4 st_bvh_nodes[]; };
+layout(std430, binding = 7) readonly buffer st_bvh_tris_buf { vec4 st_bvh_tris[]; };
 
-// Is the segment o + t (q - o), t in (1e-4, 1 - 1e-4), blocked by a triangle?
-bool ag_occluded(vec3 o, vec3 q) {
-    const float tmin = 1e-4, tmax = 1.0 - 1e-4;
+// Is the segment o + t (q - o), t in (tmin, 1 - tmin), blocked by a triangle?
+bool st_bvh_occluded_t(vec3 o, vec3 q, float tmin) {
+    float tmax = 1.0 - tmin;
     vec3 d = q - o;
     vec3 dd = vec3(abs(d.x) < 1e-30 ? 1e-30 : d.x, abs(d.y) < 1e-30 ? 1e-30 : d.y, abs(d.z) < 1e-30 ? 1e-30 : d.z);
     vec3 inv = 1.0 / dd;
@@ -16,7 +17,7 @@ bool ag_occluded(vec3 o, vec3 q) {
     stack[sp++] = 0;
     while (sp > 0) {
         int ni = stack[--sp];
-        vec4 lo = ag_nodes[2 * ni], hi = ag_nodes[2 * ni + 1];
+        vec4 lo = st_bvh_nodes[2 * ni], hi = st_bvh_nodes[2 * ni + 1];
         vec3 t0 = (lo.xyz - o) * inv, t1 = (hi.xyz - o) * inv;
         vec3 tn = min(t0, t1), tf = max(t0, t1);
         float a = max(max(tn.x, tn.y), max(tn.z, tmin));
@@ -26,7 +27,7 @@ bool ag_occluded(vec3 o, vec3 q) {
         if (count > 0) {
             for (int k = 0; k < count; k++) {
                 int ti = 3 * (first + k);
-                vec3 v0 = ag_tris[ti].xyz, e1 = ag_tris[ti + 1].xyz, e2 = ag_tris[ti + 2].xyz;
+                vec3 v0 = st_bvh_tris[ti].xyz, e1 = st_bvh_tris[ti + 1].xyz, e2 = st_bvh_tris[ti + 2].xyz;
                 // Moller-Trumbore.
                 vec3 pv = cross(d, e2);
                 float det = dot(e1, pv);
@@ -48,4 +49,8 @@ bool ag_occluded(vec3 o, vec3 q) {
     }
     return false;
 }
+
+// Between two surface points: the ends' own surfaces lie within 1e-4 of the
+// segment's length.
+bool st_bvh_occluded(vec3 o, vec3 q) { return st_bvh_occluded_t(o, q, 1e-4); }
 #endif
