@@ -11,21 +11,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include "atlas.h"
 #include "st_world.h"
+#include "gi_bench.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int parse_list(const char *s, int *out, int max) {
-    int n = 0;
-    for (const char *p = s; *p && n < max;) {
-        out[n++] = atoi(p);
-        const char *c = strchr(p, ',');
-        if (!c) break;
-        p = c + 1;
-    }
-    return n;
-}
 
 static const st_pass_stats *pass(st_world *w, const char *module, const char *name) {
     for (int i = 0; i < st_world_num_pass_stats(w); i++) {
@@ -92,9 +82,9 @@ int main(int argc, char **argv) {
         if (!strcmp(argv[i], "--frames") && i + 1 < argc)
             frames = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--sizes") && i + 1 < argc)
-            nsizes = parse_list(argv[++i], sizes, 8);
+            nsizes = gi_parse_list(argv[++i], sizes, 8);
         else if (!strcmp(argv[i], "--samples") && i + 1 < argc)
-            nsamples = parse_list(argv[++i], samples, 16);
+            nsamples = gi_parse_list(argv[++i], samples, 16);
         else if (nscenes < 8)
             scenes[nscenes++] = argv[i];
     }

@@ -15,22 +15,12 @@
 #define _POSIX_C_SOURCE 200809L // clock_gettime
 #include "st_gl.h"
 #include "st_world.h"
+#include "gi_bench.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static int parse_list(const char *s, int *out, int max) {
-    int n = 0;
-    for (const char *p = s; *p && n < max;) {
-        out[n++] = atoi(p);
-        const char *c = strchr(p, ',');
-        if (!c) break;
-        p = c + 1;
-    }
-    return n;
-}
 
 // One frame, finished; wall and CPU ms.
 static bool frame(st_world *w, double *wall, double *cpu) {
@@ -139,11 +129,11 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--size") && i + 1 < argc)
             px = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--sizes") && i + 1 < argc)
-            nsizes = parse_list(argv[++i], sizes, 8);
+            nsizes = gi_parse_list(argv[++i], sizes, 8);
         else if (!strcmp(argv[i], "--samples") && i + 1 < argc)
-            nsamples = parse_list(argv[++i], samples, 16);
+            nsamples = gi_parse_list(argv[++i], samples, 16);
         else if (!strcmp(argv[i], "--transfer-sizes") && i + 1 < argc)
-            ntsizes = parse_list(argv[++i], tsizes, 8);
+            ntsizes = gi_parse_list(argv[++i], tsizes, 8);
         else
             scene = argv[i];
     }
