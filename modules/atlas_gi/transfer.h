@@ -30,12 +30,16 @@ typedef struct tr_opts {
     double recv;     // receivers: at most recv eps
     double near_k;   // nodes closer than near_k (r_r + r_s) are opened
     double cone_deg; // receivers with a wider normal cone are opened
-    int samples;     // texel pairs (rays) per link between clusters
-    int min_split;   // partly blocked links open nodes of more texels than this
-    int threads;     // 0: all cores
-    double offset;   // ray ends lie this far off the surfaces (m)
-    bool visibility; // false: no rays (tests of the geometry alone)
-    int max_leaves;  // texels are grouped into at most this many leaves (0: one texel each)
+    int samples;     // texel pairs with a visibility ray per link between clusters
+    int kernel;      // texel pairs for the kernel per link (no rays; at least samples)
+    double spread; // links whose form factor varies more than this over their pairs are opened (0:
+                   // off)
+    int min_split; // partly blocked links open nodes of more texels than this
+    int threads;   // 0: all cores
+    double offset; // ray ends lie this far off the surfaces (m)
+    bool visibility;  // false: no rays (tests of the geometry alone)
+    double leaf_size; // a leaf of several texels spans at most this fraction of the scene (0: any)
+    int max_leaves;   // texels are grouped into at most this many leaves (0: one texel each)
 } tr_opts;
 
 typedef struct tr_node {
@@ -62,9 +66,11 @@ typedef struct transfer {
     uint64_t num_links;
     // Statistics for --stats.
     double seconds;
+    double cpu_seconds; // process CPU time of the build (all threads)
     uint64_t rays;
     int threads;
     int leaf_texels; // most texels per leaf
+    uint32_t buried; // texels inside closed solids that borrowed a free neighbour's position
 } transfer;
 
 // pos: W H x 4 floats (world position, texel area; area 0 = gutter),
