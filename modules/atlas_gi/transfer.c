@@ -209,6 +209,7 @@ typedef struct ctx {
     const transfer *t;
     const texel *tx;
     const texel *ts; // the texels in slot order: a node's texels are contiguous
+    float *cone_cs;  // per node: cos and sin of the normal cone's half-angle
     const tr_opts *o;
     float cos_cone;
     RTCScene scene;
@@ -263,8 +264,8 @@ static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkb
     double sum = 0, asum = 0;
     float klo = INFINITY, khi = 0;
     for (uint32_t i = 0; i < kn; i++) {
-        const texel *x = &c->ts[r->begin + (uint32_t)((i + 0.5) * nr / kn)];
-        const texel *y = &c->ts[s->begin + (uint32_t)((kn - 1 - i + 0.5) * ns / kn)];
+        const texel *x = &c->ts[r->begin + (2 * i + 1) * nr / (2 * kn)];
+        const texel *y = &c->ts[s->begin + (2 * (kn - 1 - i) + 1) * ns / (2 * kn)];
         asum += y->a;
         float d[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
         float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], k = 0;
@@ -287,9 +288,9 @@ static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkb
     int hit = 0, miss = 0;
     if (c->o->visibility)
         for (uint32_t v = 0; v < vn; v++) {
-            uint32_t i = (uint32_t)((v + 0.5) * kn / vn);
-            const texel *x = &c->ts[r->begin + (uint32_t)((i + 0.5) * nr / kn)];
-            const texel *y = &c->ts[s->begin + (uint32_t)((kn - 1 - i + 0.5) * ns / kn)];
+            uint32_t i = (2 * v + 1) * kn / (2 * vn);
+            const texel *x = &c->ts[r->begin + (2 * i + 1) * nr / (2 * kn)];
+            const texel *y = &c->ts[s->begin + (2 * (kn - 1 - i) + 1) * ns / (2 * kn)];
             float d[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
             if (x->n[0] * d[0] + x->n[1] * d[1] + x->n[2] * d[2] <= 0 ||
                 y->n[0] * d[0] + y->n[1] * d[1] + y->n[2] * d[2] >= 0)
@@ -314,6 +315,16 @@ static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkb
 
 enum { L_CULL, L_ACCEPT, L_SPLIT_S, L_SPLIT_R };
 
+// Is the angle between n and w at least pi/2 + cone + beta (every normal of
+// the cone faces away from every direction within beta of w)? cs: cos and
+// sin of the cone's half-angle; sb, cb: sin and cos of beta. No acos/asin.
+static bool faces_away(const float *n, const float *cs, const float *w, float sb, float cb) {
+    float cphi = cs[0] * cb - cs[1] * sb; // cos(cone + beta)
+    if (cphi <= 0) return false;          // cone + beta >= pi/2: some direction faces
+    float sphi = cs[1] * cb + cs[0] * sb;
+    return n[0] * w[0] + n[1] * w[1] + n[2] * w[2] <= -sphi;
+}
+
 static int classify(const ctx *c, int ri, int si) {
     const tr_node *r = &c->t->nodes[ri], *s = &c->t->nodes[si];
     if (ri == si) return r->child < 0 ? L_CULL : L_SPLIT_R;
@@ -325,10 +336,10 @@ static int classify(const ctx *c, int ri, int si) {
     if (dl > rr) {
         // Cull when every normal of one cone faces away from every direction
         // between the two bounding spheres.
-        float beta = asinf(fminf(1.0f, rr / dl));
+        float sb = fminf(1.0f, rr / dl), cb = sqrtf(1.0f - sb * sb);
         float w[3] = {d[0] / dl, d[1] / dl, d[2] / dl}, mw[3] = {-w[0], -w[1], -w[2]};
-        if (angle_between(r->n, w) - r->cone - beta >= (float)(TR_PI / 2)) return L_CULL;
-        if (angle_between(s->n, mw) - s->cone - beta >= (float)(TR_PI / 2)) return L_CULL;
+        if (faces_away(r->n, c->cone_cs + 2 * (size_t)ri, w, sb, cb)) return L_CULL;
+        if (faces_away(s->n, c->cone_cs + 2 * (size_t)si, mw, sb, cb)) return L_CULL;
     }
     if (rleaf && sleaf) return L_ACCEPT;
     float pd2 = (float)TR_PI * dl * dl;
@@ -603,6 +614,14 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     for (uint32_t i = 0; i < n; i++)
         ts[i] = tx[t->perm[i]];
     ctx c = {.t = t, .tx = tx, .ts = ts, .o = o};
+    c.cone_cs = malloc(2 * (size_t)t->num_nodes * sizeof *c.cone_cs);
+    if (!c.cone_cs) {
+        free(tx);
+        free(ts);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %d nodes", t->num_nodes);
+    }
+    for (int i = 0; i < t->num_nodes; i++)
+        c.cone_cs[2 * i] = cosf(t->nodes[i].cone), c.cone_cs[2 * i + 1] = sinf(t->nodes[i].cone);
     pthread_mutex_init(&c.lock, NULL);
     int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
     if (threads < 1) threads = 1;
@@ -637,6 +656,7 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     if (dev) rtcReleaseDevice(dev);
     free(tx);
     free(ts);
+    free(c.cone_cs);
     // Gather every thread's links grouped by receiver: a counting sort. A
     // receiver's links all come from one task (or the serial top), in an
     // order that does not depend on the thread schedule.
