@@ -85,14 +85,14 @@ static const st_param_def params[P_COUNT] = {
      "(Embree, all cores); a relight is GPU passes without noise, the first frame is converged. "
      "gather: the thesis' "
      "per-frame Hammersley gather, accumulated over frames"},
-    {"transfer_leaves", ST_PARAM_INT, 32768, 256, 1048576, NULL,
+    {"transfer_leaves", ST_PARAM_INT, 8192, 256, 1048576, NULL,
      "transfer: at most this many leaves in the cluster tree; on larger atlases a leaf groups "
-     "neighbouring texels "
+     "neighbouring texels, at most 5% of the scene's size across "
      "(bounds precompute time and memory; a texel still gets its own first-order value)"},
-    {"transfer_eps", ST_PARAM_FLOAT, 0.02, 0.002, 0.5, NULL,
-     "transfer: a link's sender node may subtend at most this A/(pi d^2) (receivers a quarter of "
-     "it); smaller is more "
-     "accurate, with more links and a longer precompute"},
+    {"transfer_eps", ST_PARAM_FLOAT, 0.15, 0.002, 0.5, NULL,
+     "transfer: refinement tolerance: a link's sender node may subtend at most this A/(pi d^2) "
+     "(receivers a quarter of it) and the link's form factor may vary by at most eps/50 over "
+     "its texel pairs; smaller is more accurate, with more links and a longer precompute"},
     {"profile", ST_PARAM_BOOL, 0, 0, 1, NULL,
      "transfer: wait for the GPU after every step of a relight and report the steps' median "
      "times in --stats (benchmarks only: the waits slow the relight down)"},
@@ -430,7 +430,10 @@ static bool ensure_transfer(agi *g, st_err *err) {
         .near_k = 2.0,
         .cone_deg = 20.0,
         .samples = 4,
+        .kernel = 16,
+        .spread = g->p[P_TRANSFER_EPS] / 50,
         .min_split = 4,
+        .leaf_size = 0.05,
         .offset = 1e-4 * g->extent,
         .visibility = ip(g, P_VISIBILITY) != 0,
         .max_leaves = ip(g, P_TRANSFER_LEAVES),
@@ -905,15 +908,16 @@ static bool progress(void *self, st_progress *out) {
     const transfer *T = &g->T;
     uint32_t texels = T->num_nodes ? T->nodes[0].end : 0;
     const double mib = 1048576.0;
-    int n = snprintf(out->info, sizeof out->info,
-                     "transfer precompute %.2f s on %d threads, %u texels, %d nodes (<= %d texels "
-                     "per leaf), %llu links, %llu rays, %.1f MiB; GPU %.1f MiB (nodes %.1f, "
-                     "links %.1f, gathered %.1f, perm %.1f, leaf map %.1f)",
-                     T->seconds, T->threads, texels, T->num_nodes, T->leaf_texels,
-                     (unsigned long long)T->num_links, (unsigned long long)T->rays,
-                     transfer_bytes(T) / mib, g->TG.bytes / mib, g->TG.mem[TRG_MEM_NODES] / mib,
-                     g->TG.mem[TRG_MEM_LINKS] / mib, g->TG.mem[TRG_MEM_GATHERED] / mib,
-                     g->TG.mem[TRG_MEM_PERM] / mib, g->TG.mem[TRG_MEM_LEAF] / mib);
+    int n = snprintf(
+        out->info, sizeof out->info,
+        "transfer precompute %.2f s (CPU %.2f s) on %d threads, %u texels, %d nodes (<= %d "
+        "texels per leaf, %u buried), %llu links, %llu rays, %.1f MiB; GPU %.1f MiB (nodes %.1f, "
+        "links %.1f, gathered %.1f, perm %.1f, leaf map %.1f)",
+        T->seconds, T->cpu_seconds, T->threads, texels, T->num_nodes, T->leaf_texels, T->buried,
+        (unsigned long long)T->num_links, (unsigned long long)T->rays, transfer_bytes(T) / mib,
+        g->TG.bytes / mib, g->TG.mem[TRG_MEM_NODES] / mib, g->TG.mem[TRG_MEM_LINKS] / mib,
+        g->TG.mem[TRG_MEM_GATHERED] / mib, g->TG.mem[TRG_MEM_PERM] / mib,
+        g->TG.mem[TRG_MEM_LEAF] / mib);
     int np = g->prof_n < AG_PROF_MAX ? g->prof_n : AG_PROF_MAX;
     for (int i = 0; i < AG_PROF_STEPS && np && n > 0 && (size_t)n < sizeof out->info; i++)
         n += snprintf(

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #define TR_PI 3.14159265358979323846
@@ -21,9 +22,17 @@ typedef struct texel {
 typedef struct tree_ctx {
     const texel *tx;
     uint32_t *perm;
-    float lambda; // normal scale in the k-d key (m)
-    long leaf;    // most texels in a leaf
+    float lambda;    // normal scale in the k-d key (m)
+    long leaf;       // most texels in a leaf
+    float leaf_size; // largest extent of a leaf of several texels (m; 0: any)
 } tree_ctx;
+
+// Process CPU time (all threads): under a shared machine's load the wall
+// time says little, the CPU time is what the precompute costs.
+static double cpu_seconds(void) {
+    struct timespec ts;
+    return clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) ? 0.0 : ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
 
 static float key(const tree_ctx *c, uint32_t slot_texel, int axis) {
     const texel *t = &c->tx[slot_texel];
@@ -61,14 +70,14 @@ static float angle_between(const float *a, const float *b) {
 }
 
 static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, long leaf,
-                       st_err *err) {
+                       float leaf_size, st_err *err) {
     t->nodes = calloc(2 * (size_t)n, sizeof *t->nodes);
     int *depth = calloc(2 * (size_t)n, sizeof *depth);
     if (!t->nodes || !depth) {
         free(depth);
         return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
     }
-    tree_ctx c = {tx, t->perm, 0.15f * extent, leaf};
+    tree_ctx c = {tx, t->perm, 0.15f * extent, leaf, leaf_size * extent};
     int count = 1;
     t->nodes[0] = (tr_node){.child = -1, .parent = -1, .begin = 0, .end = n};
     // Breadth first: children are appended, so levels come out contiguous.
@@ -92,7 +101,11 @@ static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, l
         float bend = 0;
         for (int a = 3; a < 6; a++)
             bend = fmaxf(bend, hi[a] - lo[a]);
-        if (e - b <= c.leaf && bend <= 0.3f * c.lambda) continue;
+        // A leaf of several texels also stays small in the scene: where the
+        // atlas is coarse (a big scene, a small atlas) leaves keep one texel.
+        float size = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
+        bool small = e - b <= 1 || c.leaf_size <= 0 || size <= c.leaf_size;
+        if (e - b <= c.leaf && bend <= 0.3f * c.lambda && small) continue;
         long mid = (b + e) / 2;
         select_kth(&c, t->perm, b, e, mid, axis);
         nd->child = count;
@@ -195,6 +208,8 @@ typedef struct task {
 typedef struct ctx {
     const transfer *t;
     const texel *tx;
+    const texel *ts; // the texels in slot order: a node's texels are contiguous
+    float *cone_cs;  // per node: cos and sin of the normal cone's half-angle
     const tr_opts *o;
     float cos_cone;
     RTCScene scene;
@@ -231,29 +246,55 @@ static bool occluded(const ctx *c, const float *o, const float *q) {
 }
 
 // The link weight: sender area times the area-weighted mean kernel over
-// stratified texel pairs.
-// *partial: some of the rays were blocked, some not.
-// With may_open, a partly blocked link will be opened, so tracing stops at
-// the first disagreement.
+// stratified texel pairs, times the fraction of visible pairs. The kernel
+// is cheap and takes up to o->kernel pairs; visibility costs a ray and
+// takes o->samples of them, spread over the same pairs.
+// With may_open, a link whose kernel varies by more than o->spread over its
+// pairs (F_max - F_min, the bound on what a bright spot inside the sender
+// can get wrong) or whose rays disagree is opened instead: *open is set and
+// the weight is not computed (tracing stops at the first disagreement).
 static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkbuf *lb,
-                         bool may_open, bool *partial) {
+                         bool may_open, bool *open, bool *partial) {
     uint32_t nr = r->end - r->begin, ns = s->end - s->begin;
-    uint32_t m = nr > ns ? nr : ns;
-    if (m > (uint32_t)c->o->samples) m = (uint32_t)c->o->samples;
+    uint32_t m = nr > ns ? nr : ns,
+             kmax = (uint32_t)(c->o->kernel > c->o->samples ? c->o->kernel : c->o->samples);
+    uint32_t kn = m < kmax ? m : kmax;
+    uint32_t vn = kn < (uint32_t)c->o->samples ? kn : (uint32_t)c->o->samples;
+    *open = *partial = false;
     double sum = 0, asum = 0;
-    int hit = 0, miss = 0;
-    for (uint32_t i = 0; i < m; i++) {
-        const texel *x = &c->tx[c->t->perm[r->begin + (uint32_t)((i + 0.5) * nr / m)]];
-        const texel *y = &c->tx[c->t->perm[s->begin + (uint32_t)((m - 1 - i + 0.5) * ns / m)]];
+    float klo = INFINITY, khi = 0;
+    for (uint32_t i = 0; i < kn; i++) {
+        const texel *x = &c->ts[r->begin + (2 * i + 1) * nr / (2 * kn)];
+        const texel *y = &c->ts[s->begin + (2 * (kn - 1 - i) + 1) * ns / (2 * kn)];
         asum += y->a;
         float d[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
-        float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        if (d2 < 1e-20f) continue;
-        float il = 1.0f / sqrtf(d2);
-        float cx = (x->n[0] * d[0] + x->n[1] * d[1] + x->n[2] * d[2]) * il;
-        float cy = -(y->n[0] * d[0] + y->n[1] * d[1] + y->n[2] * d[2]) * il;
-        if (cx <= 0 || cy <= 0) continue;
-        if (c->o->visibility) {
+        float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], k = 0;
+        if (d2 > 1e-20f) {
+            float il = 1.0f / sqrtf(d2);
+            float cx = (x->n[0] * d[0] + x->n[1] * d[1] + x->n[2] * d[2]) * il;
+            float cy = -(y->n[0] * d[0] + y->n[1] * d[1] + y->n[2] * d[2]) * il;
+            if (cx > 0 && cy > 0) k = cx * cy / ((float)TR_PI * d2 + y->a);
+        }
+        klo = k < klo ? k : klo, khi = k > khi ? k : khi;
+        sum += y->a * (double)k * TR_PI;
+    }
+    if (may_open && c->o->spread > 0 && s->area * (khi - klo) * (float)TR_PI > c->o->spread) {
+        *open = true;
+        return 0.0f;
+    }
+    if (!(sum > 0)) return 0.0f;
+    // One ray at a time: Embree's rtcOccluded8 on these 2-8 ray packets was
+    // 8x slower here (measured on gi_dense), and single rays can stop early.
+    int hit = 0, miss = 0;
+    if (c->o->visibility)
+        for (uint32_t v = 0; v < vn; v++) {
+            uint32_t i = (2 * v + 1) * kn / (2 * vn);
+            const texel *x = &c->ts[r->begin + (2 * i + 1) * nr / (2 * kn)];
+            const texel *y = &c->ts[s->begin + (2 * (kn - 1 - i) + 1) * ns / (2 * kn)];
+            float d[3] = {y->p[0] - x->p[0], y->p[1] - x->p[1], y->p[2] - x->p[2]};
+            if (x->n[0] * d[0] + x->n[1] * d[1] + x->n[2] * d[2] <= 0 ||
+                y->n[0] * d[0] + y->n[1] * d[1] + y->n[2] * d[2] >= 0)
+                continue; // the kernel is 0 for this pair: its visibility does not matter
             float off = (float)c->o->offset;
             float a[3], b[3];
             for (int k = 0; k < 3; k++)
@@ -262,33 +303,45 @@ static float link_weight(const ctx *c, const tr_node *r, const tr_node *s, linkb
             bool blocked = occluded(c, a, b);
             hit += blocked, miss += !blocked;
             if (may_open && hit && miss) break; // it will be opened: the weight is not used
-            if (blocked) continue;
         }
-        sum += y->a * (double)cx * cy * TR_PI / (TR_PI * d2 + y->a);
-    }
     *partial = hit && miss;
-    return asum > 0 ? (float)(s->area * sum / asum) : 0.0f;
+    if (*partial && may_open) {
+        *open = true;
+        return 0.0f;
+    }
+    double vis = hit + miss ? (double)miss / (hit + miss) : 1.0;
+    return asum > 0 ? (float)(s->area * sum / asum * vis) : 0.0f;
 }
 
 enum { L_CULL, L_ACCEPT, L_SPLIT_S, L_SPLIT_R };
 
+// Is the angle between n and w at least pi/2 + cone + beta (every normal of
+// the cone faces away from every direction within beta of w)? cs: cos and
+// sin of the cone's half-angle; sb, cb: sin and cos of beta. No acos/asin.
+static bool faces_away(const float *n, const float *cs, const float *w, float sb, float cb) {
+    float cphi = cs[0] * cb - cs[1] * sb; // cos(cone + beta)
+    if (cphi <= 0) return false;          // cone + beta >= pi/2: some direction faces
+    float sphi = cs[1] * cb + cs[0] * sb;
+    return n[0] * w[0] + n[1] * w[1] + n[2] * w[2] <= -sphi;
+}
+
 static int classify(const ctx *c, int ri, int si) {
     const tr_node *r = &c->t->nodes[ri], *s = &c->t->nodes[si];
-    bool rleaf = r->child < 0, sleaf = s->child < 0;
-    if (ri == si) return rleaf ? L_CULL : L_SPLIT_R;
+    if (ri == si) return r->child < 0 ? L_CULL : L_SPLIT_R;
     float d[3] = {s->c[0] - r->c[0], s->c[1] - r->c[1], s->c[2] - r->c[2]};
     float dl = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     float rr = r->rad + s->rad;
+    bool near = dl < c->o->near_k * rr;
+    bool rleaf = r->child < 0, sleaf = s->child < 0;
     if (dl > rr) {
         // Cull when every normal of one cone faces away from every direction
         // between the two bounding spheres.
-        float beta = asinf(fminf(1.0f, rr / dl));
+        float sb = fminf(1.0f, rr / dl), cb = sqrtf(1.0f - sb * sb);
         float w[3] = {d[0] / dl, d[1] / dl, d[2] / dl}, mw[3] = {-w[0], -w[1], -w[2]};
-        if (angle_between(r->n, w) - r->cone - beta >= (float)(TR_PI / 2)) return L_CULL;
-        if (angle_between(s->n, mw) - s->cone - beta >= (float)(TR_PI / 2)) return L_CULL;
+        if (faces_away(r->n, c->cone_cs + 2 * (size_t)ri, w, sb, cb)) return L_CULL;
+        if (faces_away(s->n, c->cone_cs + 2 * (size_t)si, mw, sb, cb)) return L_CULL;
     }
     if (rleaf && sleaf) return L_ACCEPT;
-    bool near = dl < c->o->near_k * rr;
     float pd2 = (float)TR_PI * dl * dl;
     bool s_ok = sleaf || (!near && s->area <= c->o->eps * pd2);
     bool r_ok = rleaf || (!near && r->area <= c->o->recv * c->o->eps * pd2 &&
@@ -345,9 +398,9 @@ static void refine(ctx *c, int r, const int *cand, int num, int depth, bool spaw
             // and is not too small to matter.
             bool sopen = sn->child >= 0 && sn->end - sn->begin > (uint32_t)c->o->min_split;
             bool ropen = rn->child >= 0 && rn->end - rn->begin > (uint32_t)c->o->min_split;
-            bool partial = false;
-            float w = link_weight(c, rn, sn, lb, sopen || ropen, &partial);
-            if (partial && (sopen || ropen)) {
+            bool open = false, partial = false;
+            float w = link_weight(c, rn, sn, lb, sopen || ropen, &open, &partial);
+            if (open) {
                 if (sopen && (!ropen || sn->rad >= rn->rad))
                     ok = ipush(&stack, sn->child) && ipush(&stack, sn->child + 1);
                 else
@@ -394,6 +447,92 @@ static void *worker(void *p) {
     return NULL;
 }
 
+// A texel whose centre lies inside a closed solid (a floor texel under a
+// box, a wall's face covered by the next wall box) sees only back faces.
+// Its value still reaches the image through the atlas' bilinear filter at
+// contact edges, so it borrows the position of a nearby free texel.
+static bool buried(const ctx *c, const float *tris, const texel *x) {
+    float t[3], b[3];
+    float up[3] = {fabsf(x->n[0]) < 0.6f ? 1.0f : 0.0f, fabsf(x->n[0]) < 0.6f ? 0.0f : 1.0f, 0};
+    t[0] = up[1] * x->n[2] - up[2] * x->n[1];
+    t[1] = up[2] * x->n[0] - up[0] * x->n[2];
+    t[2] = up[0] * x->n[1] - up[1] * x->n[0];
+    float tl = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int k = 0; k < 3; k++)
+        t[k] /= tl;
+    b[0] = x->n[1] * t[2] - x->n[2] * t[1];
+    b[1] = x->n[2] * t[0] - x->n[0] * t[2];
+    b[2] = x->n[0] * t[1] - x->n[1] * t[0];
+    static const float dirs[5][3] = {
+        {0, 0, 1}, {0.7f, 0, 0.7f}, {-0.7f, 0, 0.7f}, {0, 0.7f, 0.7f}, {0, -0.7f, 0.7f}};
+    int back = 0;
+    for (int i = 0; i < 5; i++) {
+        struct RTCRayHit rh = {0};
+        float off = (float)c->o->offset;
+        rh.ray.org_x = x->p[0] + off * x->n[0];
+        rh.ray.org_y = x->p[1] + off * x->n[1];
+        rh.ray.org_z = x->p[2] + off * x->n[2];
+        float d[3];
+        for (int k = 0; k < 3; k++)
+            d[k] = dirs[i][0] * t[k] + dirs[i][1] * b[k] + dirs[i][2] * x->n[k];
+        rh.ray.dir_x = d[0], rh.ray.dir_y = d[1], rh.ray.dir_z = d[2];
+        rh.ray.tnear = 0, rh.ray.tfar = INFINITY, rh.ray.mask = 0xFFFFFFFFu;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        struct RTCIntersectContext ic;
+        rtcInitIntersectContext(&ic);
+        rtcIntersect1(c->scene, &ic, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        // The triangle's own normal: counter-clockwise seen from its front.
+        const float *v = tris + 9 * (size_t)rh.hit.primID;
+        float e1[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]};
+        float e2[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
+        float ng[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
+        if (ng[0] * d[0] + ng[1] * d[1] + ng[2] * d[2] <= 0) return false; // a front face
+        back++;
+    }
+    return back == 5;
+}
+
+// Buried texels take the position and normal of the nearest free texel of
+// the same orientation within 3 texels in the atlas (in ts, the copy the
+// links sample). Returns how many moved.
+static uint32_t move_buried(const ctx *c, const float *tris, const texel *tx, texel *ts,
+                            const uint32_t *perm, uint32_t n, int W, int H) {
+    size_t cells = (size_t)W * H;
+    uint8_t *bur = calloc(cells, 1);
+    if (!bur) return 0;
+    for (uint32_t i = 0; i < n; i++)
+        bur[perm[i]] = buried(c, tris, &tx[perm[i]]) ? 1 : 0;
+    uint32_t moved = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t id = perm[i];
+        if (!bur[id]) continue;
+        int x0 = (int)(id % (uint32_t)W), y0 = (int)(id / (uint32_t)W);
+        const texel *me = &tx[id];
+        float best = INFINITY;
+        long bi = -1;
+        for (int dy = -3; dy <= 3; dy++)
+            for (int dx = -3; dx <= 3; dx++) {
+                int x = x0 + dx, y = y0 + dy;
+                if (x < 0 || y < 0 || x >= W || y >= H) continue;
+                size_t j = (size_t)y * W + x;
+                const texel *o = &tx[j];
+                if (bur[j] || !(o->a > 0)) continue;
+                if (o->n[0] * me->n[0] + o->n[1] * me->n[1] + o->n[2] * me->n[2] < 0.9f) continue;
+                float d[3] = {o->p[0] - me->p[0], o->p[1] - me->p[1], o->p[2] - me->p[2]};
+                float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                if (d2 < best && d2 < 16.0f * me->a) best = d2, bi = (long)j;
+            }
+        if (bi < 0) continue;
+        for (int k = 0; k < 3; k++)
+            ts[i].p[k] = tx[bi].p[k], ts[i].n[k] = tx[bi].n[k];
+        moved++;
+    }
+    free(bur);
+    return moved;
+}
+
 static bool make_scene(ctx *c, RTCDevice dev, const float *tris, uint32_t n, st_err *err) {
     c->scene = rtcNewScene(dev);
     rtcSetSceneBuildQuality(c->scene, RTC_BUILD_QUALITY_MEDIUM);
@@ -422,14 +561,10 @@ static bool make_scene(ctx *c, RTCDevice dev, const float *tris, uint32_t n, st_
     return true;
 }
 
-static int cmp_link(const void *a, const void *b) {
-    const tr_link *x = a, *y = b;
-    return x->r != y->r ? (x->r < y->r ? -1 : 1) : (x->s < y->s ? -1 : x->s > y->s);
-}
-
 bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nrm,
                     const float *tris, uint32_t num_tris, const tr_opts *o, st_err *err) {
     memset(t, 0, sizeof *t);
+    double c0 = cpu_seconds();
     double t0 = st_now_ms();
     t->W = W, t->H = H;
     size_t cells = (size_t)W * H;
@@ -462,13 +597,31 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     }
     float extent = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
     long leaf = o->max_leaves > 0 ? ((long)n + o->max_leaves - 1) / o->max_leaves : 1;
-    t->leaf_texels = (int)leaf;
-    if (!build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, err)) {
+    if (!build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, (float)o->leaf_size, err)) {
         free(tx);
         return false;
     }
+    t->leaf_texels = 1;
+    for (int i = 0; i < t->num_nodes; i++)
+        if (t->nodes[i].child < 0 && (int)(t->nodes[i].end - t->nodes[i].begin) > t->leaf_texels)
+            t->leaf_texels = (int)(t->nodes[i].end - t->nodes[i].begin);
     // Links.
-    ctx c = {.t = t, .tx = tx, .o = o};
+    texel *ts = malloc((size_t)n * sizeof *ts);
+    if (!ts) {
+        free(tx);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
+    }
+    for (uint32_t i = 0; i < n; i++)
+        ts[i] = tx[t->perm[i]];
+    ctx c = {.t = t, .tx = tx, .ts = ts, .o = o};
+    c.cone_cs = malloc(2 * (size_t)t->num_nodes * sizeof *c.cone_cs);
+    if (!c.cone_cs) {
+        free(tx);
+        free(ts);
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %d nodes", t->num_nodes);
+    }
+    for (int i = 0; i < t->num_nodes; i++)
+        c.cone_cs[2 * i] = cosf(t->nodes[i].cone), c.cone_cs[2 * i + 1] = sinf(t->nodes[i].cone);
     pthread_mutex_init(&c.lock, NULL);
     int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
     if (threads < 1) threads = 1;
@@ -481,6 +634,7 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     if (!dev) st_fail(err, ST_ERR_RUNTIME, "transfer: embree device failed");
     worker_arg *wa = calloc((size_t)threads, sizeof *wa);
     if (ok && !wa) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    if (ok && o->visibility) t->buried = move_buried(&c, tris, tx, ts, t->perm, n, W, H);
     if (ok) {
         for (int i = 0; i < threads; i++)
             wa[i].c = &c;
@@ -501,8 +655,11 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     if (c.scene) rtcReleaseScene(c.scene);
     if (dev) rtcReleaseDevice(dev);
     free(tx);
-    // Gather every thread's links, sorted by receiver (then sender, so the
-    // result does not depend on the thread schedule).
+    free(ts);
+    free(c.cone_cs);
+    // Gather every thread's links grouped by receiver: a counting sort. A
+    // receiver's links all come from one task (or the serial top), in an
+    // order that does not depend on the thread schedule.
     size_t total = 0;
     for (int i = 0; ok && i < threads; i++) {
         total += wa[i].lb.n;
@@ -510,34 +667,38 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
         if (wa[i].lb.oom) c.oom = true;
     }
     if (ok && c.oom) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for the links");
-    tr_link *all = ok ? malloc((total ? total : 1) * sizeof *all) : NULL;
-    if (ok && !all)
-        ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
-    size_t m = 0;
-    for (int i = 0; i < threads && wa; i++) {
-        if (all) memcpy(all + m, wa[i].lb.v, wa[i].lb.n * sizeof *all), m += wa[i].lb.n;
-        free(wa[i].lb.v);
+    if (ok) {
+        t->link_off = calloc((size_t)t->num_nodes + 1, sizeof *t->link_off);
+        t->link_node = malloc((total ? total : 1) * sizeof *t->link_node);
+        t->link_w = malloc((total ? total : 1) * sizeof *t->link_w);
+        if (!t->link_off || !t->link_node || !t->link_w)
+            ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
     }
+    uint32_t *cur = ok ? malloc(((size_t)t->num_nodes + 1) * sizeof *cur) : NULL;
+    if (ok && !cur) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    if (ok) {
+        for (int i = 0; i < threads; i++)
+            for (size_t k = 0; k < wa[i].lb.n; k++)
+                t->link_off[wa[i].lb.v[k].r + 1]++;
+        for (int i = 0; i < t->num_nodes; i++)
+            t->link_off[i + 1] += t->link_off[i];
+        memcpy(cur, t->link_off, ((size_t)t->num_nodes + 1) * sizeof *cur);
+        for (int i = 0; i < threads; i++)
+            for (size_t k = 0; k < wa[i].lb.n; k++) {
+                const tr_link *l = &wa[i].lb.v[k];
+                uint32_t at = cur[l->r]++;
+                t->link_node[at] = l->s;
+                t->link_w[at] = l->w;
+            }
+    }
+    free(cur);
+    for (int i = 0; i < threads && wa; i++)
+        free(wa[i].lb.v);
     free(wa);
     if (!ok) return false;
-    qsort(all, total, sizeof *all, cmp_link);
-    t->link_off = calloc((size_t)t->num_nodes + 1, sizeof *t->link_off);
-    t->link_node = malloc((total ? total : 1) * sizeof *t->link_node);
-    t->link_w = malloc((total ? total : 1) * sizeof *t->link_w);
-    if (!t->link_off || !t->link_node || !t->link_w) {
-        free(all);
-        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
-    }
-    for (size_t i = 0; i < total; i++) {
-        t->link_off[all[i].r + 1]++;
-        t->link_node[i] = all[i].s;
-        t->link_w[i] = all[i].w;
-    }
-    for (int i = 0; i < t->num_nodes; i++)
-        t->link_off[i + 1] += t->link_off[i];
     t->num_links = total;
-    free(all);
     t->seconds = (st_now_ms() - t0) / 1000;
+    t->cpu_seconds = cpu_seconds() - c0;
     return true;
 }
 

@@ -3,16 +3,19 @@
 // Once per atlas, on the CPU (Embree for visibility, all cores): a binary
 // cluster tree over the valid atlas texels (a k-d tree over position and
 // normal; leaves are single texels, or groups of a few on large atlases)
-// and hierarchical links (receiver node,
-// sender node, weight) chosen by refinement that does not depend on the
-// light: a link is kept when both nodes look small from each other (A/(pi
-// d^2) below eps, a flat receiver) and are not within a few radii of each
-// other; otherwise the larger node is opened. Near contact edges this goes
-// down to single texels; far away whole walls link to whole walls.
+// and hierarchical links (receiver node, sender node, weight) chosen by
+// refinement that does not depend on the light: a link is kept when both
+// nodes look small from each other (A/(pi d^2) below eps, a flat receiver),
+// are not within a few radii of each other and the form factor varies by
+// less than `spread` over the link's texel pairs; otherwise the larger node
+// is opened. Near contact edges this goes down to leaves; far away whole
+// walls link to whole walls. Texels buried inside closed solids borrow a
+// free neighbour's position (they reach the image through the filter).
 //
 // A link's weight is w = integral over the sender of
 //   V cos+x cos+j pi / (pi d^2 + a_j) dA_j,
-// averaged over the receiver: stratified texel pairs, one Embree ray each.
+// averaged over the receiver: the kernel over stratified texel pairs, V
+// from one Embree ray for each of a few of them.
 // Each relight then needs only GPU passes: the senders' area-weighted mean
 // radiance per node (a reduction up the tree), per node the sum over its
 // links w L_s e^(-sigma_t d), and per texel rho/pi times the sum of its
@@ -26,16 +29,19 @@
 #include <stdint.h>
 
 typedef struct tr_opts {
-    double eps;      // largest A_s/(pi d^2) of a sender node in a link
-    double recv;     // receivers: at most recv eps
-    double near_k;   // nodes closer than near_k (r_r + r_s) are opened
-    double cone_deg; // receivers with a wider normal cone are opened
-    int samples;     // texel pairs (rays) per link between clusters
-    int min_split;   // partly blocked links open nodes of more texels than this
-    int threads;     // 0: all cores
-    double offset;   // ray ends lie this far off the surfaces (m)
-    bool visibility; // false: no rays (tests of the geometry alone)
-    int max_leaves;  // texels are grouped into at most this many leaves (0: one texel each)
+    double eps;       // largest A_s/(pi d^2) of a sender node in a link
+    double recv;      // receivers: at most recv eps
+    double near_k;    // nodes closer than near_k (r_r + r_s) are opened
+    double cone_deg;  // receivers with a wider normal cone are opened
+    int samples;      // texel pairs with a visibility ray per link between clusters
+    int kernel;       // texel pairs for the kernel per link (no rays; at least samples)
+    double spread;    // open links whose form factor varies more than this (0: off)
+    int min_split;    // partly blocked links open nodes of more texels than this
+    int threads;      // 0: all cores
+    double offset;    // ray ends lie this far off the surfaces (m)
+    bool visibility;  // false: no rays (tests of the geometry alone)
+    double leaf_size; // a leaf of several texels spans at most this fraction of the scene (0: any)
+    int max_leaves;   // texels are grouped into at most this many leaves (0: one texel each)
 } tr_opts;
 
 typedef struct tr_node {
@@ -62,9 +68,11 @@ typedef struct transfer {
     uint64_t num_links;
     // Statistics for --stats.
     double seconds;
+    double cpu_seconds; // process CPU time of the build (all threads)
     uint64_t rays;
     int threads;
     int leaf_texels; // most texels per leaf
+    uint32_t buried; // texels inside closed solids that borrowed a free neighbour's position
 } transfer;
 
 // pos: W H x 4 floats (world position, texel area; area 0 = gutter),
