@@ -215,7 +215,9 @@ typedef const st_plugin *(*st_plugin_fn)(void);
 // - Targets (st_world_declare_target, st_world.h): a plugin creates no
 //   textures; it declares each by name (format, size or screen scale or
 //   divisor, type and layers, mip levels, filter, wrap, depth: st_target_desc
-//   in st_gpu.h) from create or param_changed, and the world allocates,
+//   in st_gpu.h) from create, param_changed or needed (needed runs before
+//   the world binds targets: toth re-declares there when a new image height
+//   moves its divisor), and the world allocates,
 //   resizes, binds, accounts and frees it. The st_target* that
 //   st_world_target returns and its GL names are valid until the next frame,
 //   resize or re-declaration of that name; fixed-size targets keep their GL
