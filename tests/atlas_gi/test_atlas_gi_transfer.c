@@ -1,5 +1,5 @@
 // The precomputed transfer (mode=transfer, the default):
-//   - form-factor oracles of DESIGN.md within 1%: perpendicular unit squares
+//   - form-factor oracles (docs/physics.md) within 1%: perpendicular unit squares
 //     sharing an edge (0.200044), parallel unit squares at distance 1
 //     (0.199825), a point under a coaxial disk, R^2 / (R^2 + h^2);
 //   - a Cornell box against `strahl reference --bounces 1 --aov indirect`:
