@@ -47,6 +47,18 @@ static inline double gi_headon_mean(const st_image *img, int K, int c) {
     return s / ((double)K * K);
 }
 
+// Mean of channel 0 over the pixels where `mask` is lit (count: how many;
+// may be NULL).
+static inline double gi_masked_mean(const st_image *img, const st_image *mask, int *count) {
+    double s = 0;
+    int n = 0;
+    for (int j = 0; j < img->height; j++)
+        for (int i = 0; i < img->width; i++)
+            if (st_image_px(mask, i, j)[0] > 0) s += st_image_px(img, i, j)[0], n++;
+    if (count) *count = n;
+    return n ? s / n : 0;
+}
+
 // Mean of cos(theta_x) between a uniform point x of the receiver (normal +y,
 // y = 0) and a uniform point of a parallelogram sender (corner c, edges u, v)
 // that faces it: the thesis estimator's expectation per unit atlas fraction.

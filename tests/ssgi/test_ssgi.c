@@ -29,17 +29,6 @@ static const char *atlas_mod =
     "\"visibility\": false, \"sampling\": \"uniform\", \"samples\": 256, "
     "\"display\": \"indirect\", \"max_frames\": 12, \"tolerance\": 0}}";
 
-// Mean of channel 0 over pixels where `mask` (the atlas_gi image) is lit.
-static double masked_mean(const st_image *img, const st_image *mask, int *count) {
-    double s = 0;
-    int n = 0;
-    for (int j = 0; j < img->height; j++)
-        for (int i = 0; i < img->width; i++)
-            if (st_image_px(mask, i, j)[0] > 0) s += st_image_px(img, i, j)[0], n++;
-    *count = n;
-    return n ? s / n : 0;
-}
-
 int main(void) {
     char json[4096], cam[512];
     // Oblique view: the emitter wall and the receiver both fully in view.
@@ -55,7 +44,7 @@ int main(void) {
     ok = gi_render("oblique_ssgi", json, NULL, &ss) && ok;
     if (ok) {
         int n = 0;
-        double a = masked_mean(&ref, &ref, &n), s = masked_mean(&ss, &ref, &n);
+        double a = gi_masked_mean(&ref, &ref, &n), s = gi_masked_mean(&ss, &ref, &n);
         printf("emitter in view: receiver pixels %d, mean indirect atlas_gi %.6f, ssgi %.6f (rel "
                "%+.4f)\n",
                n, a, s, s / a - 1);
@@ -78,7 +67,7 @@ int main(void) {
     ok = gi_render("edge_on_ssgi", json, NULL, &ss) && ok;
     if (ok) {
         int n = 0;
-        double a = masked_mean(&ref, &ref, &n), s = masked_mean(&ss, &ref, &n);
+        double a = gi_masked_mean(&ref, &ref, &n), s = gi_masked_mean(&ss, &ref, &n);
         printf("emitter out of view: receiver pixels %d, atlas_gi %.6f, ssgi %.6f\n", n, a, s);
         CHECK(n > 2000, "receiver pixels: %d", n);
         CHECK(a > 0.05, "atlas_gi still lights the receiver: %g", a);
