@@ -149,27 +149,34 @@ bool view_toggle_module(view *v, int index, st_err *err) {
     return view_enable(v, v->mods[index], !st_world_has_module(v->world, v->mods[index]), err);
 }
 
+// The next technique in off > mitchell > sousa > toth that is installed and
+// that the scene accepts (mitchell and sousa refuse spot lights): a refusal
+// moves on to the next one instead of leaving the cycle stuck on it.
 bool view_cycle_godrays(view *v, st_err *err) {
-    char skipped[256] = "";
-    int target = 0;
+    char skipped[512] = "";
     for (int step = 1; step <= 4; step++) {
         int c = (v->godray + step) % 4;
-        if (c == 0 || installed(v, view_godrays[c])) {
-            target = c;
-            break;
+        const char *why = NULL;
+        st_err refused = {0};
+        if (c != 0 && !installed(v, view_godrays[c])) why = "not installed";
+        if (!why) {
+            for (int k = 1; k < 4; k++)
+                if (k != c && !view_enable(v, view_godrays[k], false, err)) return false;
+            if (c == 0 || view_enable(v, view_godrays[c], true, &refused)) {
+                v->godray = c;
+                if (skipped[0])
+                    view_message(v, "god rays: %s (skipped: %s)", view_godrays[c], skipped);
+                else
+                    view_message(v, "god rays: %s", view_godrays[c]);
+                return true;
+            }
+            why = refused.msg;
         }
         size_t l = strlen(skipped);
-        snprintf(skipped + l, sizeof skipped - l, "%s%s", l ? ", " : "", view_godrays[c]);
+        snprintf(skipped + l, sizeof skipped - l, "%s%s: %.160s", l ? "; " : "", view_godrays[c], why);
     }
-    for (int k = 1; k < 4; k++)
-        if (k != target && !view_enable(v, view_godrays[k], false, err)) return false;
-    if (target && !view_enable(v, view_godrays[target], true, err)) return false;
-    v->godray = target;
-    if (skipped[0])
-        view_message(v, "god rays: %s (not installed, skipped: %s)", view_godrays[target], skipped);
-    else
-        view_message(v, "god rays: %s", view_godrays[target]);
-    return true;
+    return st_fail(err, ST_ERR_RUNTIME, "god rays: no technique could be switched on (%s)",
+                   skipped);
 }
 
 // The GI module's display switch: its first enum parameter whose choices
