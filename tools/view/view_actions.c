@@ -173,7 +173,8 @@ bool view_cycle_godrays(view *v, st_err *err) {
             why = refused.msg;
         }
         size_t l = strlen(skipped);
-        snprintf(skipped + l, sizeof skipped - l, "%s%s: %.160s", l ? "; " : "", view_godrays[c], why);
+        snprintf(skipped + l, sizeof skipped - l, "%s%s: %.160s", l ? "; " : "", view_godrays[c],
+                 why);
     }
     return st_fail(err, ST_ERR_RUNTIME, "god rays: no technique could be switched on (%s)",
                    skipped);
