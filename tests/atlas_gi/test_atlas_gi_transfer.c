@@ -54,10 +54,6 @@ static void square_oracles(void) {
     }
 }
 
-static void v3(float *o, double x, double y, double z) {
-    o[0] = (float)x, o[1] = (float)y, o[2] = (float)z;
-}
-
 // A point under a coaxial disk (an area-matched 256-gon facing down) of
 // radius R at height h; the receiver is a unit square, the camera looks at
 // its centre, where the value is the point's.
@@ -82,26 +78,7 @@ static void disk_oracle(void) {
         CHECK(0, "scene: %s", err.msg);
         return;
     }
-    st_mesh m = {0};
-    snprintf(m.name, sizeof m.name, "disk");
-    m.num_vertices = NS + 1, m.num_triangles = NS;
-    m.positions = malloc(sizeof(float) * 3 * m.num_vertices);
-    m.normals = malloc(sizeof(float) * 3 * m.num_vertices);
-    m.indices = malloc(sizeof(uint32_t) * 3 * m.num_triangles);
-    double r = R * sqrt(2 * GI_PI / (NS * sin(2 * GI_PI / NS))); // same area as the disk
-    v3(m.positions, 0, h, 0);
-    for (int k = 0; k < NS; k++) {
-        double a = 2 * GI_PI * k / NS;
-        v3(m.positions + 3 * (k + 1), r * cos(a), h, r * sin(a));
-        m.indices[3 * k] = 0, m.indices[3 * k + 1] = 1 + k,
-                      m.indices[3 * k + 2] = 1 + (k + 1) % NS; // faces -y
-    }
-    for (uint32_t k = 0; k < m.num_vertices; k++)
-        v3(m.normals + 3 * k, 0, -1, 0);
-    for (int k = 0; k < 16; k++)
-        m.model[k] = k % 5 == 0;
-    v3(m.emission, 1, 1, 1);
-    CHECK(st_scene_add_mesh(&g.scene, &m, &err), "add disk: %s", err.msg);
+    CHECK(st_test_add_disk(&g.scene, NS, R, h, NULL, &err), "add disk: %s", err.msg);
     st_world_opts o = {.timing = true};
     g.w = st_world_create(&g.scene, &o, &err);
     CHECK(g.w != NULL, "world: %s", err.msg);

@@ -4,6 +4,7 @@
 // the published form factor. Also the thesis estimator's bias, occluders with
 // and without bounce visibility, and a furnace for K bounces.
 #include "ref_test_util.h"
+#include "st_test_support.h"
 
 static const double rho = 0.5;
 
@@ -220,29 +221,9 @@ static void disk(void) {
     scene_init(&s, 1, 1, pos, tgt, up, 10, 100);
     add_quad(&s, (double[]){-0.01, 0, -0.01}, (double[]){0, 0, 0.02}, (double[]){0.02, 0, 0}, rho,
              0);
-    st_mesh m = {0};
-    snprintf(m.name, sizeof m.name, "disk");
-    m.num_vertices = NS + 1, m.num_triangles = NS;
-    m.positions = malloc(sizeof(float) * 3 * m.num_vertices);
-    m.normals = malloc(sizeof(float) * 3 * m.num_vertices);
-    m.indices = malloc(sizeof(uint32_t) * 3 * m.num_triangles);
-    double r = R * sqrt(2 * ST_PI / (NS * sin(2 * ST_PI / NS))); // same area as the disk
     static double poly[NS][3];
-    v3(m.positions, 0, h, 0);
-    for (int k = 0; k < NS; k++) {
-        double a = 2 * ST_PI * k / NS;
-        poly[k][0] = r * cos(a), poly[k][1] = h, poly[k][2] = r * sin(a);
-        v3(m.positions + 3 * (k + 1), poly[k][0], h, poly[k][2]);
-        // (centre, k, k + 1) winds to face -y, toward the receiver.
-        m.indices[3 * k] = 0, m.indices[3 * k + 1] = 1 + k, m.indices[3 * k + 2] = 1 + (k + 1) % NS;
-    }
-    for (uint32_t k = 0; k < m.num_vertices; k++)
-        v3(m.normals + 3 * k, 0, -1, 0);
-    for (int k = 0; k < 16; k++)
-        m.model[k] = k % 5 == 0;
-    v3(m.emission, 1, 1, 1);
     st_err err = {0};
-    CHECK(st_scene_add_mesh(&s, &m, &err), "add disk: %s", err.msg);
+    CHECK(st_test_add_disk(&s, NS, R, h, poly, &err), "add disk: %s", err.msg);
     const double p0[3] = {0, 0, 0}, n0[3] = {0, 1, 0};
     double F = st_ff_point_polygon(p0, n0, (const double(*)[3])poly, NS);
     CHECK_REL(F, st_ff_point_disk(R, h), 1e-4, 0);

@@ -36,3 +36,33 @@ int st_test_shadow_state(const double p[3], double jitter, const double lp[3], c
     }
     return in == 5 ? 1 : in == 0 ? 0 : -1;
 }
+
+bool st_test_add_disk(st_scene *sc, int ns, double R, double h, double (*poly)[3], st_err *err) {
+    st_mesh m = {0};
+    snprintf(m.name, sizeof m.name, "disk");
+    m.num_vertices = (uint32_t)ns + 1, m.num_triangles = (uint32_t)ns;
+    m.positions = malloc(sizeof(float) * 3 * m.num_vertices);
+    m.normals = malloc(sizeof(float) * 3 * m.num_vertices);
+    m.indices = malloc(sizeof(uint32_t) * 3 * m.num_triangles);
+    if (!m.positions || !m.normals || !m.indices) {
+        free(m.positions), free(m.normals), free(m.indices);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    }
+    double r = R * sqrt(2 * M_PI / (ns * sin(2 * M_PI / ns))); // same area as the disk
+    m.positions[0] = 0, m.positions[1] = (float)h, m.positions[2] = 0;
+    for (int k = 0; k < ns; k++) {
+        double a = 2 * M_PI * k / ns, x = r * cos(a), z = r * sin(a);
+        if (poly) poly[k][0] = x, poly[k][1] = h, poly[k][2] = z;
+        float *v = m.positions + 3 * (k + 1);
+        v[0] = (float)x, v[1] = (float)h, v[2] = (float)z;
+        // (centre, k, k + 1) winds to face -y, toward the receiver.
+        m.indices[3 * k] = 0, m.indices[3 * k + 1] = 1 + (uint32_t)k,
+                      m.indices[3 * k + 2] = 1 + (uint32_t)((k + 1) % ns);
+    }
+    for (uint32_t k = 0; k < m.num_vertices; k++)
+        m.normals[3 * k] = 0, m.normals[3 * k + 1] = -1, m.normals[3 * k + 2] = 0;
+    for (int k = 0; k < 16; k++)
+        m.model[k] = k % 5 == 0;
+    m.emission[0] = m.emission[1] = m.emission[2] = 1;
+    return st_scene_add_mesh(sc, &m, err);
+}

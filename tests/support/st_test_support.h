@@ -8,6 +8,7 @@
 #define _GNU_SOURCE // as st_test.h: popen, M_PI
 #endif
 #include "st_gl.h"
+#include "st_scene.h"
 #include <cjson/cJSON.h>
 
 // A headless GL context; on failure prints why and exits 1 (nothing to test).
@@ -22,6 +23,11 @@ cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra,
 // (the 4 neighbours at distance `jitter` disagree).
 int st_test_shadow_state(const double p[3], double jitter, const double lp[3], const double bmin[3],
                          const double bmax[3]);
+
+// Adds an emitter (radiance 1) to sc: a ns-gon of the same area as the disk
+// of radius R, centred on the y axis at height h, facing -y (toward a
+// receiver at the origin). poly (may be NULL) receives its ns corners.
+bool st_test_add_disk(st_scene *sc, int ns, double R, double h, double (*poly)[3], st_err *err);
 
 // The five walls of the 2 m Cornell box around the origin (floor, ceiling,
 // back white; left red, right green; open toward +z), as entries of a scene's
