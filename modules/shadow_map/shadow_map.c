@@ -20,6 +20,7 @@
 
 enum {
     P_RESOLUTION,
+    P_CASCADE_RESOLUTION,
     P_BIAS,
     P_SLOPE_BIAS,
     P_PCF,
@@ -31,7 +32,15 @@ enum {
 };
 
 static const st_param_def params[P_COUNT] = {
-    {"resolution", ST_PARAM_INT, 1024, 16, 8192, NULL, "cube face size in texels"},
+    // 512, not 1024: with refine the cube only has to say where an edge may
+    // be (surfaces get the exact answer there), and a 1024 cube was half of a
+    // relight's time; volumes (toth) measure the same against Cycles at 512
+    // (docs/benchmarks.md). The cascades stay at 1024: toth's sun shadows in
+    // a medium read them unrefined and lose 1% per pixel at 512.
+    {"resolution", ST_PARAM_INT, 512, 16, 8192, NULL,
+     "point and spot lights: cube face size in texels"},
+    {"cascade_resolution", ST_PARAM_INT, 1024, 16, 8192, NULL,
+     "directional lights: size of each cascade in texels"},
     {"bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL,
      "constant depth bias, in shadow-map texels at the receiver's distance"},
     {"slope_bias", ST_PARAM_FLOAT, 1.0, 0, 64, NULL,
@@ -51,7 +60,7 @@ static const st_param_def params[P_COUNT] = {
 typedef struct shadow_map {
     st_world *w;
     const double *p;
-    int size; // the faces' and cascades' size in texels
+    int size, sun_size; // the cube faces' and the cascades' size in texels
     float far_z;
     st_shader *depth;
     st_pass_info info;
@@ -69,6 +78,7 @@ typedef struct shadow_map {
 // shaders declare must see a texture of its own type, or the draw fails.
 static bool declare_targets(shadow_map *s, st_err *err) {
     int size = s->size = (int)s->p[P_RESOLUTION], lights = st_world_scene(s->w)->num_lights;
+    int sun_size = s->sun_size = (int)s->p[P_CASCADE_RESOLUTION];
     int sun_layers = s->num_suns * (int)s->p[P_CASCADES];
     const st_target_desc cubes = {GL_R32F,
                                   .depth = true,
@@ -80,8 +90,8 @@ static bool declare_targets(shadow_map *s, st_err *err) {
                          suns = {GL_R32F,
                                  .depth = sun_layers > 0,
                                  .type = GL_TEXTURE_2D_ARRAY,
-                                 .width = sun_layers > 0 ? size : 1,
-                                 .height = sun_layers > 0 ? size : 1,
+                                 .width = sun_layers > 0 ? sun_size : 1,
+                                 .height = sun_layers > 0 ? sun_size : 1,
                                  .layers = sun_layers,
                                  .filter = GL_NEAREST};
     for (int i = 0; i < ST_MAX_LIGHTS; i++)
@@ -281,6 +291,9 @@ static void u_cubes(void *self, st_shader *sh, GLint loc, const st_frame *f) {
 static void u_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1f(loc, (float)((shadow_map *)self)->size);
 }
+static void u_sun_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
+    glUniform1f(loc, (float)((shadow_map *)self)->sun_size);
+}
 static void u_bias(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1f(loc, (float)((shadow_map *)self)->p[P_BIAS]);
 }
@@ -341,6 +354,7 @@ static const st_uniform uniforms_table[] = {
     {"st_shadow_cascade_rect", u_cascade_rect},
     {"st_shadow_cubes", u_cubes},
     {"st_shadow_res", u_res},
+    {"st_shadow_sun_res", u_sun_res},
     {"st_shadow_bias", u_bias},
     {"st_shadow_slope", u_slope},
     {"st_shadow_pcf", u_pcf},
@@ -357,7 +371,8 @@ static int uniforms(void *self, const st_uniform **out) {
 // re-creates them at the next use).
 static void param_changed(void *self, int index) {
     st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_RESOLUTION || index == P_CASCADES) declare_targets(self, &ignore);
+    if (index == P_RESOLUTION || index == P_CASCADE_RESOLUTION || index == P_CASCADES)
+        declare_targets(self, &ignore);
 }
 
 static bool reload(void *self, st_err *err) {

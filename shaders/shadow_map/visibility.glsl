@@ -7,7 +7,8 @@
 #include "common/bvh.glsl"
 #define ST_HAS_VISIBILITY 1
 uniform samplerCubeArray st_shadow_cubes;
-uniform float st_shadow_res;
+uniform float st_shadow_res;     // cube face size in texels
+uniform float st_shadow_sun_res; // cascade size in texels
 uniform float st_shadow_bias;  // texels
 uniform float st_shadow_slope; // texels per unit tan(incidence)
 uniform int st_shadow_pcf;
@@ -49,7 +50,7 @@ float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool 
         return 1.0;
     }
     float path = st_light_shape[light].z - dot(p, L);
-    float texel = 2.0 * r.z / st_shadow_res;
+    float texel = 2.0 * r.z / st_shadow_sun_res;
     float bias = texel * bias_texels;
     float layer = float(slot * st_shadow_cascade_count + c);
     if (st_shadow_pcf == 0) {
@@ -61,7 +62,7 @@ float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool 
         ambiguous = probe && vis > 0.0 && stored < path - 0.5 * bias;
         for (int k = 0; probe && k < 8 && !ambiguous; k++) {
             float ang = float(k) * 0.78539816;
-            vec2 o = vec2(cos(ang), sin(ang)) * 2.0 / st_shadow_res;
+            vec2 o = vec2(cos(ang), sin(ang)) * 2.0 / st_shadow_sun_res;
             float tap = texture(st_shadow_suns, vec3(uv + o, layer)).r;
             ambiguous = (path - bias - 2.0 * texel * tan_i <= tap ? 1.0 : 0.0) != vis;
         }
@@ -71,7 +72,7 @@ float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool 
     for (int k = 0; k < 16; k++) { // Vogel disk, as for the cubes
         float rad = st_shadow_pcf_radius * sqrt((float(k) + 0.5) / 16.0);
         float ang = float(k) * 2.39996323;
-        vec2 o = vec2(cos(ang), sin(ang)) * rad / st_shadow_res;
+        vec2 o = vec2(cos(ang), sin(ang)) * rad / st_shadow_sun_res;
         float stored = texture(st_shadow_suns, vec3(uv + o, layer)).r;
         sum += path - bias - rad * texel * tan_i <= stored ? 1.0 : 0.0;
     }

@@ -33,7 +33,7 @@ static void write_scene(const char *path, const double cam[3], const double tgt[
         "0]}, \"albedo\": [%g, %g, %g]},\n"
         "  {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}},\n"
         "  {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
-        " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": %d}}]}\n",
+        " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"cascade_resolution\": %d}}]}\n",
         W, H, cam[0], cam[1], cam[2], tgt[0], tgt[1], tgt[2], FOV, SUN[0], SUN[1], SUN[2], E, E, E,
         RHO, RHO, RHO, BOXES[0][0][0], BOXES[0][0][1], BOXES[0][0][2], BOXES[0][1][0],
         BOXES[0][1][1], BOXES[0][1][2], BOXES[1][0][0], BOXES[1][0][1], BOXES[1][0][2],

@@ -60,17 +60,18 @@ static int mismatches(const st_test_cam *c, const st_image *img, int *decided) {
 
 static void write_sun(const char *path, const char *params) {
     char json[2048];
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": 96, \"height\": 96},\n"
-             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
-             "\"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
-             " \"lights\": [{\"type\": \"directional\", \"direction\": [0.4, -1, 0.3], "
-             "\"irradiance\": [2, 2, 2]}],\n"
-             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
-             "0]}, \"albedo\": [%g, %g, %g]},\n"
-             "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
-             " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 64%s}}]}\n",
-             RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], params);
+    snprintf(
+        json, sizeof json,
+        "{\"image\": {\"width\": 96, \"height\": 96},\n"
+        " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
+        "\"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
+        " \"lights\": [{\"type\": \"directional\", \"direction\": [0.4, -1, 0.3], "
+        "\"irradiance\": [2, 2, 2]}],\n"
+        " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
+        "0]}, \"albedo\": [%g, %g, %g]},\n"
+        "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
+        " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"cascade_resolution\": 64%s}}]}\n",
+        RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0], BMAX[1], BMAX[2], params);
     st_test_write(path, json);
 }
 

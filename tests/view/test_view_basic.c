@@ -71,7 +71,7 @@ int main(int argc, char **argv) {
         "frames 1\nstats %s/s_param.json\nscreenshot %s/pcf\n"
         "# panel keys: focus the first parameter (resolution), type a value\n"
         "key Down Enter\ntype 256\nkey Enter\nexpect-param shadow_map.resolution 256\n"
-        "key Delete\nexpect-param shadow_map.resolution 1024\n"
+        "key Delete\nexpect-param shadow_map.resolution 512\n"
         "set shadow_map.pcf false\nset shadow_map.pcf_radius 1.5\nset shadow_map.resolution 512\n"
         "resize 80 60\nframes 1\nscreenshot %s/small\nstats %s/s_small.json\n"
         "key H\ncapture %s/window.png\n",

@@ -30,7 +30,8 @@ static const char *scene_json =
     " \"geometry\": [\n" ST_TEST_CORNELL_WALLS
     "  {\"box\": {\"min\": [0.1, 0, -0.1], \"max\": [0.7, 0.6, 0.5]}}],\n"
     " \"medium\": {\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 0.01, 0.01]},\n"
-    " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 32, \"cascades\": "
+    " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 32, "
+    "\"cascade_resolution\": 32, \"cascades\": "
     "2}},\n"
     "  {\"name\": \"atlas_gi\", \"params\": {\"mode\": \"gather\", \"samples\": 8, \"atlas_size\": "
     "64}},\n"
