@@ -11,10 +11,11 @@
 //     (scenes/gi_cornell_pose2.json);
 //   - the Cornell box exported from Blender as glTF (5 cm box walls, blocks
 //     rotated 20 and 30 degrees; scenes/gi_blender_cornell.json).
-// Odd widths (63 x 64, 23 x 24): with an odd width no pixel centre lies exactly on the
-// rooms' corner edges (the camera looks down the room's axis, so with even
-// sizes the corners run through pixel centres on the diagonals, where the
-// reference shades a point on the seam of two boxes and returns black).
+// Odd widths (63 x 64, 23 x 24): no pixel centre lies exactly on the rooms'
+// corner edges (the camera looks down the room's axis, so with even sizes
+// the corners run through pixel centres on the diagonals, where the
+// rasterizer and the reference may show the floor for one and the wall for
+// the other).
 #include "st_test_render.h" // first: it defines _GNU_SOURCE
 #include "st_test_support.h"
 

@@ -53,7 +53,7 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
     if (!g->device) return st_fail(err, ST_ERR_RUNTIME, "embree: cannot create a device");
     g->scene = rtcNewScene(g->device);
     // Robust mode: rays through shared edges of closed boxes must not leak.
-    rtcSetSceneFlags(g->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(g->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(g->scene, RTC_BUILD_QUALITY_HIGH);
     size_t nm = (size_t)(g->num_meshes > 0 ? g->num_meshes : 1);
     g->pos = calloc(nm, sizeof *g->pos);
@@ -210,22 +210,79 @@ static void face_viewer(st_ref_surface *s, const double toward_viewer[3]) {
     s->lit_side = front || s->mesh->double_sided;
 }
 
+// A ray query's context: the geometry and which hits the filter drops.
+typedef struct {
+    struct RTCIntersectContext ctx; // first: Embree hands it back to the filter
+    const st_ref_geometry *g;
+    float back_until; // back-side hits nearer than this (ray units) are dropped
+    bool lit_only;    // drop hits on the side of a one-sided surface that does not reflect
+} ref_ctx;
+
+// Context filter. A hit from behind within back_until of the origin is the
+// ray leaving a solid it started in: a point on the seam where two boxes
+// meet can lie inside the neighbouring box by float rounding, and its
+// shadow and bounce rays would otherwise be trapped there.
+// (Embree's RTCRayN/RTCHitN accessors are C++ only; the packets are
+// structures of arrays: dir_x/y/z at rows 4-6 and tfar, the hit's distance
+// during the filter, at row 8 of the ray; primID and geomID at rows 5 and 6
+// of the hit, rtcore_ray.h.)
+static void ref_filter(const struct RTCFilterFunctionNArguments *a) {
+    const ref_ctx *c = (const ref_ctx *)a->context;
+    const unsigned N = a->N, *hit = (const unsigned *)a->hit;
+    const float *ray = (const float *)a->ray;
+    for (unsigned i = 0; i < N; i++) {
+        if (a->valid[i] != -1) continue;
+        unsigned geom = hit[6 * N + i], prim = hit[5 * N + i];
+        const double *ng = c->g->ng[geom] + 3 * prim;
+        double dn = ng[0] * ray[4 * N + i] + ng[1] * ray[5 * N + i] + ng[2] * ray[6 * N + i];
+        if (dn <= 0.0) continue;
+        if (ray[8 * N + i] < c->back_until ||
+            (c->lit_only && !c->g->desc->meshes[geom].double_sided))
+            a->valid[i] = 0;
+    }
+}
+
+static void ref_ctx_init(ref_ctx *c, const st_ref_geometry *g, double back_until, bool lit_only) {
+    *c = (ref_ctx){.g = g, .back_until = (float)back_until, .lit_only = lit_only};
+    rtcInitIntersectContext(&c->ctx);
+    c->ctx.filter = ref_filter;
+}
+
+// The nearest hit in [tmin, tmax] (lit_side_only: on a side that reflects).
+static bool nearest(const st_ref_geometry *g, const double o[3], const double d[3], double tmin,
+                    double tmax, bool lit_side_only, struct RTCRayHit *rh) {
+    double len = sqrt(st_dot3(d, d));
+    ref_ctx c;
+    ref_ctx_init(&c, g, tmin + 2.0 * g->eps / (len > 0 ? len : 1), lit_side_only);
+    memset(rh, 0, sizeof *rh);
+    rh->ray.org_x = (float)o[0], rh->ray.org_y = (float)o[1], rh->ray.org_z = (float)o[2];
+    rh->ray.dir_x = (float)d[0], rh->ray.dir_y = (float)d[1], rh->ray.dir_z = (float)d[2];
+    rh->ray.tnear = (float)tmin;
+    rh->ray.tfar = (float)tmax;
+    rh->ray.mask = 0xffffffffu;
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(g->scene, &c.ctx, rh);
+    return rh->hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
 st_ref_surface st_ref_intersect(const st_ref_geometry *g, const double o[3], const double d[3],
                                 double tmin, double tmax) {
     st_ref_surface none = {0};
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
-    memset(&rh, 0, sizeof rh);
-    rh.ray.org_x = (float)o[0], rh.ray.org_y = (float)o[1], rh.ray.org_z = (float)o[2];
-    rh.ray.dir_x = (float)d[0], rh.ray.dir_y = (float)d[1], rh.ray.dir_z = (float)d[2];
-    rh.ray.tnear = (float)tmin;
-    rh.ray.tfar = (float)tmax;
-    rh.ray.mask = 0xffffffffu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(g->scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return none;
+    if (!nearest(g, o, d, tmin, tmax, false, &rh)) return none;
+    // A ray exactly through an edge where closed boxes meet (a room's corner
+    // of wall boxes) ties the visible face with the hidden faces in contact,
+    // and Embree may return a hidden one, seen from its back: black. A tie
+    // goes to a side that reflects, if one lies within float rounding.
+    if (!g->desc->meshes[rh.hit.geomID].double_sided) {
+        const double *ng = g->ng[rh.hit.geomID] + 3 * rh.hit.primID;
+        double len = sqrt(st_dot3(d, d)), w = 1e-2 * g->eps / (len > 0 ? len : 1);
+        struct RTCRayHit lit;
+        if (st_dot3(ng, d) > 0.0 &&
+            nearest(g, o, d, fmax(tmin, rh.ray.tfar - w), fmin(tmax, rh.ray.tfar + w), true, &lit))
+            rh = lit;
+    }
     double back[3] = {-d[0], -d[1], -d[2]};
     st_ref_surface s = make_surface(g, (int)rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
     face_viewer(&s, back);
@@ -256,8 +313,8 @@ bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const doubl
     double d[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]};
     double len = st_normalize3(d);
     if (!(len > g->eps)) return false;
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    ref_ctx c; // d is unit: back_until in metres
+    ref_ctx_init(&c, g, 2.0 * g->eps, false);
     struct RTCRay r;
     memset(&r, 0, sizeof r);
     r.org_x = (float)from[0], r.org_y = (float)from[1], r.org_z = (float)from[2];
@@ -265,7 +322,7 @@ bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const doubl
     r.tnear = 0.0f;
     r.tfar = (float)(len - g->eps); // a light resting on a surface still lights it
     r.mask = 0xffffffffu;
-    rtcOccluded1(g->scene, &ctx, &r);
+    rtcOccluded1(g->scene, &c.ctx, &r);
     return r.tfar < 0.0f; // Embree sets tfar = -inf on a hit
 }
 
