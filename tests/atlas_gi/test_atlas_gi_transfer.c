@@ -2,7 +2,7 @@
 //   - form-factor oracles (docs/physics.md) within 1%: perpendicular unit squares
 //     sharing an edge (0.200044), parallel unit squares at distance 1
 //     (0.199825), a point under a coaxial disk, R^2 / (R^2 + h^2);
-//   - a Cornell box against `strahl reference --bounces 1 --aov indirect`:
+//   - a Cornell box against `strahl reference --bounces N --aov indirect` (1 and 3):
 //     noise-corrected relMSE over 8x8 pixel blocks (gi_refcmp.h), with the
 //     reference's own noise asserted to be far below the bound; the same
 //     in an absorbing medium (extinction along every sender-receiver segment);
@@ -96,9 +96,10 @@ static void disk_oracle(void) {
     gi_world_close(&g);
 }
 
-// The Cornell box of scenes/gi_cornell.json at 64 x 64, an atlas of 128.
+// The Cornell box of scenes/gi_cornell.json at 64 x 64, an atlas of 128,
+// `bounces` diffuse bounces.
 static void cornell_json(char *out, size_t n, const char *light, const char *extra,
-                         const char *display) {
+                         const char *display, int bounces) {
     snprintf(out, n,
              "{\"image\": {\"width\": 64, \"height\": 64},\n"
              " \"camera\": {\"position\": [0, 1, 3.4], \"target\": [0, 1, 0], \"up\": [0, 1, 0], "
@@ -113,23 +114,25 @@ static void cornell_json(char *out, size_t n, const char *light, const char *ext
              " ]%s,\n"
              " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}},\n"
              "              {\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128, "
-             "\"display\": \"%s\"}}]}\n",
-             light, extra, display);
+             "\"display\": \"%s\", \"bounces\": %d}}]}\n",
+             light, extra, display, bounces);
 }
 
 // relMSE over 8x8 blocks of the transfer's indirect image against the
-// reference's, noise-corrected; the reference's noise must be < bound / 5.
-static void against_reference(const char *name, const char *extra, double bound) {
+// reference's with as many bounces, noise-corrected; the reference's noise
+// must be < bound / 5. Further bounces iterate the transfer with L0 =
+// direct + the previous bounce.
+static void against_reference(const char *name, const char *extra, int bounces, double bound) {
     static char json[8192];
-    cornell_json(json, sizeof json, "0, 1.9, 0", extra, "indirect");
+    cornell_json(json, sizeof json, "0, 1.9, 0", extra, "indirect", bounces);
     char scene[512], ref[512], img[512], cmd[2048];
     snprintf(scene, sizeof scene, "%s/%s.json", ST_TEST_SCRATCH, name);
     snprintf(ref, sizeof ref, "%s/%s_ref.exr", ST_TEST_SCRATCH, name);
     snprintf(img, sizeof img, "%s/%s.exr", ST_TEST_SCRATCH, name);
     st_test_write(scene, json);
     snprintf(cmd, sizeof cmd,
-             "%s reference %s -o %s --bounces 1 --aov indirect --spp 1024 --seed 3 >/dev/null",
-             ST_TEST_STRAHL, scene, ref);
+             "%s reference %s -o %s --bounces %d --aov indirect --spp %d --seed 3 >/dev/null",
+             ST_TEST_STRAHL, scene, ref, bounces, 1024 * bounces);
     CHECK(system(cmd) == 0, "%s", cmd);
     CHECK(st_test_render(scene, img, NULL) == 0, "%s: render", name);
     gi_refcmp m = {0};
@@ -160,7 +163,7 @@ static double max_rel_diff(const st_image *a, const st_image *b) {
 
 static void camera_and_relight(void) {
     static char json[8192], json2[8192];
-    cornell_json(json, sizeof json, "0, 1.9, 0", "", "indirect");
+    cornell_json(json, sizeof json, "0, 1.9, 0", "", "indirect", 1);
     gi_world g;
     if (!gi_world_open(&g, json)) return;
     st_image a = {0}, b = {0}, moved = {0}, fresh = {0};
@@ -199,7 +202,7 @@ static void camera_and_relight(void) {
         CHECK(gi_runs(&g, "atlas_gi", "gather", NULL) == ga + 1, "one relight pass after the move");
     }
     gi_world_close(&g);
-    cornell_json(json2, sizeof json2, "0.5, 1.5, 0.6", "", "indirect");
+    cornell_json(json2, sizeof json2, "0.5, 1.5, 0.6", "", "indirect", 1);
     gi_world h;
     if (moved.data && gi_world_open(&h, json2)) {
         if (gi_frame(&h) && gi_read(&h, &fresh)) {
@@ -282,11 +285,12 @@ int main(void) {
         return st_test_summary("test_atlas_gi_transfer");
     }
     disk_oracle();
-    against_reference("transfer_cornell", "", 0.005);
+    against_reference("transfer_cornell", "", 1, 0.005);
     against_reference("transfer_cornell_medium",
                       ", \"medium\": {\"sigma_s\": [0, 0, 0], \"sigma_a\": [0.5, 0.2, 0.05], "
                       "\"phase\": \"isotropic\"}",
-                      0.005);
+                      1, 0.005);
+    against_reference("transfer_cornell_3_bounces", "", 3, 0.005);
     camera_and_relight();
     dark_face();
     st_context_destroy(ctx);
