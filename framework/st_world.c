@@ -57,6 +57,7 @@ struct st_world {
     st_model *models;
     int num_models;
     st_shader *regular;
+    char light_defines[64];            // st_world_light_defines
     st_module_inst *mods[MAX_MODULES]; // one heap block per instance: never moves
     unsigned next_serial;
     int num_mods;
@@ -823,9 +824,17 @@ static bool instantiate(st_world *w, int m, st_err *err) {
 
 // ---- creation ----------------------------------------------------------------
 
+static void light_defines(st_world *w) {
+    unsigned types = 0;
+    for (int i = 0; i < w->scene->num_lights; i++)
+        types |= 1u << w->scene->lights[i].type;
+    snprintf(w->light_defines, sizeof w->light_defines, "ST_MAX_LIGHTS %d\nST_LIGHT_TYPES %u\n",
+             ST_MAX_LIGHTS, types);
+}
+
 static bool build_regular(st_world *w, st_err *err) {
     char defines[1024];
-    int n = snprintf(defines, sizeof defines, "ST_MAX_LIGHTS %d\n", ST_MAX_LIGHTS);
+    int n = snprintf(defines, sizeof defines, "%s", w->light_defines);
     for (int m = 0; m < w->num_mods; m++)
         if (w->mods[m]->p->regular_include)
             n += snprintf(defines + n, sizeof defines - (size_t)n, "#include \"%s\"\n",
@@ -869,6 +878,7 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
         return NULL;
     }
     w->scene = scene;
+    light_defines(w);
     if (opts) w->opts = *opts;
     if (scene->num_lights > ST_MAX_LIGHTS) {
         st_fail(err, ST_ERR_INPUT, "%s: lights: %d lights, at most %d are supported", scene->path,
@@ -952,6 +962,10 @@ const st_scene *st_world_scene(const st_world *w) {
 }
 st_camera *st_world_camera(st_world *w) {
     return &w->cam;
+}
+
+const char *st_world_light_defines(const st_world *w) {
+    return w->light_defines;
 }
 
 void st_world_invalidate(st_world *w, unsigned changes) {

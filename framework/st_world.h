@@ -107,6 +107,14 @@ void st_world_draw(st_world *w, st_shader *sh);
 void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f);
 const st_scene *st_world_scene(const st_world *w);
 st_camera *st_world_camera(st_world *w);
+// Defines for shaders that light surfaces or volumes (common/lighting.glsl,
+// shadow_map/visibility.glsl): "ST_MAX_LIGHTS n" and "ST_LIGHT_TYPES m",
+// m the set of the scene's light types (bit 1 << st_light_type). The code
+// of absent types compiles out: llvmpipe runs both sides of a branch on a
+// uniform, so a sun's cascade lookups would cost every point-lit pixel.
+// Light types are fixed for a world's life (st_world_set_light moves lights
+// and changes their intensity only).
+const char *st_world_light_defines(const st_world *w);
 
 // Interactive changes; each marks what the next frame must redo.
 // Marks ST_CHANGE_* as changed for the next frame (e.g. benchmarks that

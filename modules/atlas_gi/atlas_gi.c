@@ -551,7 +551,7 @@ static bool upload_picks(agi *g, const float *rot, st_err *err) {
 
 static bool compile_gbuffer(agi *g, bool shadow, st_err *err) {
     char defs[256];
-    snprintf(defs, sizeof defs, "ST_MAX_LIGHTS %d\n%s", ST_MAX_LIGHTS,
+    snprintf(defs, sizeof defs, "%s%s", st_world_light_defines(g->w),
              shadow ? "AG_SHADOW 1\n" : "");
     st_shader *a = st_shader_load("atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag", defs, err);
     if (!a) return false;

@@ -147,9 +147,9 @@ static bool declare_targets(toth *t, int height, st_err *err) {
            st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err);
 }
 
-static bool load_shaders(st_shader **march, st_shader **gather, st_shader **compose, st_err *err) {
-    char defines[64];
-    snprintf(defines, sizeof defines, "ST_MAX_LIGHTS %d\n", ST_MAX_LIGHTS);
+static bool load_shaders(st_world *w, st_shader **march, st_shader **gather, st_shader **compose,
+                         st_err *err) {
+    const char *defines = st_world_light_defines(w);
     *march = st_shader_load("common/fullscreen.vert", "toth/march.frag", defines, err);
     *gather =
         *march ? st_shader_load("common/fullscreen.vert", "toth/gather.frag", defines, err) : NULL;
@@ -171,7 +171,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     t->w = w;
     t->p = p;
     if (!declare_targets(t, st_world_scene(w)->height, err) ||
-        !load_shaders(&t->march, &t->gather, &t->compose, err)) {
+        !load_shaders(w, &t->march, &t->gather, &t->compose, err)) {
         free(t);
         return NULL;
     }
@@ -300,7 +300,7 @@ static void param_changed(void *self, int index) {
 static bool reload(void *self, st_err *err) {
     toth *t = self;
     st_shader *m, *g, *c;
-    if (!load_shaders(&m, &g, &c, err)) return false;
+    if (!load_shaders(t->w, &m, &g, &c, err)) return false;
     st_shader_destroy(t->march);
     st_shader_destroy(t->gather);
     st_shader_destroy(t->compose);

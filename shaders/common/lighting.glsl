@@ -24,7 +24,7 @@ struct st_incident {
 // False where nothing arrives (at the light, outside a spot's cone).
 bool st_light_incident(int i, vec3 x, out st_incident r) {
     r.E = vec3(0.0);
-    if (st_light_type[i] == ST_LIGHT_DIRECTIONAL) {
+    if (ST_LIGHT_IS(i, ST_LIGHT_DIRECTIONAL)) {
         r.to_light = -st_light_dir[i];
         r.dist = 1e30;
         r.path = max(0.0, st_light_shape[i].z - dot(x, r.to_light));
@@ -37,7 +37,7 @@ bool st_light_incident(int i, vec3 x, out st_incident r) {
     r.to_light = l * inv_d;
     r.dist = r.path = d2 * inv_d;
     float f = 1.0;
-    if (st_light_type[i] == ST_LIGHT_SPOT) {
+    if (ST_LIGHT_IS(i, ST_LIGHT_SPOT)) {
         float a = clamp(-dot(r.to_light, st_light_dir[i]) * st_light_shape[i].x + st_light_shape[i].y, 0.0, 1.0);
         f = a * a;
         if (f <= 0.0) return false;

@@ -14,6 +14,16 @@ uniform vec3 st_light_pos[ST_MAX_LIGHTS];
 uniform vec3 st_light_intensity[ST_MAX_LIGHTS]; // W/sr (point, spot on its axis); W/m^2 (directional)
 // 0 point, 1 directional, 2 spot (st_light_type in C).
 uniform int st_light_type[ST_MAX_LIGHTS];
+// The scene's light types, bit 1 << type (st_world_light_defines; all
+// without it). Tests through these macros fold to false for absent types,
+// and their code compiles out: llvmpipe runs both sides of a branch on a
+// uniform, so a sun's cascade lookups would otherwise cost every pixel of a
+// point-lit scene.
+#ifndef ST_LIGHT_TYPES
+#define ST_LIGHT_TYPES 7
+#endif
+#define ST_LIGHT_IS(i, t) ((ST_LIGHT_TYPES & (1 << (t))) != 0 && st_light_type[i] == (t))
+#define ST_LIGHT_POSITIONED(i) ((ST_LIGHT_TYPES & 5) != 0 && st_light_type[i] != 1)
 uniform vec3 st_light_dir[ST_MAX_LIGHTS]; // unit travel direction (directional, spot)
 // Spot: x, y = glTF falloff scale and offset in cos (st_spot_falloff);
 // directional: z = entry (st_directional_entry).

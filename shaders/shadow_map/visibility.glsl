@@ -69,7 +69,9 @@ float st_shadow_sun_amb(int light, vec3 p, float bias_texels, float tan_i, bool 
         return vis;
     }
     float sum = 0.0;
-    for (int k = 0; k < 16; k++) { // Vogel disk, as for the cubes
+    // The trip count is a uniform, not 16: a constant loop is unrolled, and
+    // llvmpipe runs the unrolled taps (masked) even where PCF is off.
+    for (int k = 0; k < (st_shadow_pcf != 0 ? 16 : 0); k++) { // Vogel disk, as for the cubes
         float rad = st_shadow_pcf_radius * sqrt((float(k) + 0.5) / 16.0);
         float ang = float(k) * 2.39996323;
         vec2 o = vec2(cos(ang), sin(ang)) * rad / st_shadow_sun_res;
@@ -126,7 +128,7 @@ float st_shadow_visibility_amb(int light, vec3 p, float bias, float tan_i, bool 
     // 16 taps on a disk perpendicular to the light direction.
     float r = st_shadow_pcf_radius * st_shadow_texel(d);
     float sum = 0.0;
-    for (int k = 0; k < 16; k++) {
+    for (int k = 0; k < (st_shadow_pcf != 0 ? 16 : 0); k++) { // (see st_shadow_sun_amb)
         // Vogel disk: even coverage for any tap count.
         float rad = r * sqrt((float(k) + 0.5) / 16.0);
         float ang = float(k) * 2.39996323;
@@ -149,7 +151,7 @@ float st_shadow_visibility_biased(int light, vec3 p, float bias, float tan_i) {
 // moves the edges of grazing shadows visibly.
 float st_shadow_exact(int light, vec3 p, vec3 n) {
     vec3 q;
-    if (st_light_type[light] == 1) {
+    if (ST_LIGHT_IS(light, 1)) {
         vec3 L = -st_light_dir[light];
         q = p + L * max(st_light_shape[light].z - dot(p, L), 1e-3);
     } else {
@@ -162,14 +164,14 @@ float st_shadow_exact(int light, vec3 p, vec3 n) {
 // Surfaces: the bias grows with the slope, since a texel covers a longer
 // stretch of distance the more obliquely it sees the surface.
 float st_visibility(int light, vec3 p, vec3 n) {
-    bool probe = st_shadow_refine != 0, ambiguous;
-    float vis;
-    if (st_light_type[light] == 1) { // directional
+    bool probe = st_shadow_refine != 0, ambiguous = false;
+    float vis = 1.0;
+    if (ST_LIGHT_IS(light, 1)) { // directional
         float c = clamp(dot(n, -st_light_dir[light]), 1e-3, 1.0);
         float tan_i = min(sqrt(1.0 - c * c) / c, 20.0);
         vis = st_shadow_sun_amb(light, p, st_shadow_bias + st_shadow_slope * tan_i, tan_i, probe, ambiguous);
         if (st_shadow_sun_slot[light] < 0) return vis;
-    } else {
+    } else if (ST_LIGHT_POSITIONED(light)) {
         vec3 l = st_light_pos[light] - p;
         float d = length(l);
         float c = clamp(dot(n, l / max(d, 1e-20)), 1e-3, 1.0);
@@ -182,7 +184,8 @@ float st_visibility(int light, vec3 p, vec3 n) {
 
 // Points in a volume have no normal: constant bias only.
 float st_visibility_point(int light, vec3 p) {
-    if (st_light_type[light] == 1) return st_shadow_sun(light, p, st_shadow_bias, 0.0);
+    if (ST_LIGHT_IS(light, 1)) return st_shadow_sun(light, p, st_shadow_bias, 0.0);
+    if (!ST_LIGHT_POSITIONED(light)) return 1.0;
     float d = distance(p, st_light_pos[light]);
     return st_shadow_visibility_biased(light, p, st_shadow_texel(d) * st_shadow_bias, 0.0);
 }

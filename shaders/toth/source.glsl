@@ -17,7 +17,7 @@ vec3 toth_source(vec3 x, vec3 dir, float min_d2) {
         vec3 to_light;
         float path, c;
         vec3 E;
-        if (st_light_type[l] == 1) { // directional: no 1/d^2, path from the entry plane
+        if (ST_LIGHT_IS(l, 1)) { // directional: no 1/d^2, path from the entry plane
             to_light = -st_light_dir[l];
             path = max(0.0, st_light_shape[l].z - dot(x, to_light));
             c = dot(to_light, dir);
@@ -30,7 +30,7 @@ vec3 toth_source(vec3 x, vec3 dir, float min_d2) {
             // direction toward the camera; 0 when x sits on the light.
             c = d > 0.0 ? dot(v, dir) / d : 0.0;
             float f = 1.0;
-            if (st_light_type[l] == 2 && d > 0.0) { // spot: glTF's falloff
+            if (ST_LIGHT_IS(l, 2) && d > 0.0) { // spot: glTF's falloff
                 float a = clamp(-dot(v / d, st_light_dir[l]) * st_light_shape[l].x + st_light_shape[l].y, 0.0, 1.0);
                 f = a * a;
             }
