@@ -49,7 +49,7 @@ int main(void) {
     CHECK(sh(cmd) == 0, "single run");
     CHECK(sh("merge s1.exr s2.exr s3.exr s4.exr -o merged.exr") == 0, "merge");
 
-    st_image m, ms, r, rs, s[4], ss[4];
+    st_image m = {0}, ms = {0}, r = {0}, rs = {0}, s[4] = {{0}}, ss[4] = {{0}};
     st_exr_meta mm, rm, sm[4];
     load("merged.exr", &m, &ms, &mm);
     load("one.exr", &r, &rs, &rm);
@@ -106,7 +106,7 @@ int main(void) {
              "--steps 64 --threads 2 --spp 8 --seed 5") == 0,
           "shard 5");
     CHECK(sh("merge merged.exr s5.exr -o merged2.exr") == 0, "merge again");
-    st_image m2, m2s;
+    st_image m2 = {0}, m2s = {0};
     st_exr_meta m2m;
     load("merged2.exr", &m2, &m2s, &m2m);
     CHECK(m2m.spp == 40 && !strcmp(m2m.seeds, "1,2,3,4,5"), "spp %d seeds '%s'", m2m.spp,
@@ -136,5 +136,10 @@ int main(void) {
     CHECK(sh("merge s1.exr -o bad.png") == 2, "png output");
     snprintf(path, sizeof path, "%s/bad.exr", dir);
     CHECK(!st_test_exists(path), "bad.exr written");
+    st_image *all[] = {&m, &ms, &r, &rs, &m2, &m2s, &plain};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        st_image_free(all[i]);
+    for (int k = 0; k < 4; k++)
+        st_image_free(&s[k]), st_image_free(&ss[k]);
     return st_test_summary("reference_merge");
 }
