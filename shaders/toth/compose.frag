@@ -71,9 +71,12 @@ void main() {
     vec4 g = texelFetch(st_gbuffer, p, 0);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
     vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g, p));
+    // One upsampling for both modes: llvmpipe runs both sides of a branch on
+    // a uniform, so a call in each side would be paid twice.
+    float spread = 0.0;
+    vec4 up = toth_has_inscatter != 0 ? toth_upsample(p, g, spread) : vec4(0.0);
     if (toth_has_inscatter != 0 && toth_sampling == 1) {
-        float spread;
-        vec4 frac = toth_upsample(p, g, spread);
+        vec4 frac = up;
         vec3 dir = toth_view_dir(p);
         float s = toth_ray_length(g, p);
         // Where the taps disagree (a shaft's edge, a silhouette) the
@@ -85,8 +88,7 @@ void main() {
         for (int l = 0; l < st_num_lights; l++)
             L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
     } else if (toth_has_inscatter != 0) {
-        float spread;
-        L += toth_upsample(p, g, spread).rgb;
+        L += up.rgb;
     }
     // Never write NaN or Inf: absurd inputs (sigma near float max) saturate.
     for (int c = 0; c < 3; c++) {
