@@ -1185,18 +1185,13 @@ double st_median_d(const double *v, int n) {
     return m;
 }
 
-static int cmp_f(const void *a, const void *b) {
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
 double st_median_f(const float *v, int n) {
     if (n <= 0) return 0;
-    float *t = malloc((size_t)n * sizeof *t);
-    if (!t) return 0;
-    memcpy(t, v, (size_t)n * sizeof *t);
-    qsort(t, (size_t)n, sizeof *t, cmp_f);
-    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-    free(t);
+    double *d = malloc((size_t)n * sizeof *d);
+    if (!d) return 0;
+    for (int i = 0; i < n; i++)
+        d[i] = v[i];
+    double m = st_median_d(d, n);
+    free(d);
     return m;
 }

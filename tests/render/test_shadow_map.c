@@ -6,24 +6,6 @@
 static const double I = 3.0, LP[3] = {0, 1.8, 0}, RHO = 0.75;
 static const double BMIN[3] = {-0.3, 0.8, -0.3}, BMAX[3] = {0.3, 1.0, 0.3};
 
-static void write_scene(const char *path, const char *modules) {
-    char json[2048];
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": 96, \"height\": 96},\n"
-             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
-             "\"fov_y\": 60,"
-             " \"near\": 0.05, \"far\": 100},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, "
-             "%g, %g]}],\n"
-             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
-             "0]}, \"albedo\": [%g, %g, %g]},\n"
-             "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
-             " \"modules\": [%s]}\n",
-             LP[0], LP[1], LP[2], I, I, I, RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0],
-             BMAX[1], BMAX[2], modules);
-    st_test_write(path, json);
-}
-
 int main(void) {
     char scene[512], out[512];
     snprintf(scene, sizeof scene, "%s/shadow.json", ST_TEST_SCRATCH);
@@ -31,8 +13,9 @@ int main(void) {
     const double cam[3] = {0, 3, 2.5}, tgt[3] = {0, 0, 0}, up[3] = {0, 1, 0};
     st_test_cam c = st_test_camera(cam, tgt, up, 60, 96, 96);
     for (int with = 0; with < 2; with++) {
-        write_scene(scene,
-                    with ? "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}" : "");
+        st_test_write_shadow_scene(
+            scene, LP, I, RHO, BMIN, BMAX,
+            with ? "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}" : "");
         CHECK(st_test_render(scene, out, NULL) == 0, "render (shadow_map %d)", with);
         st_image img = {0};
         if (!st_test_read(out, &img)) continue;

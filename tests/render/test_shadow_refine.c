@@ -14,23 +14,6 @@
 static const double I = 3.0, LP[3] = {0.4, 1.8, 0.2}, RHO = 0.75;
 static const double BMIN[3] = {-0.3, 0.8, -0.3}, BMAX[3] = {0.3, 1.0, 0.3};
 
-static void write_scene(const char *path, const char *params) {
-    char json[2048];
-    snprintf(json, sizeof json,
-             "{\"image\": {\"width\": 96, \"height\": 96},\n"
-             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
-             "\"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
-             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, "
-             "%g, %g]}],\n"
-             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
-             "0]}, \"albedo\": [%g, %g, %g]},\n"
-             "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
-             " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 32%s}}]}\n",
-             LP[0], LP[1], LP[2], I, I, I, RHO, RHO, RHO, BMIN[0], BMIN[1], BMIN[2], BMAX[0],
-             BMAX[1], BMAX[2], params);
-    st_test_write(path, json);
-}
-
 // Floor pixels whose value contradicts the exact visibility of their centre.
 static int mismatches(const st_test_cam *c, const st_image *img, int *decided) {
     int bad = 0;
@@ -92,7 +75,10 @@ int main(void) {
     st_test_cam c = st_test_camera(cam, tgt, up, 60, 96, 96);
     static const char *const cases[] = {"", ", \"refine\": false"};
     for (int k = 0; k < 2; k++) {
-        write_scene(scene, cases[k]);
+        char modules[256];
+        snprintf(modules, sizeof modules,
+                 "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 32%s}}", cases[k]);
+        st_test_write_shadow_scene(scene, LP, I, RHO, BMIN, BMAX, modules);
         CHECK(st_test_render(scene, out, NULL) == 0, "render (params '%s')", cases[k]);
         st_image img = {0};
         if (!st_test_read(out, &img)) continue;

@@ -21,6 +21,24 @@ cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra,
     return cJSON_Parse(buf);
 }
 
+void st_test_write_shadow_scene(const char *path, const double lp[3], double I, double rho,
+                                const double bmin[3], const double bmax[3], const char *modules) {
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"image\": {\"width\": 96, \"height\": 96},\n"
+             " \"camera\": {\"position\": [0, 3, 2.5], \"target\": [0, 0, 0], \"up\": [0, 1, 0], "
+             "\"fov_y\": 60, \"near\": 0.05, \"far\": 100},\n"
+             " \"lights\": [{\"type\": \"point\", \"position\": [%g, %g, %g], \"intensity\": [%g, "
+             "%g, %g]}],\n"
+             " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, -4], \"u\": [0, 0, 8], \"v\": [8, 0, "
+             "0]}, \"albedo\": [%g, %g, %g]},\n"
+             "   {\"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
+             " \"modules\": [%s]}\n",
+             lp[0], lp[1], lp[2], I, I, I, rho, rho, rho, bmin[0], bmin[1], bmin[2], bmax[0],
+             bmax[1], bmax[2], modules);
+    st_test_write(path, json);
+}
+
 int st_test_shadow_state(const double p[3], double jitter, const double lp[3], const double bmin[3],
                          const double bmax[3]) {
     int in = 0;

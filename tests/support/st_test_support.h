@@ -24,6 +24,13 @@ cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra,
 int st_test_shadow_state(const double p[3], double jitter, const double lp[3], const double bmin[3],
                          const double bmax[3]);
 
+// Writes the shadow scene those tests share: 96x96, the camera at (0, 3, 2.5)
+// looking at the origin with fov 60, an 8 m floor quad of albedo rho at
+// y = 0, the box [bmin, bmax] above it, a point light of intensity I at lp,
+// and `modules` as the scene's "modules" array entries.
+void st_test_write_shadow_scene(const char *path, const double lp[3], double I, double rho,
+                                const double bmin[3], const double bmax[3], const char *modules);
+
 // Adds an emitter (radiance 1) to sc: a ns-gon of the same area as the disk
 // of radius R, centred on the y axis at height h, facing -y (toward a
 // receiver at the origin). poly (may be NULL) receives its ns corners.
