@@ -36,9 +36,11 @@ static int st_t_pass, st_t_fail;
               #a, _a, _b, (double)(rel));                                                          \
     } while (0)
 
+// A test that checked nothing has not shown anything: it fails.
 static inline int st_test_summary(const char *name) {
     printf("%s: %d passed, %d failed\n", name, st_t_pass, st_t_fail);
-    return st_t_fail ? 1 : 0;
+    if (st_t_pass + st_t_fail == 0) fprintf(stderr, "%s: no checks ran\n", name);
+    return (st_t_fail || st_t_pass == 0) ? 1 : 0;
 }
 
 // Runs a shell command; returns its exit code (or -1). Output goes to the

@@ -17,7 +17,10 @@ static inline int gi_render(const char *name, const char *json, const char *extr
     st_test_write(scene, json);
     int rc = st_test_render(scene, out, extra);
     CHECK(rc == 0, "%s: render exit code %d", name, rc);
-    if (rc != 0 || !st_test_read(out, img)) return 0;
+    if (rc != 0) return 0;
+    int read = st_test_read(out, img);
+    CHECK(read, "%s: %s is readable", name, out);
+    if (!read) return 0;
     CHECK(st_test_all_finite(img), "%s: all pixels finite", name);
     return 1;
 }
