@@ -1,5 +1,6 @@
-// The reference's image loop: one view ray per pixel centre, spp samples of
-// the stochastic terms, rows handed out to all cores.
+// The reference's image loop: spp samples per pixel, each with its view ray
+// (the pixel centre for the point filter, a stratified point of the pixel's
+// square for the box filter), rows handed out to all cores.
 #define _POSIX_C_SOURCE 200809L
 #include "ref.h"
 #include <math.h>
@@ -45,60 +46,102 @@ static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
     return true;
 }
 
-// The contract's pinhole: pixel (i, j), j = 0 the top row, through its centre.
-static void camera_ray(const ref_camera *c, int i, int j, int w, int h, double dir[3]) {
-    double x = (2.0 * (i + 0.5) / w - 1.0) * c->tan_half * c->aspect;
-    double y = (1.0 - 2.0 * (j + 0.5) / h) * c->tan_half;
+// The contract's pinhole: pixel (i, j), j = 0 the top row, through the point
+// (u, v) of its square (0.5, 0.5 the centre; v down the image).
+static void camera_ray(const ref_camera *c, int i, int j, double u, double v, int w, int h,
+                       double dir[3]) {
+    double x = (2.0 * (i + u) / w - 1.0) * c->tan_half * c->aspect;
+    double y = (1.0 - 2.0 * (j + v) / h) * c->tan_half;
     for (int k = 0; k < 3; k++)
         dir[k] = c->f[k] + x * c->r[k] + y * c->u[k];
     st_normalize3(dir);
+}
+
+// What one view ray sees: the surface it hits (or none), its direct light and
+// the view ray's transmittance; the stochastic terms come per sample.
+typedef struct {
+    double dir[3], s, direct[3], T[3];
+    st_ref_surface x;
+} ref_view;
+
+static void view_ray(const ref_job *job, int i, int j, double u, double v, ref_view *r) {
+    const st_ref_geometry *g = job->geo;
+    const st_ref_options *o = job->opt;
+    const st_scene *sc = g->desc;
+    camera_ray(&job->cam, i, j, u, v, job->out->width, job->out->height, r->dir);
+    // near/far clip like the rasterizer: planes at view depth, so along this
+    // ray at depth / cos(angle to the view axis). A view ray that hits
+    // nothing within them is marched to the far plane.
+    double cos_axis = st_dot3(r->dir, job->cam.f);
+    double t_near = sc->camera.near_z / cos_axis, t_far = sc->camera.far_z / cos_axis;
+    r->x = st_ref_intersect(g, job->cam.pos, r->dir, t_near, t_far);
+    r->s = r->x.hit ? r->x.t : t_far;
+    const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
+    for (int c = 0; c < 3; c++)
+        r->direct[c] = 0, r->T[c] = 1;
+    if (want_direct) st_ref_direct(g, &r->x, r->direct);
+    // A ray that hits nothing sees the background at the far plane (dimmed by T below).
+    if (want_direct && !r->x.hit)
+        for (int c = 0; c < 3; c++)
+            r->direct[c] = sc->background[c];
+    if (sc->medium.present)
+        for (int c = 0; c < 3; c++)
+            r->T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * r->s);
+}
+
+// Sample k of n of the pixel's square for the box filter: an m x m jittered
+// grid (m = floor(sqrt(n))) for the first whole grids, uniform points for
+// the rest, so every sample is uniform over the square and the mean is the
+// box filter's value.
+static void pixel_point(int k, int n, st_ref_rng *rng, double *u, double *v) {
+    int m = (int)floor(sqrt((double)n));
+    while ((m + 1) * (m + 1) <= n)
+        m++;
+    const int strata = m * m, whole = n / strata * strata;
+    double a = st_ref_rng_uniform(rng), b = st_ref_rng_uniform(rng);
+    if (k < whole) {
+        int q = k % strata;
+        *u = (q % m + a) / m, *v = (q / m + b) / m;
+    } else {
+        *u = a, *v = b;
+    }
 }
 
 static void render_pixel(const ref_job *job, int i, int j) {
     const st_ref_geometry *g = job->geo;
     const st_ref_options *o = job->opt;
     const st_scene *sc = g->desc;
-    const int w = job->out->width, h = job->out->height;
-    double dir[3];
-    camera_ray(&job->cam, i, j, w, h, dir);
-    // near/far clip like the rasterizer: planes at view depth, so along this
-    // ray at depth / cos(angle to the view axis). A view ray that hits
-    // nothing within them is marched to the far plane.
-    double cos_axis = st_dot3(dir, job->cam.f);
-    double t_near = sc->camera.near_z / cos_axis, t_far = sc->camera.far_z / cos_axis;
-    st_ref_surface x = st_ref_intersect(g, job->cam.pos, dir, t_near, t_far);
-    double s = x.hit ? x.t : t_far;
-
-    const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
-    const bool want_indirect = (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) &&
-                               o->bounces > 0 && x.hit && x.lit_side;
-    const bool want_inscatter =
-        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
-    double direct[3] = {0, 0, 0}, T[3] = {1, 1, 1};
-    if (want_direct) st_ref_direct(g, &x, direct);
-    // A ray that hits nothing sees the background at the far plane (dimmed by T below).
-    if (want_direct && !x.hit)
-        for (int c = 0; c < 3; c++)
-            direct[c] = sc->background[c];
-    if (sc->medium.present)
-        for (int c = 0; c < 3; c++)
-            T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * s);
-
+    const int w = job->out->width;
+    const bool box = o->filter == ST_FILTER_BOX;
     st_ref_rng rng;
     st_ref_rng_seed(&rng, o->seed, (uint64_t)j * (uint64_t)w + (uint64_t)i);
+    ref_view r;
+    if (!box) view_ray(job, i, j, 0.5, 0.5, &r); // one view ray for every sample
+
+    const bool want_indirect =
+        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) && o->bounces > 0;
+    const bool want_inscatter =
+        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
     const int spp = o->spp > 0 ? o->spp : 1;
     // Welford's running mean and squared deviations, per channel.
     double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-    const bool stochastic = want_indirect || want_inscatter;
-    const int n = stochastic ? spp : 1; // direct light alone has no noise
+    // Direct light through the centre alone has no noise; over the pixel it has.
+    const bool stochastic = box || want_inscatter || (want_indirect && r.x.hit && r.x.lit_side);
+    const int n = stochastic ? spp : 1;
     for (int k = 0; k < n; k++) {
+        if (box) {
+            double u, v;
+            pixel_point(k, n, &rng, &u, &v);
+            view_ray(job, i, j, u, v, &r);
+        }
         double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0}, v[3];
-        if (want_indirect) st_ref_indirect(g, o, &x, o->bounces, &rng, ind);
-        if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, dir, s, &rng, ins);
+        if (want_indirect && r.x.hit && r.x.lit_side)
+            st_ref_indirect(g, o, &r.x, o->bounces, &rng, ind);
+        if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, r.dir, r.s, &rng, ins);
         for (int c = 0; c < 3; c++) {
             switch (o->aov) {
             case ST_REF_DIRECT:
-                v[c] = direct[c];
+                v[c] = r.direct[c];
                 break;
             case ST_REF_INDIRECT:
                 v[c] = ind[c];
@@ -108,7 +151,7 @@ static void render_pixel(const ref_job *job, int i, int j) {
                 break;
             case ST_REF_COMBINED:
             default:
-                v[c] = (direct[c] + ind[c]) * T[c] + ins[c];
+                v[c] = (r.direct[c] + ind[c]) * r.T[c] + ins[c];
                 break;
             }
             double delta = v[c] - mean[c];
