@@ -36,7 +36,11 @@ int main(void) {
     snprintf(dir, sizeof dir, "%s", ST_TEST_SCRATCH);
     char cmd[8192];
     const int spp[4] = {4, 4, 8, 16};
-    const char *common = "--size 64x64 --bounces 0 --steps 64 --threads 2";
+    // The point filter: samples independent of their index, so 4 shards of
+    // 32 spp in all are as noisy as one run of 32 (the box filter stratifies
+    // each run's samples over the pixel, and a run of 32 spp is stratified
+    // finer than shards of 4 to 16: 1.2x less noise on this scene).
+    const char *common = "--size 64x64 --bounces 0 --steps 64 --threads 2 --filter point";
     for (int k = 0; k < 4; k++) {
         snprintf(cmd, sizeof cmd,
                  "reference '%s/scenes/godrays_window.json' -o s%d.exr %s --spp %d --seed %d",

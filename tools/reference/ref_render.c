@@ -24,6 +24,7 @@ typedef struct {
     ref_camera cam;
     st_image *out;
     atomic_int next_row, rows_done;
+    atomic_bool failed; // a worker had no memory: rows are skipped, the render fails
 } ref_job;
 
 static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
@@ -89,25 +90,34 @@ static void view_ray(const ref_job *job, int i, int j, double u, double v, ref_v
             r->T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * r->s);
 }
 
-// Sample k of n of the pixel's square for the box filter: an m x m jittered
-// grid (m = floor(sqrt(n))) for the first whole grids, uniform points for
-// the rest, so every sample is uniform over the square and the mean is the
-// box filter's value.
-static void pixel_point(int k, int n, st_ref_rng *rng, double *u, double *v) {
-    int m = (int)floor(sqrt((double)n));
-    while ((m + 1) * (m + 1) <= n)
+// The box filter's strata: an m x m grid over the pixel's square with at
+// least 4 samples per cell (m = floor(sqrt(n / 4)), at most ST_REF_MAX_GRID),
+// so each cell's own variance is estimated with 3 or more degrees of freedom
+// (with 1, the standard error of an edge pixel, where one or two cells vary,
+// would be too often far too small); the n - r m^2 samples past
+// r whole passes over the grid are uniform over the square. Every sample is
+// uniform over the square, so their mean is the box filter's value.
+#define ST_REF_MAX_GRID 64
+static int grid_size(int n) {
+    int m = (int)floor(sqrt(n / 4.0));
+    while (4 * (m + 1) * (m + 1) <= n)
         m++;
-    const int strata = m * m, whole = n / strata * strata;
-    double a = st_ref_rng_uniform(rng), b = st_ref_rng_uniform(rng);
-    if (k < whole) {
-        int q = k % strata;
-        *u = (q % m + a) / m, *v = (q / m + b) / m;
-    } else {
-        *u = a, *v = b;
-    }
+    return m < 1 ? 1 : m > ST_REF_MAX_GRID ? ST_REF_MAX_GRID : m;
 }
 
-static void render_pixel(const ref_job *job, int i, int j) {
+// Sample k's point (u, v) of the square, and its cell (-1: past the passes).
+static int pixel_point(int k, int m, int whole, st_ref_rng *rng, double *u, double *v) {
+    double a = st_ref_rng_uniform(rng), b = st_ref_rng_uniform(rng);
+    if (k >= whole) {
+        *u = a, *v = b;
+        return -1;
+    }
+    int q = k % (m * m);
+    *u = (q % m + a) / m, *v = (q / m + b) / m;
+    return q;
+}
+
+static void render_pixel(const ref_job *job, double *cells, int i, int j) {
     const st_ref_geometry *g = job->geo;
     const st_ref_options *o = job->opt;
     const st_scene *sc = g->desc;
@@ -128,10 +138,13 @@ static void render_pixel(const ref_job *job, int i, int j) {
     // Direct light through the centre alone has no noise; over the pixel it has.
     const bool stochastic = box || want_inscatter || (want_indirect && r.x.hit && r.x.lit_side);
     const int n = stochastic ? spp : 1;
+    const int m = grid_size(n), whole = n / (m * m) * (m * m), per_cell = n / (m * m);
+    if (box) memset(cells, 0, sizeof(double) * 6 * (size_t)(m * m));
     for (int k = 0; k < n; k++) {
+        int cell = -1;
         if (box) {
             double u, v;
-            pixel_point(k, n, &rng, &u, &v);
+            cell = pixel_point(k, m, whole, &rng, &u, &v);
             view_ray(job, i, j, u, v, &r);
         }
         double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0}, v[3];
@@ -157,25 +170,41 @@ static void render_pixel(const ref_job *job, int i, int j) {
             double delta = v[c] - mean[c];
             mean[c] += delta / (k + 1);
             m2[c] += delta * (v[c] - mean[c]);
+            if (cell >= 0) cells[6 * cell + c] += v[c], cells[6 * cell + 3 + c] += v[c] * v[c];
         }
     }
     float *px = st_image_px(job->out, i, j);
     for (int c = 0; c < 3; c++) {
         px[c] = (float)mean[c];
         // Standard error of the mean; 0 where it cannot be estimated (1 sample).
-        px[3 + c] = n > 1 ? (float)sqrt(m2[c] / (n - 1) / n) : 0.0f;
+        double var_mean = n > 1 ? m2[c] / (n - 1) / n : 0;
+        if (box && n > 1 && per_cell >= 4) {
+            // Stratified: the cells' own variances (r = per_cell samples each),
+            // plus the uniform rest with the pixel's variance.
+            double within = 0;
+            for (int q = 0; q < m * m; q++) {
+                double s1 = cells[6 * q + c], s2 = cells[6 * q + 3 + c];
+                within += fmax(0.0, (s2 - s1 * s1 / per_cell) / (per_cell - 1)) * per_cell;
+            }
+            var_mean = (within + (n - whole) * m2[c] / (n - 1)) / ((double)n * n);
+        }
+        px[3 + c] = (float)sqrt(var_mean);
     }
 }
 
 static void *worker(void *arg) {
     ref_job *job = arg;
+    // Per-cell sums of the box filter's strata (render_pixel).
+    double *cells = malloc(sizeof(double) * 6 * ST_REF_MAX_GRID * ST_REF_MAX_GRID);
+    if (!cells) atomic_store(&job->failed, true);
     for (;;) {
         int j = atomic_fetch_add(&job->next_row, 1);
         if (j >= job->out->height) break;
-        for (int i = 0; i < job->out->width; i++)
-            render_pixel(job, i, j);
+        for (int i = 0; cells && i < job->out->width; i++)
+            render_pixel(job, cells, i, j);
         atomic_fetch_add(&job->rows_done, 1);
     }
+    free(cells);
     return NULL;
 }
 
@@ -205,6 +234,7 @@ bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out
     job.out = out;
     atomic_init(&job.next_row, 0);
     atomic_init(&job.rows_done, 0);
+    atomic_init(&job.failed, false);
 
     const int nt = thread_count(o, scene->height);
     pthread_t th[256];
@@ -221,5 +251,9 @@ bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out
         pthread_join(th[k], NULL);
     if (o->progress) o->progress(o->progress_user, scene->height, scene->height);
     st_ref_geometry_free(&geo);
+    if (atomic_load(&job.failed)) {
+        st_image_free(out);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the pixel strata");
+    }
     return true;
 }
