@@ -107,7 +107,7 @@ int main(void) {
     // Merging a merged file with a further shard: 32 + 8 spp, seeds appended.
     CHECK(sh("reference '" ST_TEST_SOURCE_DIR
              "/scenes/godrays_window.json' -o s5.exr --size 64x64 --bounces 0 "
-             "--steps 64 --threads 2 --spp 8 --seed 5") == 0,
+             "--steps 64 --threads 2 --spp 8 --seed 5 --filter point") == 0,
           "shard 5");
     CHECK(sh("merge merged.exr s5.exr -o merged2.exr") == 0, "merge again");
     st_image m2 = {0}, m2s = {0};
