@@ -99,9 +99,11 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
     double fm = st_median_f(frame_ms, nframes);
     const st_camera *c = st_world_camera(w);
     if (json) {
-        printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, "
-               "\"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, \"gpu_bytes\": %zu, ",
-               st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss,
+        printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"filter\": \"%s\", "
+               "\"frames\": %d, \"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, "
+               "\"gpu_bytes\": %zu, ",
+               st_context_renderer(), c->width, c->height,
+               st_filter_name(st_world_scene(w)->filter), nframes, fm, ru.ru_maxrss,
                st_world_memory_bytes(w));
         print_memory(w, true);
         if (pr)

@@ -120,6 +120,12 @@ int main(void) {
     unlink("bad.exr");
     CHECK(sh("merge s1.exr s1.exr -o bad.exr") == 2, "a seed twice");
     CHECK(sh("merge merged.exr s2.exr -o bad.exr") == 2, "a seed inside a merged file");
+    // A shard with the other pixel filter is another render (strahl.config).
+    CHECK(sh("reference '" ST_TEST_SOURCE_DIR
+             "/scenes/godrays_window.json' -o box.exr --size 64x64 --bounces 0 "
+             "--steps 64 --threads 2 --spp 4 --seed 9 --filter box") == 0,
+          "box shard");
+    CHECK(sh("merge merged.exr box.exr -o bad.exr") == 2, "point and box shards merged");
     CHECK(sh("reference '" ST_TEST_SOURCE_DIR
              "/scenes/godrays_window.json' -o other.exr --size 64x64 --bounces 0 "
              "--steps 32 --threads 2 --spp 4 --seed 7") == 0,
