@@ -104,6 +104,13 @@ static void write_emitter_scene(const char *path, const char *filter) {
     st_test_write(path, text);
 }
 
+// `strahl render SCENE -o OUT EXTRA` with no --filter of its own
+// (st_test_render asks for point): the scene's filter or EXTRA's.
+static int render_as_is(const char *scene, const char *out, const char *extra) {
+    unlink(out);
+    return st_test_sh("%s render %s -o %s %s", ST_TEST_STRAHL, scene, out, extra);
+}
+
 // (a) Box against point on the emitter's edges.
 static void check_edges(void) {
     char scene[512], scene_point[512], out[512];
@@ -121,10 +128,10 @@ static void check_edges(void) {
     // Point, by the scene key and by --filter: 0 or 1 as the centre is in or out.
     st_image p = {0}, q = {0};
     snprintf(out, sizeof out, "%s/point.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_render(scene_point, out, "") == 0, "point render");
+    CHECK(render_as_is(scene_point, out, "") == 0, "point render (scene key)");
     CHECK(st_test_read(out, &p), "read %s", out);
     snprintf(out, sizeof out, "%s/point_flag.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_render(scene, out, "--filter point") == 0, "--filter point render");
+    CHECK(render_as_is(scene, out, "--filter point") == 0, "--filter point render");
     CHECK(st_test_read(out, &q), "read %s", out);
     int wrong = 0;
     double point_sq = 0;
@@ -142,7 +149,7 @@ static void check_edges(void) {
     // sequence's stratification of the covered fraction.
     st_image b = {0};
     snprintf(out, sizeof out, "%s/box36.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_render(scene, out, "--frames 36") == 0, "box render, 36 frames");
+    CHECK(render_as_is(scene, out, "--frames 36") == 0, "box render, 36 frames");
     CHECK(st_test_read(out, &b), "read %s", out);
     int off = 0, checked = 0;
     double max36 = 0;
@@ -161,7 +168,7 @@ static void check_edges(void) {
     // everywhere, far closer than the point filter, and the same total.
     st_image d = {0};
     snprintf(out, sizeof out, "%s/box.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_render(scene, out, "") == 0, "default render");
+    CHECK(render_as_is(scene, out, "") == 0, "default render");
     CHECK(st_test_read(out, &d), "read %s", out);
     double box_sq = 0, maxd = 0, sum = 0;
     for (int j = 0; d.data && j < H; j++)
@@ -216,7 +223,7 @@ static void check_caching(void) {
     for (int box = 0; box < 2; box++) {
         int rc;
         cJSON *j =
-            st_test_stats_json(scene, out, box ? "--frames 8" : "--frames 8 --filter point", &rc);
+            st_test_stats_json(scene, out, box ? "--frames 8 --filter box" : "--frames 8", &rc);
         CHECK(rc == 0 && j, "stats render rc %d", rc);
         if (!j) continue;
         int sk = -1;
@@ -234,6 +241,28 @@ static void check_caching(void) {
         CHECK(pass_runs(j, "world", "accumulate", NULL) == (box ? 8 : -1),
               "accumulate: %d runs (%s)", pass_runs(j, "world", "accumulate", NULL),
               box ? "box" : "point");
+        cJSON_Delete(j);
+    }
+    // A sun's cascades follow the camera's view slices; a sub-pixel shift
+    // leaves them inside their fit, so they are not redrawn either.
+    snprintf(scene, sizeof scene, "%s/sun.json", ST_TEST_SCRATCH);
+    st_test_write(scene, "{\"image\": {\"width\": 48, \"height\": 32},\n"
+                         " \"camera\": {\"position\": [0, 3, 5], \"target\": [0, 0, 0], "
+                         "\"up\": [0, 1, 0], \"fov_y\": 50},\n"
+                         " \"lights\": [{\"type\": \"directional\", \"direction\": [-0.3, -1, "
+                         "-0.2], \"irradiance\": [2, 2, 2]}],\n"
+                         " \"geometry\": [{\"quad\": {\"corner\": [-4, 0, 4], \"u\": [8, 0, 0], "
+                         "\"v\": [0, 0, -8]}},\n"
+                         "  {\"box\": {\"min\": [-0.5, 0, -0.5], \"max\": [0.5, 1, 0.5]}}],\n"
+                         " \"modules\": [{\"name\": \"shadow_map\"}]}\n");
+    int rc;
+    cJSON *j = st_test_stats_json(scene, out, "--frames 8 --filter box", &rc);
+    CHECK(rc == 0 && j, "sun stats render rc %d", rc);
+    if (j) {
+        CHECK(pass_runs(j, "shadow_map", "cascades", NULL) == 1, "sun cascades: %d runs",
+              pass_runs(j, "shadow_map", "cascades", NULL));
+        CHECK(pass_runs(j, "world", "accumulate", NULL) == 8, "sun accumulate: %d runs",
+              pass_runs(j, "world", "accumulate", NULL));
         cJSON_Delete(j);
     }
 }
