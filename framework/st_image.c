@@ -160,6 +160,9 @@ static bool exr_write_file(const char *file, const char *path, const st_image *i
     if (meta && meta->config[0] &&
         (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
         goto done;
+    if (meta && meta->filter[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.filter", meta->filter)))
+        goto done;
     what = "cannot define header";
     if ((rc = exr_write_header(ctx))) goto done;
     int32_t lines = 0;
@@ -448,6 +451,10 @@ bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err) {
     if (exr_attr_get_string(ctx, 0, "strahl.config", &len, &config) == EXR_ERR_SUCCESS && config &&
         len > 0)
         snprintf(meta->config, sizeof meta->config, "%.*s", (int)len, config);
+    const char *filter = NULL;
+    if (exr_attr_get_string(ctx, 0, "strahl.filter", &len, &filter) == EXR_ERR_SUCCESS && filter &&
+        len > 0)
+        snprintf(meta->filter, sizeof meta->filter, "%.*s", (int)len, filter);
     exr_finish(&ctx);
     return true;
 }

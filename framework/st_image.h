@@ -42,6 +42,7 @@ typedef struct st_exr_meta {
     int spp;
     char seeds[4096];
     char config[1024]; // `strahl.config`: what was rendered (scene, size, options)
+    char filter[16];   // `strahl.filter`: the pixel filter, "box" or "point"; "" absent
 } st_exr_meta;
 bool st_image_write_exr_meta(const char *path, const st_image *img, const char *const *names,
                              const st_exr_meta *meta, st_err *err);

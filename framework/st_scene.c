@@ -9,11 +9,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+const char *st_filter_name(st_pixel_filter f) {
+    return f == ST_FILTER_BOX ? "box" : "point";
+}
+
+bool st_filter_parse(const char *s, st_pixel_filter *out) {
+    if (!strcmp(s, "box"))
+        *out = ST_FILTER_BOX;
+    else if (!strcmp(s, "point"))
+        *out = ST_FILTER_POINT;
+    else
+        return false;
+    return true;
+}
+
 static bool parse_image(st_jctx *c, const cJSON *v, st_scene *s) {
-    static const char *const keys[] = {"width", "height", NULL};
+    static const char *const keys[] = {"width", "height", "filter", NULL};
     bool has;
-    return st_j_object(c, v, keys) && st_j_int(c, v, "width", 1, 16384, &s->width, &has) &&
-           st_j_int(c, v, "height", 1, 16384, &s->height, &has);
+    char filter[64] = "";
+    if (!st_j_object(c, v, keys) || !st_j_int(c, v, "width", 1, 16384, &s->width, &has) ||
+        !st_j_int(c, v, "height", 1, 16384, &s->height, &has) ||
+        !st_j_string(c, v, "filter", filter, sizeof filter, &has))
+        return false;
+    if (has && !st_filter_parse(filter, &s->filter))
+        return st_j_fail(c, "filter", "'%s' is not a pixel filter (box or point)", filter);
+    return true;
 }
 
 // A unit direction from "direction" (must not be zero).
@@ -279,6 +299,7 @@ static bool parse_document(st_jctx *c, const cJSON *root, st_scene *s) {
     if (!cJSON_IsObject(root)) return st_j_fail(c, NULL, "expected a JSON object at the top level");
     if (!st_j_object(c, root, keys)) return false;
     s->width = s->height = 512;
+    s->filter = ST_FILTER_BOX; // what Cycles, Mitsuba and pbrt report
     SECTION("image", parse_image(c, v, s));
     SECTION("medium", parse_medium(c, v, &s->medium));
     // Radiance where camera rays leave the scene, >= 0 per channel.

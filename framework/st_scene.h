@@ -57,6 +57,14 @@ float st_light_angular_diameter(const st_light_desc *l); // directional lights o
 
 const char *st_light_type_name(st_light_type type); // "point", "directional", "spot"
 
+// A still image's pixel filter (docs/physics.md): point, the radiance through
+// the pixel's centre (one rasterised frame; the zero value, for scenes made in
+// code), or box, the mean radiance over the pixel's square (the scene file's
+// default: "image": {"filter": "box"}).
+typedef enum { ST_FILTER_POINT = 0, ST_FILTER_BOX } st_pixel_filter;
+const char *st_filter_name(st_pixel_filter f); // "point", "box"
+bool st_filter_parse(const char *s, st_pixel_filter *out);
+
 typedef enum { ST_PHASE_ISOTROPIC = 0, ST_PHASE_RAYLEIGH, ST_PHASE_HG } st_phase_kind;
 
 typedef struct st_medium_desc {
@@ -119,6 +127,7 @@ typedef struct st_scene {
     st_module_setting *modules;
     int num_modules;
     int mesh_capacity, light_capacity; // allocated lengths, grown by st_scene_add_*
+    st_pixel_filter filter;            // "image.filter"; box when the file does not say
 } st_scene;
 
 // Parses and validates a scene file. Strict: unknown keys, wrong types,

@@ -75,6 +75,17 @@ struct st_world {
     char res[MAX_RESOURCES][ST_NAME_MAX]; // resource names, interned per pass list; 0 is "hdr"
     int num_res;
     st_targets targets; // declared and tracked by modules (st_world_declare_target)
+    // The box pixel filter (st_world_opts.filter): jittered projection of this
+    // frame, the running sums' state and its convergence.
+    st_shader *accumulate;
+    float jitter[2];                             // this frame's offset, pixels
+    float jit_proj[16], jit_vp[16], jit_ivp[16]; // the camera's matrices, jittered
+    int acc_cur;                                 // accum target holding the sums
+    uint32_t acc_n;                              // frames in the sums (0: restart)
+    bool acc_done;                               // converged or capped: later frames add nothing
+    double acc_err;                              // relative standard error of the mean image
+    float *acc_read;                             // read-back buffer for the convergence test
+    int acc_stats;                               // stats entry "world/accumulate"
 };
 
 // ---- builtin uniforms (thesis: Camera and Light are uniform providers) ----
@@ -382,6 +393,11 @@ static void make_frame(st_world *w, st_frame *f) {
     f->proj = w->cam.proj;
     f->view_proj = w->cam.view_proj;
     f->inv_view_proj = w->cam.inv_view_proj;
+    if (w->opts.filter == ST_FILTER_BOX) {
+        f->proj = w->jit_proj;
+        f->view_proj = w->jit_vp;
+        f->inv_view_proj = w->jit_ivp;
+    }
     f->cam_pos = w->cam.position;
     f->fov_y = w->cam.fov_y;
     f->near_z = w->cam.near_z;
@@ -478,9 +494,11 @@ static int module_rows(st_world *w, const char *owner, st_mem_entry *out, int ma
 int st_world_memory(st_world *w, st_mem_entry *out, int max) {
     int n = 0;
     st_mem_entry e;
-    const st_target *cam[3] = {&w->cam.scene, &w->cam.post[0], &w->cam.post[1]};
-    const char *names[3] = {"camera.scene", "camera.post0", "camera.post1"};
-    for (int i = 0; i < 3; i++) {
+    const st_target *cam[5] = {&w->cam.scene, &w->cam.post[0], &w->cam.post[1], &w->cam.accum[0],
+                               &w->cam.accum[1]};
+    const char *names[5] = {"camera.scene", "camera.post0", "camera.post1", "camera.accum0",
+                            "camera.accum1"};
+    for (int i = 0; i < (w->cam.accum[0].fbo ? 5 : 3); i++) {
         st_targets_entry(names[i], cam[i], &e);
         n = add_row(out, max, n, &e);
     }
@@ -507,6 +525,121 @@ size_t st_world_memory_bytes(st_world *w) {
     for (int i = 0; i < n; i++)
         sum += rows[i].bytes;
     return sum;
+}
+
+// ---- the box pixel filter -------------------------------------------------------
+
+static double radical_inverse(uint32_t k, uint32_t base) {
+    double inv = 1.0 / base, f = inv, r = 0;
+    for (; k; k /= base, f *= inv)
+        r += f * (k % base);
+    return r;
+}
+
+void st_jitter_offset(uint32_t k, float out[2]) {
+    double x = radical_inverse(k, 2) + 0.5, y = radical_inverse(k, 3) + 0.5;
+    out[0] = (float)(x - floor(x) - 0.5);
+    out[1] = (float)(y - floor(y) - 0.5);
+}
+
+// The camera's matrices for a sample `jitter` pixels right of and below the
+// pixel centre: the image shifts the other way in NDC.
+static void jitter_matrices(st_world *w) {
+    mat4 t = GLM_MAT4_IDENTITY_INIT, proj, view, p, vp, inv;
+    t[3][0] = -2.0f * w->jitter[0] / (float)w->cam.width;
+    t[3][1] = 2.0f * w->jitter[1] / (float)w->cam.height;
+    memcpy(proj, w->cam.proj, sizeof proj);
+    memcpy(view, w->cam.view, sizeof view);
+    glm_mat4_mul(t, proj, p);
+    glm_mat4_mul(p, view, vp);
+    glm_mat4_inv(vp, inv);
+    memcpy(w->jit_proj, p, sizeof w->jit_proj);
+    memcpy(w->jit_vp, vp, sizeof w->jit_vp);
+    memcpy(w->jit_ivp, inv, sizeof w->jit_ivp);
+}
+
+// Whether every progressive module has converged (true without any): until
+// then each frame's image differs, so it replaces the accumulated one.
+static bool modules_settled(const st_world *w) {
+    for (int i = 0; i < w->num_mods; i++) {
+        st_progress p = {0};
+        const st_plugin *pl = w->mods[i]->p;
+        if (pl->progress && pl->progress(w->mods[i]->self, &p) && !p.converged) return false;
+    }
+    return true;
+}
+
+// The convergence test: the relative standard error of the mean image,
+// E = sqrt(mean over pixels of (s_p^2 / n) / (m_p^2 + M^2)), with m_p and
+// s_p^2 the mean and sample variance of pixel p's luminance over n frames and
+// M the image's mean luminance: atlas_gi's rule for its gather (the RMS
+// standard error relative to the mean), with each pixel relative to its own
+// value where that is brighter, so a few very bright pixels (a light's hot
+// spot) do not hold up the whole image, and dark ones count against M.
+static bool accum_error(st_world *w, const st_target *t, uint32_t n, st_err *err) {
+    size_t px = (size_t)t->width * t->height;
+    if (!w->acc_read && !(w->acc_read = malloc(px * 4 * sizeof(float))))
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width,
+                       t->height);
+    glGetTextureImage(t->color[0], 0, GL_RGBA, GL_FLOAT, (GLsizei)(px * 4 * sizeof(float)),
+                      w->acc_read);
+    double sum_m = 0, sum_e = 0;
+    for (size_t k = 0; k < px; k++) {
+        const float *a = w->acc_read + 4 * k;
+        sum_m += ((double)a[0] + a[1] + a[2]) / 3.0 / n;
+    }
+    double M2 = (sum_m / px) * (sum_m / px);
+    for (size_t k = 0; k < px; k++) {
+        const float *a = w->acc_read + 4 * k;
+        double m = ((double)a[0] + a[1] + a[2]) / 3.0 / n;
+        double var_mean = fmax(0.0, (a[3] - n * m * m) / (n - 1)) / n;
+        sum_e += var_mean / (m * m + M2);
+    }
+    w->acc_err = M2 > 0 ? sqrt(sum_e / px) : 0;
+    if (!isfinite(w->acc_err)) w->acc_err = INFINITY;
+    return st_gl_check("accumulation read back", err);
+}
+
+// Adds the frame just rendered to the running sums; the mean becomes the
+// camera's current image.
+static bool accumulate(st_world *w, st_err *err) {
+    st_camera *c = &w->cam;
+    double t0 = st_now_ms();
+    int next = w->acc_cur ^ 1;
+    st_target_bind(&c->accum[next]);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    st_shader_use(w->accumulate);
+    st_shader_texture(w->accumulate, "st_hdr_in", GL_TEXTURE_2D, c->current);
+    st_shader_texture(w->accumulate, "st_acc_prev", GL_TEXTURE_2D, c->accum[w->acc_cur].color[0]);
+    st_shader_set_int(w->accumulate, "st_acc_first", w->acc_n == 0);
+    st_shader_set_float(w->accumulate, "st_acc_n", (float)(w->acc_n + 1));
+    st_draw_fullscreen();
+    w->acc_cur = next;
+    w->acc_n++;
+    c->current = c->accum[next].color[1];
+    if (!st_gl_check("accumulate", err)) return false;
+    w->acc_err = INFINITY;
+    if (!modules_settled(w)) {
+        w->acc_n = 0; // the next frame starts again (at the centre)
+    } else {
+        uint32_t cap = w->opts.filter_max_frames > 0 ? (uint32_t)w->opts.filter_max_frames
+                                                     : ST_FILTER_MAX_FRAMES;
+        double tol = w->opts.filter_tolerance != 0 ? w->opts.filter_tolerance : ST_FILTER_TOLERANCE;
+        if (w->acc_n >= 4 || (w->acc_n >= cap && w->acc_n >= 2))
+            if (!accum_error(w, &c->accum[next], w->acc_n, err)) return false;
+        if (w->acc_n == 1 && cap == 1) w->acc_err = 0;
+        w->acc_done = w->acc_n >= cap || (w->acc_n >= 4 && w->acc_err <= tol);
+    }
+    st_pass_stats *ps = &w->stats[w->acc_stats];
+    ps->runs++;
+    ps->ran_last_frame = true;
+    if (ps->num_samples < ST_STATS_MAX_SAMPLES) {
+        ps->cpu_ms[ps->num_samples] = (float)(st_now_ms() - t0);
+        ps->gpu_ms[ps->num_samples] = -1;
+        ps->num_samples++;
+    }
+    return true;
 }
 
 static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
@@ -566,6 +699,27 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
 }
 
 bool st_world_frame(st_world *w, st_err *err) {
+    if (w->opts.filter == ST_FILTER_BOX) {
+        unsigned outside = w->changes;
+        for (int m = 0; m < w->num_mods; m++)
+            if (w->mods[m]->params_dirty) outside |= ST_CHANGE_PARAMS;
+        if (outside) w->acc_n = 0, w->acc_done = false, w->acc_err = INFINITY;
+        if (w->acc_done) {
+            // Converged and nothing changed: the mean stays, no pass runs.
+            for (int i = 0; i < w->num_stats; i++)
+                w->stats[i].ran_last_frame = false;
+            for (int i = 0; i < w->num_slots; i++)
+                w->stats[w->slots[i].stats].skipped++;
+            w->frame++;
+            return true;
+        }
+        // Only what depends on the camera redoes a jittered frame.
+        float j[2];
+        st_jitter_offset(w->acc_n, j);
+        if (j[0] != w->jitter[0] || j[1] != w->jitter[1]) w->changes |= ST_CHANGE_CAMERA;
+        memcpy(w->jitter, j, sizeof j);
+        jitter_matrices(w);
+    }
     // Distribute this frame's changes to every pass.
     for (int i = 0; i < w->num_slots; i++) {
         st_slot *s = &w->slots[i];
@@ -643,6 +797,7 @@ bool st_world_frame(st_world *w, st_err *err) {
             ps->gpu_ms[ps->num_samples - 1] = (float)((t1 > t0 ? t1 - t0 : 0) * 1e-6);
         }
     }
+    if (w->opts.filter == ST_FILTER_BOX && !accumulate(w, err)) return false;
     w->frame++;
     return st_gl_check("frame", err);
 }
@@ -652,11 +807,15 @@ bool st_world_read(st_world *w, st_image *out, st_err *err) {
     st_target tmp = {0};
     // The latest image may be a post target or the scene target's colour 0.
     const st_target *src = &w->cam.scene;
-    for (int i = 0; i < 2; i++)
+    int index = 0;
+    for (int i = 0; i < 2; i++) {
         if (w->cam.post[i].color[0] == w->cam.current) src = &w->cam.post[i];
+        if (w->cam.accum[i].color[1] && w->cam.accum[i].color[1] == w->cam.current)
+            src = &w->cam.accum[i], index = 1;
+    }
     float *rgba = malloc((size_t)W_ * H * 4 * sizeof(float));
     if (!rgba) return st_fail(err, ST_ERR_RUNTIME, "out of memory reading %dx%d", W_, H);
-    bool ok = st_target_read(src, 0, rgba, err);
+    bool ok = st_target_read(src, index, rgba, err);
     (void)tmp;
     if (ok) ok = st_image_alloc(out, W_, H, 3, err);
     if (ok) {
@@ -851,6 +1010,18 @@ static bool create_targets(st_world *w, st_err *err) {
     st_target_destroy(&c->scene);
     st_target_destroy(&c->post[0]);
     st_target_destroy(&c->post[1]);
+    st_target_destroy(&c->accum[0]);
+    st_target_destroy(&c->accum[1]);
+    w->acc_n = 0, w->acc_done = false, w->acc_err = INFINITY;
+    free(w->acc_read);
+    w->acc_read = NULL;
+    for (int i = 0; w->opts.filter == ST_FILTER_BOX && i < 2; i++) {
+        if (!st_target_create(&c->accum[i], c->width, c->height, 2, GL_RGBA32F, false, err))
+            return false;
+        char name[32];
+        snprintf(name, sizeof name, "camera.accum%d", i);
+        glObjectLabel(GL_FRAMEBUFFER, c->accum[i].fbo, -1, name);
+    }
     if (!st_target_create(&c->scene, c->width, c->height, 3, GL_RGBA32F, true, err) ||
         !st_target_create(&c->post[0], c->width, c->height, 1, GL_RGBA32F, false, err) ||
         !st_target_create(&c->post[1], c->width, c->height, 1, GL_RGBA32F, false, err))
@@ -928,6 +1099,15 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
     for (int m = 0; ok && m < w->num_mods; m++)
         ok = instantiate(w, m, err);
     ok = ok && build_regular(w, err) && build_slots(w, err);
+    if (ok && w->opts.filter == ST_FILTER_BOX) {
+        st_pass_stats *ps = stats_for(w, "world", "accumulate");
+        w->acc_stats = ps ? (int)(ps - w->stats) : 0;
+        if (!ps) ok = st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        w->accumulate =
+            ok ? st_shader_load("common/fullscreen.vert", "common/accumulate.frag", NULL, err)
+               : NULL;
+        ok = ok && w->accumulate;
+    }
     if (!ok) {
         st_world_destroy(w);
         return NULL;
@@ -950,6 +1130,10 @@ void st_world_destroy(st_world *w) {
     st_target_destroy(&w->cam.scene);
     st_target_destroy(&w->cam.post[0]);
     st_target_destroy(&w->cam.post[1]);
+    st_target_destroy(&w->cam.accum[0]);
+    st_target_destroy(&w->cam.accum[1]);
+    st_shader_destroy(w->accumulate);
+    free(w->acc_read);
     free(w->models);
     free(w->stats);
     free(w);
@@ -1124,7 +1308,22 @@ bool st_world_progress(const st_world *w, st_progress *out) {
                      w->mods[i]->p->name, p.info);
         }
     }
+    if (w->opts.filter == ST_FILTER_BOX) { // the pixel filter converges too
+        any = true;
+        out->converged = out->converged && w->acc_done;
+        if (w->acc_n > out->frames) out->frames = w->acc_n;
+        if (w->acc_err > out->error || isnan(w->acc_err)) out->error = w->acc_err;
+        size_t n = strlen(out->info);
+        snprintf(out->info + n, sizeof out->info - n,
+                 "%sfilter: box, %u frame(s) accumulated, relative standard error %.4g",
+                 n ? "; " : "", w->acc_n, w->acc_err);
+    }
     return any;
+}
+
+uint32_t st_world_accumulated(const st_world *w, bool *done) {
+    if (done) *done = w->opts.filter == ST_FILTER_BOX && w->acc_done;
+    return w->opts.filter == ST_FILTER_BOX ? w->acc_n : 0;
 }
 
 bool st_world_reload_shaders(st_world *w, st_err *err) {

@@ -77,7 +77,10 @@ typedef struct st_camera {
     // depth); the PostProcessor ping-pongs between post[0] and post[1].
     st_target scene, post[2];
     int post_out;   // index of the post target the next pass writes
-    GLuint current; // texture holding the latest image
+    GLuint current; // texture holding the latest image (with a box filter: the accumulated mean)
+    // Box filter only: running sums (colour 0: RGB, A = sum of luminance^2)
+    // and the mean image (colour 1), ping-ponged frame to frame.
+    st_target accum[2];
 } st_camera;
 
 void st_camera_update(st_camera *c); // recompute matrices from pose and size
@@ -87,7 +90,26 @@ void st_camera_update(st_camera *c); // recompute matrices from pose and size
 typedef struct st_world_opts {
     int width, height; // 0: the scene's image size
     bool timing;       // GPU timer queries per pass (for --stats)
+    // The still's pixel filter. Point (0): every frame samples pixel centres.
+    // Box: frames jitter the camera's sub-pixel offset (st_jitter_offset) and
+    // the world accumulates their mean until it has converged (st_world_progress,
+    // docs/architecture.md "Pixel filter"); any change (camera, parameters,
+    // lights, size, modules) restarts it, and while a progressive module is
+    // still converging each frame replaces the image instead.
+    st_pixel_filter filter;
+    double filter_tolerance; // box: relative standard error to stop at (0: ST_FILTER_TOLERANCE)
+    int filter_max_frames;   // box: cap on accumulated frames (0: ST_FILTER_MAX_FRAMES)
 } st_world_opts;
+
+#define ST_FILTER_TOLERANCE 0.005
+#define ST_FILTER_MAX_FRAMES 64
+
+// Sub-pixel offset of accumulated frame k of the box filter, in pixels from
+// the centre, each in [-0.5, 0.5): the Halton (2, 3) point k shifted by half a
+// pixel (toroidally), so k = 0 is the centre and the first 2^a 3^b offsets
+// put one point in each cell of a 2^a x 3^b grid (shifted with them). x to
+// the right, y down the image.
+void st_jitter_offset(uint32_t k, float out[2]);
 
 // Creates GL resources for the scene and loads its modules (in dependency
 // order; a module whose `requires` nobody provides is an error naming both).
@@ -134,6 +156,9 @@ bool st_world_get_param(const st_world *w, const char *module, const char *param
 // are, the largest frame count and error, their info lines joined. False
 // when no loaded module reports progress (one frame is the final image).
 bool st_world_progress(const st_world *w, st_progress *out);
+// Box filter: frames in the accumulated image (0 with the point filter) and
+// whether accumulation has stopped (converged or capped).
+uint32_t st_world_accumulated(const st_world *w, bool *done);
 // Moves point light i (relighting) in the world and in the scene it was
 // created from; passes that depend on lights rerun.
 bool st_world_set_light(st_world *w, int i, const float pos[3], const float intensity[3],

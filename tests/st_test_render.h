@@ -20,10 +20,13 @@ static inline void st_test_write(const char *path, const char *text) {
 }
 
 // Renders scene -> out (EXR), returns the exit code; extra is appended to
-// the command line.
+// the command line. With the point filter: these tests compare pixels with
+// what the ray through the pixel centre sees (st_test_ray); `--filter box` in
+// extra overrides it.
 static inline int st_test_render(const char *scene, const char *out, const char *extra) {
     unlink(out);
-    return st_test_sh("%s render %s -o %s %s", ST_TEST_STRAHL, scene, out, extra ? extra : "");
+    return st_test_sh("%s render %s -o %s --filter point %s", ST_TEST_STRAHL, scene, out,
+                      extra ? extra : "");
 }
 
 static inline int st_test_read(const char *path, st_image *img) {

@@ -67,6 +67,8 @@ static const char help_text[] =
     "                             steady: time a static scene\n"
     "  --set MODULE.PARAM=VALUE   fixed parameter for every setting (repeatable)\n"
     "  --size WxH                 render size (default: the scene's; must match REF)\n"
+    "  --filter box|point         pixel filter (default: REF's strahl.filter header attribute,\n"
+    "                             point without one); a different one is used with a warning\n"
     "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
     "                             (default 1/1: all); only shard 1 writes the CSV header,\n"
     "                             so `cat` of shards 1..N in order is the whole table\n"
@@ -109,7 +111,7 @@ static double error_of(const st_metrics *m, const char *metric, bool debiased) {
 static bool run_one(const st_scene *scene, const st_image *ref, const st_image *ref_se, int frames,
                     int warmup, bool recompute, const char *metric, const sweep *sweeps,
                     int nsweeps, row *r, st_err *err) {
-    st_world_opts opts = {.timing = true};
+    st_world_opts opts = {.timing = true, .filter = scene->filter};
     st_world *w = st_world_create(scene, &opts, err);
     if (!w) return false;
     float *ft = calloc((size_t)frames, sizeof *ft);
@@ -135,7 +137,9 @@ static bool run_one(const st_scene *scene, const st_image *ref, const st_image *
         ok = st_world_frame(w, err);
         extra++;
     }
-    if (ok && extra)
+    // The box filter's accumulation always takes frames; say so only when a
+    // progressive module needed more.
+    if (ok && extra > (long)st_world_accumulated(w, NULL))
         fprintf(stderr,
                 "strahl bench: %s: %ld more frame(s) to converge, estimated remaining relative "
                 "error %.4g\n",
@@ -187,6 +191,7 @@ int st_cmd_bench(int argc, char **argv) {
     double budget = -1;
     long shard_i = 0, shard_n = 0;
     bool append = false, recompute = true;
+    const char *filter_arg = NULL;
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -227,6 +232,12 @@ int st_cmd_bench(int argc, char **argv) {
             if (nsets == MAX_SETS)
                 return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("bench", &err);
             sets[nsets++] = argv[++i];
+        } else if (!strcmp(a, "--filter") && nx) {
+            st_pixel_filter f;
+            if (!st_filter_parse(argv[++i], &f))
+                return st_fail(&err, ST_ERR_INPUT, "--filter %s: expected box or point", argv[i]),
+                       st_report("bench", &err);
+            filter_arg = argv[i];
         } else if (!strcmp(a, "--size") && nx) {
             if (!st_parse_size(argv[++i], &width, &height))
                 return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH", argv[i]),
@@ -283,6 +294,16 @@ int st_cmd_bench(int argc, char **argv) {
         st_image_free(&ref);
         return st_report("bench", &err);
     }
+    // Render with the reference's pixel filter unless told otherwise.
+    st_pixel_filter filter = ST_FILTER_POINT;
+    st_filter_parse(st_exr_filter(&ref_meta), &filter);
+    if (filter_arg && strcmp(filter_arg, st_exr_filter(&ref_meta)))
+        fprintf(stderr,
+                "strahl bench: warning: --filter %s, but %s was made with the %s filter%s: the "
+                "error includes the filters' difference at edges\n",
+                filter_arg, ref_path, st_exr_filter(&ref_meta),
+                ref_meta.filter[0] ? "" : " (no strahl.filter attribute)");
+    if (filter_arg) st_filter_parse(filter_arg, &filter);
     // Validate the scene and every swept value before any rendering.
     int total = 1;
     for (int k = 0; k < nsweeps; k++)
@@ -335,6 +356,7 @@ int st_cmd_bench(int argc, char **argv) {
         snprintf(curve, sizeof curve, "%.63s%.190s", sweeps[0].module, r->curve);
         memcpy(r->curve, curve, sizeof curve);
         if (!st_load_scene_with(scene_path, all, n, width, height, &scene, &err)) goto fail;
+        scene.filter = filter;
         if (scene.width != ref.width || scene.height != ref.height) {
             st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)", ref_path,
                     ref.width, ref.height, scene.width, scene.height);

@@ -111,3 +111,19 @@ void st_progress_end(st_progress_bar *p, int done, const char *extra) {
     fprintf(stderr, "strahl %s: %d %s in %.1f s%s%s\n", p->label, done, p->unit,
             (st_now_ms() - p->t0) / 1000.0, extra && extra[0] ? ", " : "", extra ? extra : "");
 }
+
+const char *st_exr_filter(const st_exr_meta *meta) {
+    return meta->filter[0] ? meta->filter : "point";
+}
+
+bool st_warn_filter_mismatch(const char *cmd, const char *a_path, const st_exr_meta *a,
+                             const char *b_path, const st_exr_meta *b) {
+    const char *fa = st_exr_filter(a), *fb = st_exr_filter(b);
+    if (!strcmp(fa, fb)) return false;
+    fprintf(stderr,
+            "strahl %s: warning: %s has pixel filter '%s'%s, %s has '%s'%s: edges differ by "
+            "the filter, not the method (render both with one --filter)\n",
+            cmd, a_path, fa, a->filter[0] ? "" : " (no strahl.filter attribute)", b_path, fb,
+            b->filter[0] ? "" : " (no strahl.filter attribute)");
+    return true;
+}

@@ -17,6 +17,13 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
 // would bring it to a third (ref_spp 0: unknown). Returns whether it warned.
 bool st_warn_reference_noise(const char *cmd, const char *ref_path, const st_metrics *m,
                              int ref_spp);
+// The pixel filter an EXR was made with: its strahl.filter attribute, or
+// "point" without one (files from before the box filter sampled centres).
+const char *st_exr_filter(const st_exr_meta *meta);
+// Warns on stderr when A and B were made with different pixel filters.
+// Returns whether it warned.
+bool st_warn_filter_mismatch(const char *cmd, const char *a_path, const st_exr_meta *a,
+                             const char *b_path, const st_exr_meta *b);
 // Progress of a long command on stderr: on a terminal a bar with the
 // elapsed time and an ETA (redrawn at most 4 times a second, from 1 s on);
 // otherwise nothing until st_progress_end's one summary line.

@@ -18,6 +18,9 @@ static const char help_text[] =
     "sqrt(max(0, mean((a-b)^2 - s^2))), relmse_debiased and scaled_rmse_debiased alike,\n"
     "and ref_noise_rms = sqrt(mean(s^2)); a warning goes to stderr when ref_noise_rms\n"
     "exceeds a third of rmse_debiased (the reference is too noisy to resolve the error).\n"
+    "A warning also goes to stderr when A and B were made with different pixel filters\n"
+    "(the strahl.filter header attribute, box or point; a file without it counts as point,\n"
+    "as strahl wrote them before it had the box filter).\n"
     "  --json             one JSON object instead of the table (default: text)\n"
     "  --heatmap OUT.png  |A - B| as a colour ramp (default: none)\n"
     "  -h, --help         this text\n"
@@ -134,12 +137,13 @@ int st_cmd_compare(int argc, char **argv) {
 
     st_err err = {0};
     st_image a = {0}, b = {0}, bs = {0};
-    st_exr_meta meta = {0};
+    st_exr_meta meta = {0}, meta_a = {0};
     st_metrics m;
     int rc = ST_EXIT_OK;
     if (!st_image_read_exr(files[0], &a, &err) || !st_image_read_exr(files[1], &b, &err) ||
         !st_image_read_exr_stderr(files[1], &bs, &err) ||
-        !st_image_read_exr_meta(files[1], &meta, &err)) {
+        !st_image_read_exr_meta(files[1], &meta, &err) ||
+        !st_image_read_exr_meta(files[0], &meta_a, &err)) {
         rc = fail(&err);
     } else if (!st_image_compare_noisy(&a, &b, &bs, &m, &err)) {
         // Name both files: the message itself only knows "image"/"reference".
@@ -153,6 +157,7 @@ int st_cmd_compare(int argc, char **argv) {
         print_text(&m, a.width, a.height, files[0], files[1]);
     }
     if (rc == ST_EXIT_OK) st_warn_reference_noise("compare", files[1], &m, meta.spp);
+    if (rc == ST_EXIT_OK) st_warn_filter_mismatch("compare", files[0], &meta_a, files[1], &meta);
     st_image_free(&a);
     st_image_free(&b);
     st_image_free(&bs);

@@ -1,4 +1,5 @@
-// strahl reference: the CPU reference image of a scene (tools/reference).
+// strahl reference: the CPU reference image of a scene (tools/reference),
+// box-filtered over each pixel unless the scene or --filter says point.
 // Writes R, G, B (radiance of the chosen AOV) and stderr.R/G/B (standard
 // error of each pixel's mean) to an EXR; nothing is written on failure.
 #define _POSIX_C_SOURCE 200809L
@@ -29,6 +30,9 @@ static const char usage_text[] =
     "  --bounce-visibility on|off  visibility test in the bounce (default on)\n"
     "  --estimator area|thesis   bounce estimator (default area)\n"
     "  --steps N                 strata per view ray for in-scattering, 1..1000000 (default 256)\n"
+    "  --filter box|point        pixel filter (default: the scene's image.filter, box): box =\n"
+    "                            samples stratified over the pixel's square, point = its centre;\n"
+    "                            recorded in the header as strahl.filter\n"
     "  --threads N               worker threads, 1..256 (default: all online cores)\n"
     "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
     "  -h, --help                this text\n"
@@ -71,6 +75,7 @@ int st_cmd_reference(int argc, char **argv) {
     char *sets[MAX_SETS];
     int num_sets = 0, width = 0, height = 0;
     st_ref_options o = {.spp = 64, .bounces = 1};
+    int filter = -1; // -1: the scene's
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -121,6 +126,11 @@ int st_cmd_reference(int argc, char **argv) {
             if (!st_parse_int(v, 1, 1000000, &n))
                 return bad(&err, "--steps %s: expected 1..1000000", v);
             o.march_steps = (int)n;
+        } else if (!strcmp(a, "--filter")) {
+            static const char *const names[] = {"point", "box"};
+            if (!parse_choice(v, names, 2, &choice))
+                return bad(&err, "--filter %s: expected box or point", v);
+            filter = choice;
         } else if (!strcmp(a, "--threads")) {
             if (!st_parse_int(v, 1, 256, &n)) return bad(&err, "--threads %s: expected 1..256", v);
             o.threads = (int)n;
@@ -142,6 +152,7 @@ int st_cmd_reference(int argc, char **argv) {
     // same command line serves both; the reference itself reads no module.
     if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
         return st_report("reference", &err);
+    o.filter = filter >= 0 ? (st_pixel_filter)filter : scene.filter;
     st_image img;
     const int w0 = scene.width, h0 = scene.height;
     double t0 = st_now_ms();
@@ -164,15 +175,16 @@ int st_cmd_reference(int argc, char **argv) {
         return st_report("reference", &err);
     }
     st_exr_meta meta = {.spp = o.spp};
+    snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(o.filter));
     snprintf(meta.seeds, sizeof meta.seeds, "%llu", (unsigned long long)o.seed);
     // What the pixels depend on besides spp and seed (--set is not: the
     // reference reads no module): shards merge only if this matches.
     static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
     snprintf(meta.config, sizeof meta.config,
-             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d", scene_path, w0, h0,
-             aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
+             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d filter=%s", scene_path,
+             w0, h0, aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
              o.estimator == ST_REF_EST_THESIS ? "thesis" : "area",
-             o.march_steps > 0 ? o.march_steps : 256);
+             o.march_steps > 0 ? o.march_steps : 256, meta.filter);
     ok = st_image_write_exr_meta(out_path, &img, names, &meta, &err);
     int w = img.width, h = img.height;
     st_image_free(&img);

@@ -20,9 +20,13 @@ static const char help_text[] =
     "  -o OUT.exr|OUT.png       output file (required; written atomically)\n"
     "  --set MODULE.PARAM=VALUE change a module parameter (repeatable; default: the scene's)\n"
     "  --size WxH               image size (default: the scene's image.width x height)\n"
-    "  --frames N               render exactly N frames, 1..100000 (default: run until\n"
-    "                           every progressive module, e.g. atlas_gi's gather, reports\n"
-    "                           its image converged; 1 frame if none is progressive)\n"
+    "  --filter box|point       pixel filter (default: the scene's image.filter, box):\n"
+    "                           box = mean radiance over the pixel (jittered frames\n"
+    "                           accumulated until converged), point = pixel centres\n"
+    "  --frames N               render exactly N frames, 1..100000 (box: their mean; default:\n"
+    "                           run until every progressive module, e.g. atlas_gi's gather,\n"
+    "                           and the box filter report the image converged; 1 frame if\n"
+    "                           none is progressive)\n"
     "  --max-frames N           cap on frames when running to convergence (default 2000)\n"
     "  --max-seconds S          cap on seconds when running to convergence (default 600)\n"
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
@@ -95,9 +99,11 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
     double fm = st_median_f(frame_ms, nframes);
     const st_camera *c = st_world_camera(w);
     if (json) {
-        printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"frames\": %d, "
-               "\"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, \"gpu_bytes\": %zu, ",
-               st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss,
+        printf("{\"renderer\": \"%s\", \"width\": %d, \"height\": %d, \"filter\": \"%s\", "
+               "\"frames\": %d, \"frame_ms_median\": %.4f, \"peak_rss_kb\": %ld, "
+               "\"gpu_bytes\": %zu, ",
+               st_context_renderer(), c->width, c->height,
+               st_filter_name(st_world_scene(w)->filter), nframes, fm, ru.ru_maxrss,
                st_world_memory_bytes(w));
         print_memory(w, true);
         if (pr)
@@ -142,6 +148,7 @@ int st_cmd_render(int argc, char **argv) {
     long frames = 1, warmup = -1, max_frames = 2000;
     double max_seconds = 600;
     bool frames_given = false;
+    const char *filter_arg = NULL;
     double exposure = 0;
     st_err err = {0};
     for (int i = 1; i < argc; i++) {
@@ -166,6 +173,12 @@ int st_cmd_render(int argc, char **argv) {
                 return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..100000", argv[i]),
                        st_report("render", &err);
             frames_given = true;
+        } else if (!strcmp(a, "--filter") && has_next) {
+            st_pixel_filter f;
+            if (!st_filter_parse(argv[++i], &f))
+                return st_fail(&err, ST_ERR_INPUT, "--filter %s: expected box or point", argv[i]),
+                       st_report("render", &err);
+            filter_arg = argv[i];
         } else if (!strcmp(a, "--max-frames") && has_next) {
             if (!st_parse_int(argv[++i], 1, 100000, &max_frames))
                 return st_fail(&err, ST_ERR_INPUT, "--max-frames %s: expected 1..100000", argv[i]),
@@ -216,13 +229,16 @@ int st_cmd_render(int argc, char **argv) {
     st_scene scene = {0};
     if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
         return st_report("render", &err);
+    if (filter_arg) st_filter_parse(filter_arg, &scene.filter);
     int rc = ST_EXIT_OK;
     st_context *ctx = st_context_create_headless(&err);
     st_world *w = NULL;
     float *frame_ms = calloc((size_t)frames, sizeof *frame_ms);
     st_image img = {0};
     if (!ctx || !frame_ms) goto fail;
-    st_world_opts opts = {.timing = stats != 0};
+    st_world_opts opts = {.timing = stats != 0, .filter = scene.filter};
+    // --frames N: the box filter's mean of exactly N frames.
+    if (frames_given) opts.filter_max_frames = (int)frames, opts.filter_tolerance = -1;
     w = st_world_create(&scene, &opts, &err);
     if (!w) goto fail;
     int timed = 0;
@@ -250,7 +266,13 @@ int st_cmd_render(int argc, char **argv) {
                 "%zu non-finite values in the rendered image; nothing written", bad);
         goto fail;
     }
-    if (!st_image_write(out, &img, (float)exposure, &err)) goto fail;
+    const char *dot = strrchr(out, '.');
+    static const char *const rgb[] = {"R", "G", "B"};
+    st_exr_meta meta = {0}; // the EXR header records the pixel filter
+    snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(scene.filter));
+    if (!(strcasecmp(dot, ".exr") ? st_image_write(out, &img, (float)exposure, &err)
+                                  : st_image_write_exr_meta(out, &img, rgb, &meta, &err)))
+        goto fail;
     if (stats)
         print_stats(w, frame_ms, timed, stats == 2, has_prog ? &prog : NULL, ran, total_ms);
     else if (has_prog)

@@ -26,6 +26,8 @@ static const char help_text[] =
     "                            --size or the scene's image size)\n"
     "  --set MODULE.PARAM=VALUE  change a module parameter (repeatable)\n"
     "  --exposure EV             display exposure in stops, -64..64 (default 0)\n"
+    "  --filter box|point        pixel filter (default: the scene's image.filter, box): box\n"
+    "                            accumulates jittered frames while nothing changes\n"
     "  --ui-scale S              overlay text scale, 0.5..8 (default 1)\n"
     "  --shots DIR               screenshot folder (default .)\n"
     "  --hide-panel              start with the parameter panel hidden (default shown)\n"
@@ -60,6 +62,8 @@ int st_cmd_view(int argc, char **argv) {
     char *sets[MAX_SETS];
     int num_sets = 0, width = 0, height = 0, win_w = 0, win_h = 0;
     double exposure = 0, ui_scale = 1;
+    st_pixel_filter filter = ST_FILTER_BOX;
+    bool filter_given = false;
     bool hide_panel = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -79,6 +83,10 @@ int st_cmd_view(int argc, char **argv) {
         } else if (!strcmp(a, "--window") && has_next) {
             if (!st_parse_size(argv[++i], &win_w, &win_h))
                 return usage_error("--window %s: expected WxH, 1..16384 each", argv[i]);
+        } else if (!strcmp(a, "--filter") && has_next) {
+            if (!st_filter_parse(argv[++i], &filter))
+                return usage_error("--filter %s: expected box or point", argv[i]);
+            filter_given = true;
         } else if (!strcmp(a, "--exposure") && has_next) {
             exposure = strtod(argv[++i], &e);
             if (*e || !isfinite(exposure) || fabs(exposure) > 64)
@@ -135,7 +143,8 @@ int st_cmd_view(int argc, char **argv) {
     glfwGetFramebufferSize(v->win, &fw, &fh);
     st_world_opts opts = {.width = v->fixed_size ? v->render_w : fw,
                           .height = v->fixed_size ? v->render_h : fh,
-                          .timing = true};
+                          .timing = true,
+                          .filter = filter_given ? filter : scene.filter};
     v->scene = &scene;
     v->world = st_world_create(&scene, &opts, &err);
     if (!v->world) goto fail;

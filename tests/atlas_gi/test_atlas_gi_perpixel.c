@@ -30,7 +30,8 @@ static void per_pixel(const char *name, const char *scene, const char *size, int
     snprintf(ref, sizeof ref, "%s/%s_ref.exr", ST_TEST_SCRATCH, name);
     snprintf(img, sizeof img, "%s/%s.exr", ST_TEST_SCRATCH, name);
     snprintf(cmd, sizeof cmd,
-             "%s reference %s -o %s --size %s --bounces 1 --spp %d --seed 7 >/dev/null",
+             "%s reference %s -o %s --size %s --bounces 1 --spp %d --seed 7 --filter point "
+             ">/dev/null",
              ST_TEST_STRAHL, scene, ref, size, spp);
     CHECK(system(cmd) == 0, "%s", cmd);
     char opts[64];

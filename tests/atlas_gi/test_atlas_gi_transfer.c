@@ -131,7 +131,8 @@ static void against_reference(const char *name, const char *extra, int bounces, 
     snprintf(img, sizeof img, "%s/%s.exr", ST_TEST_SCRATCH, name);
     st_test_write(scene, json);
     snprintf(cmd, sizeof cmd,
-             "%s reference %s -o %s --bounces %d --aov indirect --spp %d --seed 3 >/dev/null",
+             "%s reference %s -o %s --bounces %d --aov indirect --spp %d --seed 3 --filter point "
+             ">/dev/null",
              ST_TEST_STRAHL, scene, ref, bounces, 1024 * bounces);
     CHECK(system(cmd) == 0, "%s", cmd);
     CHECK(st_test_render(scene, img, NULL) == 0, "%s: render", name);
@@ -245,7 +246,8 @@ static void dark_face(void) {
     snprintf(ref, sizeof ref, "%s/dark_face_ref.exr", ST_TEST_SCRATCH);
     snprintf(img, sizeof img, "%s/dark_face.exr", ST_TEST_SCRATCH);
     st_test_write(scene, json);
-    snprintf(cmd, sizeof cmd, "%s reference %s -o %s --bounces 1 --spp 1024 --seed 5 >/dev/null",
+    snprintf(cmd, sizeof cmd,
+             "%s reference %s -o %s --bounces 1 --spp 1024 --seed 5 --filter point >/dev/null",
              ST_TEST_STRAHL, scene, ref);
     CHECK(system(cmd) == 0, "%s", cmd);
     CHECK(st_test_render(scene, img, NULL) == 0, "dark face: render");

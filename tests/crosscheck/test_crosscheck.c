@@ -176,8 +176,9 @@ int main(int argc, char **argv) {
     const char *opts = direct   ? "--bounces 0 --spp 1"
                        : bounce ? "--bounces 1 --spp 256"
                                 : "--bounces 0 --spp 64 --steps 16";
-    CHECK(st_test_sh("%s reference %s -o %s %s --seed 1", ST_TEST_STRAHL, scene, ref_path, opts) ==
-              0,
+    // The point filter: these Cycles images use a 0.01 px Gaussian (pixel centres).
+    CHECK(st_test_sh("%s reference %s -o %s %s --seed 1 --filter point", ST_TEST_STRAHL, scene,
+                     ref_path, opts) == 0,
           "strahl reference exits 0");
     static const char *const ch[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
     st_err err = {0};
@@ -205,7 +206,7 @@ int main(int argc, char **argv) {
     check_le(name, "reference", "noise-statistic", s.m, s.bound);
 
     // The GPU plugins of the scene, every parameter at its default.
-    CHECK(st_test_sh("%s render %s -o %s", ST_TEST_STRAHL, scene, gpu_path) == 0,
+    CHECK(st_test_sh("%s render %s -o %s --filter point", ST_TEST_STRAHL, scene, gpu_path) == 0,
           "strahl render exits 0");
     if (read_rgb(gpu_path, &gpu)) {
         double relmse = INFINITY, nrmse = INFINITY;

@@ -43,7 +43,8 @@ int main(void) {
     // toth: single scattering with shadow-map visibility vs exact visibility.
     snprintf(ref, sizeof ref, "%s/window_ref.exr", ST_TEST_SCRATCH);
     CHECK(st_test_sh(
-              "%s reference %s/scenes/godrays_window.json -o %s --size 32x32 --spp 16 --bounces 0",
+              "%s reference %s/scenes/godrays_window.json -o %s --size 32x32 --spp 16 --bounces 0 "
+              "--filter point",
               ST_TEST_STRAHL, ST_TEST_SOURCE_DIR, ref) == 0,
           "toth reference");
     snprintf(scene, sizeof scene, "%s/scenes/godrays_window.json", ST_TEST_SOURCE_DIR);
@@ -76,7 +77,8 @@ int main(void) {
                "\"mode\": \"gather\", \"visibility\": false, \"sampling\": \"uniform\", "
                "\"progressive\": false}}]}\n");
     snprintf(ref, sizeof ref, "%s/room_ref.exr", ST_TEST_SCRATCH);
-    CHECK(st_test_sh("%s reference %s -o %s --spp 2048 --bounces 1 --bounce-visibility off",
+    CHECK(st_test_sh("%s reference %s -o %s --spp 2048 --bounces 1 --bounce-visibility off "
+                     "--filter point",
                      ST_TEST_STRAHL, scene, ref) == 0,
           "atlas_gi reference");
     const int samples[] = {4, 32, 256};

@@ -52,8 +52,8 @@ int main(void) {
     snprintf(ref, sizeof ref, "%s/sun_ref.exr", ST_TEST_SCRATCH);
     write_scene(scene, CAM, TGT);
     CHECK(st_test_render(scene, gpu, NULL) == 0, "render");
-    snprintf(cmd, sizeof cmd, "%s reference %s -o %s --bounces 0 --spp 1 2>&1", ST_TEST_STRAHL,
-             scene, ref);
+    snprintf(cmd, sizeof cmd, "%s reference %s -o %s --bounces 0 --spp 1 --filter point 2>&1",
+             ST_TEST_STRAHL, scene, ref);
     static char buf[1 << 14];
     CHECK(st_test_capture(buf, sizeof buf, cmd) == 0, "reference: %s", buf);
     st_image a = {0}, b = {0};

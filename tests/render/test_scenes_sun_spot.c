@@ -46,7 +46,8 @@ static void test_toth(const char *scene) {
     st_image gpu = {0}, cpu = {0};
     if (!render(scene, out, NULL, &gpu)) return;
     unlink(ref);
-    int rc = st_test_sh("%s reference %s/scenes/%s.json -o %s " SIZE " --spp 16 --bounces 0",
+    int rc = st_test_sh("%s reference %s/scenes/%s.json -o %s " SIZE
+                        " --spp 16 --bounces 0 --filter point",
                         ST_TEST_STRAHL, ST_TEST_SOURCE_DIR, scene, ref);
     CHECK(rc == 0, "%s: strahl reference rc %d", scene, rc);
     if (rc == 0 && st_test_read(ref, &cpu)) {

@@ -100,8 +100,8 @@ int main(void) {
     static char buf[1 << 14];
     snprintf(ref, sizeof ref, "%s/refine_sun_ref.exr", ST_TEST_SCRATCH);
     write_sun(scene, "");
-    snprintf(cmd, sizeof cmd, "%s reference %s -o %s --bounces 0 --spp 1 2>&1", ST_TEST_STRAHL,
-             scene, ref);
+    snprintf(cmd, sizeof cmd, "%s reference %s -o %s --bounces 0 --spp 1 --filter point 2>&1",
+             ST_TEST_STRAHL, scene, ref);
     CHECK(st_test_capture(buf, sizeof buf, cmd) == 0, "reference: %s", buf);
     st_image exact = {0};
     if (!st_test_read(ref, &exact)) return st_test_summary("test_shadow_refine");

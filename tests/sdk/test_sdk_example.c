@@ -44,9 +44,9 @@ static double check_render(const char *prefix, const char *modules, const char *
     char out[1200];
     snprintf(out, sizeof out, "%s/%s.exr", ST_TEST_SCRATCH, what);
     unlink(out);
-    int rc =
-        st_test_sh("env -u STRAHL_SHADER_PATH STRAHL_MODULE_PATH=%s %s/bin/strahl render %s -o %s",
-                   modules, prefix, scene, out);
+    int rc = st_test_sh("env -u STRAHL_SHADER_PATH STRAHL_MODULE_PATH=%s %s/bin/strahl render %s "
+                        "-o %s --filter point",
+                        modules, prefix, scene, out);
     CHECK(rc == 0, "%s: installed strahl renders with the example plugin (rc %d)", what, rc);
     st_image img = {0};
     if (rc || !st_test_read(out, &img)) return 1e9;

@@ -15,8 +15,8 @@ st_context *st_test_context(void) {
 cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra, int *rc) {
     static char buf[1 << 16];
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json %s 2>/dev/null", ST_TEST_STRAHL,
-             scene, out, extra ? extra : "");
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json --filter point %s 2>/dev/null",
+             ST_TEST_STRAHL, scene, out, extra ? extra : "");
     *rc = st_test_capture(buf, sizeof buf, cmd);
     return cJSON_Parse(buf);
 }

@@ -14,7 +14,9 @@
 // A headless GL context; on failure prints why and exits 1 (nothing to test).
 st_context *st_test_context(void);
 
-// Runs `strahl render SCENE -o OUT --stats=json EXTRA` and parses its output.
+// Runs `strahl render SCENE -o OUT --stats=json --filter point EXTRA` and parses
+// its output (point: frames of a static scene redo nothing; `--filter box` in
+// EXTRA overrides it).
 // *rc gets the exit code; NULL when the output is not JSON.
 cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra, int *rc);
 

@@ -16,8 +16,8 @@ typedef struct {
 static toth_stats stats(const char *extra) {
     toth_stats t = {0};
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json %s 2>/dev/null", ST_TEST_STRAHL,
-             scene, out, extra);
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --stats=json --filter point %s 2>/dev/null",
+             ST_TEST_STRAHL, scene, out, extra);
     int rc = st_test_capture(buf, sizeof buf, cmd);
     CHECK(rc == 0, "stats render rc %d", rc);
     cJSON *j = cJSON_Parse(buf);
@@ -97,7 +97,7 @@ int main(void) {
         memmove(sm, sm + l, strlen(sm + l) + 1);
         st_test_write(scene, json);
         char cmd[2048];
-        snprintf(cmd, sizeof cmd, "%s render %s -o %s", ST_TEST_STRAHL, scene, out);
+        snprintf(cmd, sizeof cmd, "%s render %s -o %s --filter point", ST_TEST_STRAHL, scene, out);
         unlink(out);
         int rc = st_test_capture(buf, sizeof buf, cmd);
         CHECK(rc == 2 && strstr(buf, "toth") && strstr(buf, "shadow_map"),
@@ -106,7 +106,7 @@ int main(void) {
     }
     write_room(1, med, "\"samples\": 0");
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s", ST_TEST_STRAHL, scene, out);
+    snprintf(cmd, sizeof cmd, "%s render %s -o %s --filter point", ST_TEST_STRAHL, scene, out);
     int rc = st_test_capture(buf, sizeof buf, cmd);
     CHECK(rc == 2 && strstr(buf, "samples"), "samples 0 refused: rc %d: %s", rc, buf);
     write_room(1, med, "\"resolution\": \"eighth\"");

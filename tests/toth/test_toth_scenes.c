@@ -220,7 +220,8 @@ static void test_scene(const char *name) {
         st_image_free(&img[k]);
     // toth and shadow_map both run.
     char cmd[2048], buf[1 << 14];
-    snprintf(cmd, sizeof cmd, "%s render %s -o %s --size 16x16 --stats=json 2>/dev/null",
+    snprintf(cmd, sizeof cmd,
+             "%s render %s -o %s --size 16x16 --stats=json --filter point 2>/dev/null",
              ST_TEST_STRAHL, path, out);
     int rc = st_test_capture(buf, sizeof buf, cmd);
     CHECK(rc == 0 && strstr(buf, "\"module\": \"toth\", \"pass\": \"march\", \"runs\": 1") &&

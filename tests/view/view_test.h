@@ -32,12 +32,14 @@ static inline void st_view_under_xvfb(char **argv) {
     exit(1);
 }
 
-// Runs `strahl view SCENE --script SCRIPT EXTRA`, output captured in log.
+// Runs `strahl view SCENE --script SCRIPT --filter point EXTRA`, output
+// captured in log (point: screenshots equal the st_test_render images; a
+// `--filter box` in EXTRA overrides it).
 static inline int st_view_run(const char *scene, const char *script, const char *extra, char *log,
                               size_t n) {
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s view %s --script %s %s", ST_TEST_STRAHL, scene, script,
-             extra ? extra : "");
+    snprintf(cmd, sizeof cmd, "%s view %s --script %s --filter point %s", ST_TEST_STRAHL, scene,
+             script, extra ? extra : "");
     return st_test_capture(log, n, cmd);
 }
 

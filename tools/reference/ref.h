@@ -1,8 +1,10 @@
 // strahl reference: the CPU renderer (Embree 3) that computes docs/physics.md's
 // model with exact visibility and many samples. Internal to the tools.
 //
-// Model, per pixel (one view ray through the pixel centre, no antialiasing,
-// so pixels compare one to one with the GPU rasterizer):
+// Model, per pixel: with the point filter one view ray through the pixel
+// centre; with the box filter (the command's default) each sample's view ray
+// through its own point, stratified uniformly over the pixel's square, so
+// the pixel is the mean radiance over it. Per view ray:
 //   direct    emission (front side) + sum over point lights of
 //             rho/pi I max(cos, 0)/d^2 V, V from an exact shadow ray.
 //   indirect  `bounces` diffuse bounces of L0 = emission + direct (+ the
@@ -31,8 +33,9 @@ typedef struct st_ref_options {
     int bounces;        // diffuse bounces (0: no indirect light)
     bool no_visibility; // bounce without the sender-receiver visibility test
     st_ref_estimator estimator;
-    int march_steps; // strata per view ray for in-scattering (0: 256)
-    int threads;     // 0: all online cores
+    int march_steps;        // strata per view ray for in-scattering (0: 256)
+    int threads;            // 0: all online cores
+    st_pixel_filter filter; // point (0): pixel centres; box: stratified over the pixel
     // Called from the calling thread about every 10 ms with the rows done
     // (and once at the end with all of them); NULL: none.
     void (*progress)(void *user, int rows_done, int rows);

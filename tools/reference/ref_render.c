@@ -1,5 +1,6 @@
-// The reference's image loop: one view ray per pixel centre, spp samples of
-// the stochastic terms, rows handed out to all cores.
+// The reference's image loop: spp samples per pixel, each with its view ray
+// (the pixel centre for the point filter, a stratified point of the pixel's
+// square for the box filter), rows handed out to all cores.
 #define _POSIX_C_SOURCE 200809L
 #include "ref.h"
 #include <math.h>
@@ -23,6 +24,7 @@ typedef struct {
     ref_camera cam;
     st_image *out;
     atomic_int next_row, rows_done;
+    atomic_bool failed; // a worker had no memory: rows are skipped, the render fails
 } ref_job;
 
 static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
@@ -45,60 +47,114 @@ static bool camera_setup(const st_scene *sc, ref_camera *c, st_err *err) {
     return true;
 }
 
-// The contract's pinhole: pixel (i, j), j = 0 the top row, through its centre.
-static void camera_ray(const ref_camera *c, int i, int j, int w, int h, double dir[3]) {
-    double x = (2.0 * (i + 0.5) / w - 1.0) * c->tan_half * c->aspect;
-    double y = (1.0 - 2.0 * (j + 0.5) / h) * c->tan_half;
+// The contract's pinhole: pixel (i, j), j = 0 the top row, through the point
+// (u, v) of its square (0.5, 0.5 the centre; v down the image).
+static void camera_ray(const ref_camera *c, int i, int j, double u, double v, int w, int h,
+                       double dir[3]) {
+    double x = (2.0 * (i + u) / w - 1.0) * c->tan_half * c->aspect;
+    double y = (1.0 - 2.0 * (j + v) / h) * c->tan_half;
     for (int k = 0; k < 3; k++)
         dir[k] = c->f[k] + x * c->r[k] + y * c->u[k];
     st_normalize3(dir);
 }
 
-static void render_pixel(const ref_job *job, int i, int j) {
+// What one view ray sees: the surface it hits (or none), its direct light and
+// the view ray's transmittance; the stochastic terms come per sample.
+typedef struct {
+    double dir[3], s, direct[3], T[3];
+    st_ref_surface x;
+} ref_view;
+
+static void view_ray(const ref_job *job, int i, int j, double u, double v, ref_view *r) {
     const st_ref_geometry *g = job->geo;
     const st_ref_options *o = job->opt;
     const st_scene *sc = g->desc;
-    const int w = job->out->width, h = job->out->height;
-    double dir[3];
-    camera_ray(&job->cam, i, j, w, h, dir);
+    camera_ray(&job->cam, i, j, u, v, job->out->width, job->out->height, r->dir);
     // near/far clip like the rasterizer: planes at view depth, so along this
     // ray at depth / cos(angle to the view axis). A view ray that hits
     // nothing within them is marched to the far plane.
-    double cos_axis = st_dot3(dir, job->cam.f);
+    double cos_axis = st_dot3(r->dir, job->cam.f);
     double t_near = sc->camera.near_z / cos_axis, t_far = sc->camera.far_z / cos_axis;
-    st_ref_surface x = st_ref_intersect(g, job->cam.pos, dir, t_near, t_far);
-    double s = x.hit ? x.t : t_far;
-
+    r->x = st_ref_intersect(g, job->cam.pos, r->dir, t_near, t_far);
+    r->s = r->x.hit ? r->x.t : t_far;
     const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
-    const bool want_indirect = (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) &&
-                               o->bounces > 0 && x.hit && x.lit_side;
-    const bool want_inscatter =
-        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
-    double direct[3] = {0, 0, 0}, T[3] = {1, 1, 1};
-    if (want_direct) st_ref_direct(g, &x, direct);
+    for (int c = 0; c < 3; c++)
+        r->direct[c] = 0, r->T[c] = 1;
+    if (want_direct) st_ref_direct(g, &r->x, r->direct);
     // A ray that hits nothing sees the background at the far plane (dimmed by T below).
-    if (want_direct && !x.hit)
+    if (want_direct && !r->x.hit)
         for (int c = 0; c < 3; c++)
-            direct[c] = sc->background[c];
+            r->direct[c] = sc->background[c];
     if (sc->medium.present)
         for (int c = 0; c < 3; c++)
-            T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * s);
+            r->T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * r->s);
+}
 
+// The box filter's strata: an m x m grid over the pixel's square with at
+// least 4 samples per cell (m = floor(sqrt(n / 4)), at most ST_REF_MAX_GRID),
+// so each cell's own variance is estimated with 3 or more degrees of freedom
+// (with 1, the standard error of an edge pixel, where one or two cells vary,
+// would be too often far too small); the n - r m^2 samples past
+// r whole passes over the grid are uniform over the square. Every sample is
+// uniform over the square, so their mean is the box filter's value.
+#define ST_REF_MAX_GRID 64
+static int grid_size(int n) {
+    int m = (int)floor(sqrt(n / 4.0));
+    while (4 * (m + 1) * (m + 1) <= n)
+        m++;
+    return m < 1 ? 1 : m > ST_REF_MAX_GRID ? ST_REF_MAX_GRID : m;
+}
+
+// Sample k's point (u, v) of the square, and its cell (-1: past the passes).
+static int pixel_point(int k, int m, int whole, st_ref_rng *rng, double *u, double *v) {
+    double a = st_ref_rng_uniform(rng), b = st_ref_rng_uniform(rng);
+    if (k >= whole) {
+        *u = a, *v = b;
+        return -1;
+    }
+    int q = k % (m * m);
+    *u = (q % m + a) / m, *v = (q / m + b) / m;
+    return q;
+}
+
+static void render_pixel(const ref_job *job, double *cells, int i, int j) {
+    const st_ref_geometry *g = job->geo;
+    const st_ref_options *o = job->opt;
+    const st_scene *sc = g->desc;
+    const int w = job->out->width;
+    const bool box = o->filter == ST_FILTER_BOX;
     st_ref_rng rng;
     st_ref_rng_seed(&rng, o->seed, (uint64_t)j * (uint64_t)w + (uint64_t)i);
+    ref_view r;
+    if (!box) view_ray(job, i, j, 0.5, 0.5, &r); // one view ray for every sample
+
+    const bool want_indirect =
+        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) && o->bounces > 0;
+    const bool want_inscatter =
+        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
     const int spp = o->spp > 0 ? o->spp : 1;
     // Welford's running mean and squared deviations, per channel.
     double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-    const bool stochastic = want_indirect || want_inscatter;
-    const int n = stochastic ? spp : 1; // direct light alone has no noise
+    // Direct light through the centre alone has no noise; over the pixel it has.
+    const bool stochastic = box || want_inscatter || (want_indirect && r.x.hit && r.x.lit_side);
+    const int n = stochastic ? spp : 1;
+    const int m = grid_size(n), whole = n / (m * m) * (m * m), per_cell = n / (m * m);
+    if (box) memset(cells, 0, sizeof(double) * 6 * (size_t)(m * m));
     for (int k = 0; k < n; k++) {
+        int cell = -1;
+        if (box) {
+            double u, v;
+            cell = pixel_point(k, m, whole, &rng, &u, &v);
+            view_ray(job, i, j, u, v, &r);
+        }
         double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0}, v[3];
-        if (want_indirect) st_ref_indirect(g, o, &x, o->bounces, &rng, ind);
-        if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, dir, s, &rng, ins);
+        if (want_indirect && r.x.hit && r.x.lit_side)
+            st_ref_indirect(g, o, &r.x, o->bounces, &rng, ind);
+        if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, r.dir, r.s, &rng, ins);
         for (int c = 0; c < 3; c++) {
             switch (o->aov) {
             case ST_REF_DIRECT:
-                v[c] = direct[c];
+                v[c] = r.direct[c];
                 break;
             case ST_REF_INDIRECT:
                 v[c] = ind[c];
@@ -108,31 +164,47 @@ static void render_pixel(const ref_job *job, int i, int j) {
                 break;
             case ST_REF_COMBINED:
             default:
-                v[c] = (direct[c] + ind[c]) * T[c] + ins[c];
+                v[c] = (r.direct[c] + ind[c]) * r.T[c] + ins[c];
                 break;
             }
             double delta = v[c] - mean[c];
             mean[c] += delta / (k + 1);
             m2[c] += delta * (v[c] - mean[c]);
+            if (cell >= 0) cells[6 * cell + c] += v[c], cells[6 * cell + 3 + c] += v[c] * v[c];
         }
     }
     float *px = st_image_px(job->out, i, j);
     for (int c = 0; c < 3; c++) {
         px[c] = (float)mean[c];
         // Standard error of the mean; 0 where it cannot be estimated (1 sample).
-        px[3 + c] = n > 1 ? (float)sqrt(m2[c] / (n - 1) / n) : 0.0f;
+        double var_mean = n > 1 ? m2[c] / (n - 1) / n : 0;
+        if (box && n > 1 && per_cell >= 4) {
+            // Stratified: the cells' own variances (r = per_cell samples each),
+            // plus the uniform rest with the pixel's variance.
+            double within = 0;
+            for (int q = 0; q < m * m; q++) {
+                double s1 = cells[6 * q + c], s2 = cells[6 * q + 3 + c];
+                within += fmax(0.0, (s2 - s1 * s1 / per_cell) / (per_cell - 1)) * per_cell;
+            }
+            var_mean = (within + (n - whole) * m2[c] / (n - 1)) / ((double)n * n);
+        }
+        px[3 + c] = (float)sqrt(var_mean);
     }
 }
 
 static void *worker(void *arg) {
     ref_job *job = arg;
+    // Per-cell sums of the box filter's strata (render_pixel).
+    double *cells = malloc(sizeof(double) * 6 * ST_REF_MAX_GRID * ST_REF_MAX_GRID);
+    if (!cells) atomic_store(&job->failed, true);
     for (;;) {
         int j = atomic_fetch_add(&job->next_row, 1);
         if (j >= job->out->height) break;
-        for (int i = 0; i < job->out->width; i++)
-            render_pixel(job, i, j);
+        for (int i = 0; cells && i < job->out->width; i++)
+            render_pixel(job, cells, i, j);
         atomic_fetch_add(&job->rows_done, 1);
     }
+    free(cells);
     return NULL;
 }
 
@@ -162,6 +234,7 @@ bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out
     job.out = out;
     atomic_init(&job.next_row, 0);
     atomic_init(&job.rows_done, 0);
+    atomic_init(&job.failed, false);
 
     const int nt = thread_count(o, scene->height);
     pthread_t th[256];
@@ -178,5 +251,9 @@ bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out
         pthread_join(th[k], NULL);
     if (o->progress) o->progress(o->progress_user, scene->height, scene->height);
     st_ref_geometry_free(&geo);
+    if (atomic_load(&job.failed)) {
+        st_image_free(out);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the pixel strata");
+    }
     return true;
 }

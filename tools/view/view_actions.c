@@ -362,6 +362,10 @@ bool view_write_stats(view *v, const char *path, st_err *err) {
             "{\"position\": [%.9g, %.9g, %.9g], \"target\": [%.9g, %.9g, %.9g]},\n",
             view_godrays[v->godray], view_gi_modes[v->gi], v->exposure, v->cam.pos[0],
             v->cam.pos[1], v->cam.pos[2], v->cam.target[0], v->cam.target[1], v->cam.target[2]);
+    bool acc_done;
+    uint32_t acc = st_world_accumulated(v->world, &acc_done);
+    fprintf(f, " \"accumulated\": %u, \"accumulation_done\": %s,\n", acc,
+            acc_done ? "true" : "false");
     fprintf(f, " \"error\": ");
     json_str(f, v->error);
     fprintf(f, ",\n \"modules\": [");

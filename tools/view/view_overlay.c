@@ -63,8 +63,12 @@ static float stats_box(view *v, float x, float y, bool bottom) {
     double fps = v->frame_ms_avg > 0 ? 1000.0 / v->frame_ms_avg : 0;
     snprintf(s1, sizeof s1, "%.1f ms/frame (%.0f fps), world %.1f ms, %dx%d", v->frame_ms_avg, fps,
              v->world_ms, v->fb_w, v->fb_h);
-    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV", view_godrays[v->godray],
-             view_gi_modes[v->gi], v->cam.fly ? "fly" : "orbit", v->exposure);
+    bool acc_done;
+    uint32_t acc = st_world_accumulated(v->world, &acc_done);
+    char accs[48] = "";
+    if (acc) snprintf(accs, sizeof accs, "  %u frame(s)%s", acc, acc_done ? ", still" : "");
+    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV%s", view_godrays[v->godray],
+             view_gi_modes[v->gi], v->cam.fly ? "fly" : "orbit", v->exposure, accs);
     // Columns as wide as their widest entry.
     float cw[2] = {view_ui_text_width(g, "module"), view_ui_text_width(g, "pass")};
     for (int i = 0; i < v->num_rows; i++) {
