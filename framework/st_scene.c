@@ -3,6 +3,7 @@
 // what glTF files bring: geometry (may supply camera and lights) before camera
 // and the final choice of lights.
 #include "st_scene.h"
+#include "st_file.h"
 #include "st_scene_json.h"
 #include <math.h>
 #include <stdio.h>
@@ -311,6 +312,11 @@ static void line_col(const char *text, size_t at, int *line, int *col) {
 }
 
 bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *out, st_err *err) {
+    return st_scene_parse_ex(json, len, path, NULL, out, err);
+}
+
+bool st_scene_parse_ex(const char *json, size_t len, const char *path, const st_scene_opts *opts,
+                       st_scene *out, st_err *err) {
     memset(out, 0, sizeof *out);
     if (!path || !path[0]) path = "<scene>";
     if (strlen(path) >= sizeof out->path)
@@ -335,7 +341,7 @@ bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *ou
         memset(out, 0, sizeof *out);
         return st_fail(err, ST_ERR_INPUT, "%s: line %d, column %d: %s", path, line, col, what);
     }
-    st_jctx c = {.file = path, .err = err};
+    st_jctx c = {.file = path, .err = err, .flags = opts ? opts->flags : 0};
     bool ok = parse_document(&c, root, out);
     cJSON_Delete(root);
     if (!ok) st_scene_free(out);
@@ -343,12 +349,16 @@ bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *ou
 }
 
 bool st_scene_load(const char *path, st_scene *out, st_err *err) {
+    return st_scene_load_ex(path, NULL, out, err);
+}
+
+bool st_scene_load_ex(const char *path, const st_scene_opts *opts, st_scene *out, st_err *err) {
     memset(out, 0, sizeof *out);
     if (!path) return st_fail(err, ST_ERR_INPUT, "no scene file given");
     size_t len = 0;
-    char *text = st_read_file(path, &len, err);
+    char *text = st_read_input(path, ST_CAP_SCENE, "scene file", &len, err);
     if (!text) return false;
-    bool ok = st_scene_parse(text, len, path, out, err);
+    bool ok = st_scene_parse_ex(text, len, path, opts, out, err);
     free(text);
     return ok;
 }
