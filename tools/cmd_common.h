@@ -42,6 +42,10 @@ void st_progress_end(st_progress_bar *p, int done, const char *extra);
 // baseline "M.P=V,..." marks that setting (NULL: none).
 bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric,
                  const char *baseline, const char *title, st_err *err);
+// Checks of plot arguments before any work: --baseline is M.P=V[,M.P=V...],
+// a title has no control characters (each string goes into a gnuplot script).
+bool st_plot_check_baseline(const char *baseline, st_err *err);
+bool st_plot_check_title(const char *title, st_err *err);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 
