@@ -398,6 +398,16 @@ static bool exr_read_named(exr_context_t ctx, const char *path, const char *cons
     int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
     if (w <= 0 || h <= 0 || w > INT_MAX || h > INT_MAX)
         return st_fail(err, ST_ERR_INPUT, "%s: bad data window", path);
+    // A header may claim any size; the pixels must come from the file. No
+    // EXR compression (deflate at best ~1000:1) packs more than 1100 values
+    // per byte of file, so a claim beyond that is refused before allocating.
+    void *user = NULL;
+    int64_t fsize = exr_get_user_data(ctx, &user) == EXR_ERR_SUCCESS ? exr_fsize(ctx, user) : -1;
+    if (fsize >= 0 && (uint64_t)w * (uint64_t)h > 1100 * (uint64_t)fsize + 65536)
+        return st_fail(
+            err, ST_ERR_INPUT,
+            "%s: the header claims %lldx%lld pixels, more than a %lld-byte file can hold", path,
+            (long long)w, (long long)h, (long long)fsize);
     int src[ST_IMAGE_MAX_CHANNELS];
     if (count <= 0 || count > ST_IMAGE_MAX_CHANNELS)
         return st_fail(err, ST_ERR_INPUT, "%s: cannot read %d channels", path, count);

@@ -92,6 +92,7 @@ typedef struct st_value {
 typedef struct st_param_setting {
     char name[ST_NAME_MAX];
     st_value value;
+    char set_arg[128]; // the --set argument that gave the value ("": the scene file)
 } st_param_setting;
 
 typedef struct st_module_setting {
