@@ -165,9 +165,7 @@ bool st_check_output(const char *flag, const char *path, const char *const *exts
     // modes, /proc refuses anyway): create one.
     st_outfile probe;
     st_err e = {0};
-    if (!st_out_begin(&probe, path, &e))
-        return st_fail(err, ST_ERR_INPUT, "%s %s: cannot create a file in '%s': %s", flag, path,
-                       dir, e.msg);
+    if (!st_out_begin(&probe, path, &e)) return st_fail(err, ST_ERR_INPUT, "%s %s", flag, e.msg);
     st_out_abort(&probe);
     return true;
 }
@@ -187,7 +185,8 @@ bool st_out_begin(st_outfile *o, const char *path, st_err *err) {
     if (o->fd < 0) {
         int e = errno;
         o->tmp[0] = 0;
-        return st_fail(err, ST_ERR_RUNTIME, "%s", strerror(e));
+        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot create a temporary file in '%s': %s", path,
+                       dir, strerror(e));
     }
     // mkstemp makes 0600; an output gets the usual 0666 less the umask.
     mode_t um = umask(0);

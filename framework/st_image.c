@@ -224,10 +224,7 @@ bool st_image_write_exr_meta(const char *path, const st_image *img, const char *
     if ((int64_t)img->width * img->channels * 4 > INT32_MAX) // the coder's line stride
         return st_fail(err, ST_ERR_INPUT, "%s: image too wide for EXR", path);
     st_outfile o;
-    if (!st_out_begin(&o, path, err)) {
-        st_err_prefix(err, "%s: cannot create a temporary file: ", path);
-        return false;
-    }
+    if (!st_out_begin(&o, path, err)) return false;
     if (!exr_write_file(o.fd, path, img, names, meta, err)) {
         st_out_abort(&o);
         return false;
@@ -542,10 +539,7 @@ bool st_png_write8(const char *path, const uint8_t *px, int width, int height, i
     if ((size_t)width * comp > INT_MAX)
         return st_fail(err, ST_ERR_INPUT, "%s: image too wide for PNG", path);
     st_outfile o;
-    if (!st_out_begin(&o, path, err)) {
-        st_err_prefix(err, "%s: cannot create a temporary file: ", path);
-        return false;
-    }
+    if (!st_out_begin(&o, path, err)) return false;
     png_sink s = {st_out_stream(&o, err), false};
     if (!s.f) {
         st_out_abort(&o);

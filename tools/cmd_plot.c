@@ -316,7 +316,6 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
         if (log) fclose(log);
         free(script);
         if (!log) return st_fail(err, ST_ERR_RUNTIME, "cannot create a temporary file");
-        st_err_prefix(err, "%s: cannot create a temporary file: ", out);
         return false;
     }
     bool ok = run_gnuplot(script, script_len, o.fd, fileno(log), err);
