@@ -396,11 +396,15 @@ static bool exr_read_named(exr_context_t ctx, const char *path, const char *cons
     if (w <= 0 || h <= 0 || w > INT_MAX || h > INT_MAX)
         return st_fail(err, ST_ERR_INPUT, "%s: bad data window", path);
     // A header may claim any size; the pixels must come from the file. No
-    // EXR compression (deflate at best ~1000:1) packs more than 1100 values
-    // per byte of file, so a claim beyond that is refused before allocating.
+    // EXR compression (deflate at best ~1000:1) packs more than 1100 bytes of
+    // samples into a byte of file, so a claim beyond that is refused before
+    // allocating.
     void *user = NULL;
     int64_t fsize = exr_get_user_data(ctx, &user) == EXR_ERR_SUCCESS ? exr_fsize(ctx, user) : -1;
-    if (fsize >= 0 && (uint64_t)w * (uint64_t)h > 1100 * (uint64_t)fsize + 65536)
+    uint64_t bpp = 0; // bytes per pixel of all the file's channels
+    for (int k = 0; k < chl->num_channels; k++)
+        bpp += chl->entries[k].pixel_type == EXR_PIXEL_HALF ? 2 : 4;
+    if (fsize >= 0 && bpp && (uint64_t)w * (uint64_t)h > (1100 * (uint64_t)fsize + 65536) / bpp)
         return st_fail(
             err, ST_ERR_INPUT,
             "%s: the header claims %lldx%lld pixels, more than a %lld-byte file can hold", path,
