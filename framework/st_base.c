@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "st_base.h"
+#include "st_file.h"
 #include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -46,39 +47,7 @@ void *st_calloc(size_t size, st_err *err) {
 }
 
 char *st_read_file(const char *path, size_t *len, st_err *err) {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        st_fail(err, ST_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    char *buf = NULL;
-    size_t cap = 0, n = 0;
-    for (;;) {
-        if (n + 4096 + 1 > cap) {
-            cap = cap ? cap * 2 : 65536;
-            char *nb = realloc(buf, cap);
-            if (!nb) {
-                free(buf);
-                fclose(f);
-                st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
-                return NULL;
-            }
-            buf = nb;
-        }
-        size_t r = fread(buf + n, 1, cap - n - 1, f);
-        n += r;
-        if (r == 0) break;
-    }
-    bool bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        st_fail(err, ST_ERR_INPUT, "%s: read error", path);
-        return NULL;
-    }
-    buf[n] = 0;
-    if (len) *len = n;
-    return buf;
+    return st_read_input(path, 256ull << 20, "file", len, err);
 }
 
 void st_path_join(char *out, size_t n, const char *dir, const char *rel) {

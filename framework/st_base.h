@@ -33,7 +33,8 @@ int st_err_exit_code(const st_err *err);
 // in err (a plugin's create: `fog *f = st_calloc(sizeof *f, err);`).
 void *st_calloc(size_t size, st_err *err);
 
-// Whole-file read; NUL-terminated. Returns NULL and fills err on failure.
+// Whole-file read of a regular file of at most 256 MiB (st_read_input);
+// NUL-terminated. Returns NULL and fills err on failure.
 char *st_read_file(const char *path, size_t *len, st_err *err);
 // Joins dir and rel unless rel is absolute. out must hold n bytes.
 void st_path_join(char *out, size_t n, const char *dir, const char *rel);

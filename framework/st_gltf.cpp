@@ -5,6 +5,9 @@
 // exception leaves this file.
 #include "st_scene.h"
 
+#include "st_file.h"
+
+#include <climits>
 #include <sys/stat.h>
 #include <algorithm>
 #include <array>
@@ -53,38 +56,80 @@ bool fail(std::string &e, const char *fmt, ...) {
 
 // ---- files -----------------------------------------------------------------
 
-// Reads a regular file only: a path to a FIFO or /dev/zero would block or
-// never end. tinygltf takes 32-bit lengths.
+// Where external files may come from: buffer and image URIs resolve inside
+// the folder tree of the glTF file (root, a realpath) unless the user allowed
+// anything. tinygltf joins the decoded URI to base (and retries it relative
+// to the working directory), so the check is on the resolved file.
+struct AssetFs {
+    std::string base, root;
+    bool anywhere = false;
+    std::string refused; // why a URI was refused (replaces tinygltf's message)
+};
+
+// The URI as written in the glTF (percent-decoded), from the path tinygltf built.
+std::string uri_of(const AssetFs &fs, const std::string &path) {
+    if (!fs.base.empty() && path.compare(0, fs.base.size() + 1, fs.base + "/") == 0)
+        return path.substr(fs.base.size() + 1);
+    if (path.compare(0, 2, "./") == 0) return path.substr(2);
+    return path;
+}
+
+bool inside(const std::string &root, const char *real) {
+    if (root == "/") return true;
+    size_t n = root.size();
+    return strncmp(real, root.c_str(), n) == 0 && (real[n] == '/' || real[n] == 0);
+}
+
+// Reads a regular file only (st_read_input: a FIFO or /dev/zero would block
+// or never end), within the asset cap; tinygltf takes 32-bit lengths.
 bool read_regular(const std::string &path, std::vector<unsigned char> &out, std::string &e) {
-    FILE *f = fopen(path.c_str(), "rb");
-    if (!f) return fail(e, "cannot open '%s': %s", path.c_str(), strerror(errno));
-    struct stat st;
-    bool ok = fstat(fileno(f), &st) == 0;
-    if (!ok || !S_ISREG(st.st_mode)) {
-        fclose(f);
-        return fail(e, "'%s' is not a regular file", path.c_str());
+    st_err err = {};
+    size_t len = 0;
+    char *buf = st_read_input(path.c_str(), ST_CAP_ASSET, "glTF file", &len, &err);
+    if (!buf) return fail(e, "%s", err.msg);
+    try {
+        out.assign((unsigned char *)buf, (unsigned char *)buf + len);
+    } catch (...) {
+        free(buf);
+        throw;
     }
-    if ((uint64_t)st.st_size >= std::numeric_limits<unsigned int>::max()) {
-        fclose(f);
-        return fail(e, "'%s' is larger than 4 GiB", path.c_str());
-    }
-    out.resize((size_t)st.st_size);
-    size_t got = out.empty() ? 0 : fread(out.data(), 1, out.size(), f);
-    fclose(f);
-    if (got != out.size()) return fail(e, "cannot read '%s'", path.c_str());
+    free(buf);
     return true;
 }
 
+// Existence only: the checks (folder, file type, size) are fs_read's, so
+// that their message reaches the user instead of "File not found".
 bool fs_exists(const std::string &path, void *) {
     struct stat st;
-    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+    return stat(path.c_str(), &st) == 0;
 }
 std::string fs_expand(const std::string &path, void *) {
     return path;
 }
-bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *) {
-    std::string e;
-    if (read_regular(path, *out, e)) return true;
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path,
+             void *user) {
+    AssetFs *fs = (AssetFs *)user;
+    std::string e, file = path;
+    if (fs && !fs->anywhere) {
+        char real[PATH_MAX];
+        if (!realpath(path.c_str(), real)) {
+            if (err) *err += strerror(errno);
+            return false;
+        }
+        if (!inside(fs->root, real)) {
+            char b[1024];
+            snprintf(b, sizeof b,
+                     "buffer URI '%.300s' resolves to '%.300s', outside the glTF file's folder "
+                     "'%.300s' (--allow-outside-assets allows it)",
+                     uri_of(*fs, path).c_str(), real, fs->root.c_str());
+            fs->refused = b;
+            if (err) *err += b;
+            return false;
+        }
+        file = real;
+    }
+    if (read_regular(file, *out, e)) return true;
+    if (fs) fs->refused = "buffer URI '" + uri_of(*fs, path) + "': " + e;
     if (err) *err += e;
     return false;
 }
@@ -802,8 +847,41 @@ bool nesting_ok(const unsigned char *json, size_t len) {
     return true;
 }
 
+// Image URIs are never opened (textures are not used), but they obey the
+// same rule as buffers: an absolute path or a ".." above the folder, or a
+// file that resolves (symlinks) outside it, is refused.
+bool images_inside(const Model &model, const AssetFs &fs, std::string &e) {
+    if (fs.anywhere) return true;
+    for (size_t i = 0; i < model.images.size(); i++) {
+        const std::string &uri = model.images[i].uri;
+        if (uri.empty() || tinygltf::IsDataURI(uri)) continue;
+        std::string d = tinygltf::dlib::urldecode(uri);
+        bool out = d[0] == '/';
+        int depth = 0;
+        for (size_t p = 0; !out && p < d.size();) {
+            size_t q = d.find('/', p);
+            if (q == std::string::npos) q = d.size();
+            std::string seg = d.substr(p, q - p);
+            if (seg == "..")
+                out = --depth < 0;
+            else if (!seg.empty() && seg != ".")
+                depth++;
+            p = q + 1;
+        }
+        char real[PATH_MAX];
+        std::string full = fs.base.empty() ? d : fs.base + "/" + d;
+        if (!out && realpath(full.c_str(), real)) out = !inside(fs.root, real);
+        if (out)
+            return fail(e,
+                        "images[%zu]: URI '%.300s' is outside the glTF file's folder '%.300s' "
+                        "(--allow-outside-assets allows it)",
+                        i, d.c_str(), fs.root.c_str());
+    }
+    return true;
+}
+
 bool load(const unsigned char *data, size_t len, const char *name, const char *base_dir,
-          st_scene *scene, bool *has_camera, st_err *err) {
+          bool anywhere, st_scene *scene, bool *has_camera, st_err *err) {
     if (len == 0) return st_fail(err, ST_ERR_INPUT, "%s: empty file", name);
     if (len >= std::numeric_limits<unsigned int>::max())
         return st_fail(err, ST_ERR_INPUT, "%s: larger than 4 GiB", name);
@@ -819,18 +897,28 @@ bool load(const unsigned char *data, size_t len, const char *name, const char *b
     }
     if (!nesting_ok(json, json_len))
         return st_fail(err, ST_ERR_INPUT, "%s: JSON nested deeper than 256 levels", name);
+    AssetFs fs;
+    fs.base = base_dir && base_dir[0] ? base_dir : ".";
+    fs.anywhere = anywhere;
+    char root[PATH_MAX];
+    if (!anywhere && !realpath(fs.base.c_str(), root))
+        return st_fail(err, ST_ERR_INPUT, "%s: folder '%s': %s", name, fs.base.c_str(),
+                       strerror(errno));
+    if (!anywhere) fs.root = root;
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skip_image, nullptr);
-    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, nullptr});
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, &fs});
     Model model;
     std::string terr, warn, e;
-    bool ok = binary ? loader.LoadBinaryFromMemory(&model, &terr, &warn, data, (unsigned int)len,
-                                                   base_dir ? base_dir : ".")
-                     : loader.LoadASCIIFromString(&model, &terr, &warn, (const char *)data,
-                                                  (unsigned int)len, base_dir ? base_dir : ".");
+    bool ok =
+        binary ? loader.LoadBinaryFromMemory(&model, &terr, &warn, data, (unsigned int)len, fs.base)
+               : loader.LoadASCIIFromString(&model, &terr, &warn, (const char *)data,
+                                            (unsigned int)len, fs.base);
+    if (!ok && !fs.refused.empty())
+        return st_fail(err, ST_ERR_INPUT, "%s: %s", name, fs.refused.c_str());
     if (!ok) return st_fail(err, ST_ERR_INPUT, "%s: %s", name, one_line(terr).c_str());
     Result r;
-    if (!check_extensions(model, e) ||
+    if (!images_inside(model, fs, e) || !check_extensions(model, e) ||
         !walk(model, has_camera && !*has_camera, st_scene_triangle_count(scene), r, e))
         return st_fail(err, ST_ERR_INPUT, "%s: %s", name, e.c_str());
     if (!commit(r, scene, has_camera, err)) {
@@ -845,9 +933,16 @@ bool load(const unsigned char *data, size_t len, const char *name, const char *b
 extern "C" bool st_gltf_load_memory(const void *data, size_t len, const char *name,
                                     const char *base_dir, st_scene *scene, bool *has_camera,
                                     st_err *err) {
+    return st_gltf_load_memory_ex(data, len, name, base_dir, 0, scene, has_camera, err);
+}
+
+extern "C" bool st_gltf_load_memory_ex(const void *data, size_t len, const char *name,
+                                       const char *base_dir, unsigned flags, st_scene *scene,
+                                       bool *has_camera, st_err *err) {
     if (!name) name = "<glTF>";
     try {
-        return load((const unsigned char *)data, len, name, base_dir, scene, has_camera, err);
+        return load((const unsigned char *)data, len, name, base_dir,
+                    (flags & ST_ASSETS_ANYWHERE) != 0, scene, has_camera, err);
     } catch (const std::bad_alloc &) {
         return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", name);
     } catch (const std::exception &x) {
@@ -858,6 +953,11 @@ extern "C" bool st_gltf_load_memory(const void *data, size_t len, const char *na
 }
 
 extern "C" bool st_gltf_load(const char *path, st_scene *scene, bool *has_camera, st_err *err) {
+    return st_gltf_load_ex(path, 0, scene, has_camera, err);
+}
+
+extern "C" bool st_gltf_load_ex(const char *path, unsigned flags, st_scene *scene, bool *has_camera,
+                                st_err *err) {
     if (!path || !path[0]) return st_fail(err, ST_ERR_INPUT, "empty glTF path");
     try {
         std::vector<unsigned char> bytes;
@@ -865,7 +965,8 @@ extern "C" bool st_gltf_load(const char *path, st_scene *scene, bool *has_camera
         if (!read_regular(path, bytes, e)) return st_fail(err, ST_ERR_INPUT, "%s", e.c_str());
         char dir[1024];
         st_path_dir(dir, sizeof dir, path);
-        return st_gltf_load_memory(bytes.data(), bytes.size(), path, dir, scene, has_camera, err);
+        return st_gltf_load_memory_ex(bytes.data(), bytes.size(), path, dir, flags, scene,
+                                      has_camera, err);
     } catch (const std::bad_alloc &) {
         return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
     } catch (...) {

@@ -1,8 +1,11 @@
 // Float images: allocation, EXR I/O through OpenEXRCore's C API, PNG output
 // through stb_image_write. Every writer goes through a temporary file beside
-// the target and a rename, so a failed write never leaves partial output.
+// the target and a rename (st_outfile), so a failed write never leaves
+// partial output; every reader through st_open_input.
 #define _POSIX_C_SOURCE 200809L
 #include "st_image.h"
+#include "st_file.h"
+#include <sys/stat.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -56,22 +59,6 @@ double st_srgb_encode(double v) {
 // ---------------------------------------------------------------------------
 // Atomic output helpers
 
-static bool tmp_name(char *out, size_t n, const char *path, st_err *err) {
-    int len = snprintf(out, n, "%s.tmp-%ld", path, (long)getpid());
-    if (len < 0 || (size_t)len >= n) return st_fail(err, ST_ERR_INPUT, "%s: path too long", path);
-    return true;
-}
-
-static bool commit_tmp(const char *tmp, const char *path, st_err *err) {
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot rename temporary file: %s", path,
-                       strerror(e));
-    }
-    return true;
-}
-
 static bool check_writable(const char *path, const st_image *img, st_err *err) {
     if (!path || !path[0]) return st_fail(err, ST_ERR_INPUT, "empty output path");
     if (!img || !img->data || img->width <= 0 || img->height <= 0 || img->channels <= 0)
@@ -123,13 +110,31 @@ static exr_result_t exr_compress_or_store(exr_encode_pipeline_t *e) {
     return rc;
 }
 
-// Writes the whole image as FLOAT scanlines with ZIP compression to `file`.
-static bool exr_write_file(const char *file, const char *path, const st_image *img,
-                           const char *const *names, const st_exr_meta *meta, st_err *err) {
+static int64_t exr_pwrite(exr_const_context_t ctxt, void *user, const void *buf, uint64_t sz,
+                          uint64_t off, exr_stream_error_func_ptr_t error_cb) {
+    (void)ctxt;
+    (void)error_cb;
+    int fd = (int)(intptr_t)user;
+    uint64_t put = 0;
+    while (put < sz) {
+        ssize_t r = pwrite(fd, (const char *)buf + put, sz - put, (off_t)(off + put));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) return -1;
+        put += (uint64_t)r;
+    }
+    return (int64_t)put;
+}
+
+// Writes the whole image as FLOAT scanlines with ZIP compression to the
+// descriptor fd (the temporary file of path).
+static bool exr_write_file(int fd, const char *path, const st_image *img, const char *const *names,
+                           const st_exr_meta *meta, st_err *err) {
     exr_msg[0] = 0;
     exr_context_initializer_t init = exr_init();
+    init.user_data = (void *)(intptr_t)fd;
+    init.write_fn = exr_pwrite;
     exr_context_t ctx = NULL;
-    exr_result_t rc = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
+    exr_result_t rc = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rc != EXR_ERR_SUCCESS) {
         if (ctx) exr_finish(&ctx);
         return exr_fail(err, ST_ERR_RUNTIME, path, "cannot create", rc);
@@ -221,13 +226,13 @@ bool st_image_write_exr_meta(const char *path, const st_image *img, const char *
     }
     if ((int64_t)img->width * img->channels * 4 > INT32_MAX) // the coder's line stride
         return st_fail(err, ST_ERR_INPUT, "%s: image too wide for EXR", path);
-    char tmp[4200];
-    if (!tmp_name(tmp, sizeof tmp, path, err)) return false;
-    if (!exr_write_file(tmp, path, img, names, meta, err)) {
-        unlink(tmp);
+    st_outfile o;
+    if (!st_out_begin(&o, path, err)) return false;
+    if (!exr_write_file(o.fd, path, img, names, meta, err)) {
+        st_out_abort(&o);
         return false;
     }
-    return commit_tmp(tmp, path, err);
+    return st_out_commit(&o, err);
 }
 
 bool st_image_write_exr_named(const char *path, const st_image *img, const char *const *names,
@@ -328,23 +333,54 @@ done:
     return ok ? true : exr_fail(err, ST_ERR_INPUT, path, "cannot decode pixels", rc);
 }
 
+// Reading goes through a descriptor from st_open_input (a regular file
+// within ST_CAP_EXR, never a FIFO or device), read with pread.
+static int64_t exr_pread(exr_const_context_t ctxt, void *user, void *buf, uint64_t sz, uint64_t off,
+                         exr_stream_error_func_ptr_t error_cb) {
+    (void)ctxt;
+    (void)error_cb;
+    int fd = (int)(intptr_t)user;
+    uint64_t got = 0;
+    while (got < sz) {
+        ssize_t r = pread(fd, (char *)buf + got, sz - got, (off_t)(off + got));
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) return -1;
+        if (r == 0) break;
+        got += (uint64_t)r;
+    }
+    return (int64_t)got;
+}
+
+static int64_t exr_fsize(exr_const_context_t ctxt, void *user) {
+    (void)ctxt;
+    struct stat st;
+    return fstat((int)(intptr_t)user, &st) == 0 ? (int64_t)st.st_size : -1;
+}
+
 // Opens path for reading and checks it is a flat image whose first part we
-// can decode.
-static bool exr_open(const char *path, exr_context_t *ctx, st_err *err) {
-    // Checked first so a missing file reads as the OS error.
-    FILE *f = fopen(path, "rb");
-    if (!f) return st_fail(err, ST_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
-    fclose(f);
+// can decode; *fd stays open until exr_done.
+static bool exr_open(const char *path, exr_context_t *ctx, int *fd, st_err *err) {
+    *ctx = NULL;
+    *fd = st_open_input(path, ST_CAP_EXR, "EXR image", NULL, err);
+    if (*fd < 0) return false;
     exr_msg[0] = 0;
     exr_context_initializer_t init = exr_init();
     init.flags = EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
-    *ctx = NULL;
+    init.user_data = (void *)(intptr_t)*fd;
+    init.read_fn = exr_pread;
+    init.size_fn = exr_fsize;
     exr_result_t rc = exr_start_read(ctx, path, &init);
     if (rc != EXR_ERR_SUCCESS) {
         if (*ctx) exr_finish(ctx);
+        close(*fd);
         return exr_fail(err, ST_ERR_INPUT, path, "not a readable EXR file", rc);
     }
     return true;
+}
+
+static void exr_done(exr_context_t *ctx, int fd) {
+    exr_finish(ctx);
+    close(fd);
 }
 
 static bool exr_read_named(exr_context_t ctx, const char *path, const char *const *names, int count,
@@ -362,6 +398,20 @@ static bool exr_read_named(exr_context_t ctx, const char *path, const char *cons
     int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
     if (w <= 0 || h <= 0 || w > INT_MAX || h > INT_MAX)
         return st_fail(err, ST_ERR_INPUT, "%s: bad data window", path);
+    // A header may claim any size; the pixels must come from the file. No
+    // EXR compression (deflate at best ~1000:1) packs more than 1100 bytes of
+    // samples into a byte of file, so a claim beyond that is refused before
+    // allocating.
+    void *user = NULL;
+    int64_t fsize = exr_get_user_data(ctx, &user) == EXR_ERR_SUCCESS ? exr_fsize(ctx, user) : -1;
+    uint64_t bpp = 0; // bytes per pixel of all the file's channels
+    for (int k = 0; k < chl->num_channels; k++)
+        bpp += chl->entries[k].pixel_type == EXR_PIXEL_HALF ? 2 : 4;
+    if (fsize >= 0 && bpp && (uint64_t)w * (uint64_t)h > (1100 * (uint64_t)fsize + 65536) / bpp)
+        return st_fail(
+            err, ST_ERR_INPUT,
+            "%s: the header claims %lldx%lld pixels, more than a %lld-byte file can hold", path,
+            (long long)w, (long long)h, (long long)fsize);
     int src[ST_IMAGE_MAX_CHANNELS];
     if (count <= 0 || count > ST_IMAGE_MAX_CHANNELS)
         return st_fail(err, ST_ERR_INPUT, "%s: cannot read %d channels", path, count);
@@ -398,9 +448,10 @@ bool st_image_read_exr_channels(const char *path, const char *const *names, int 
                                 st_image *out, st_err *err) {
     *out = (st_image){0};
     exr_context_t ctx;
-    if (!exr_open(path, &ctx, err)) return false;
+    int fd;
+    if (!exr_open(path, &ctx, &fd, err)) return false;
     bool ok = exr_read_named(ctx, path, names, count, out, err);
-    exr_finish(&ctx);
+    exr_done(&ctx, fd);
     return ok;
 }
 
@@ -414,7 +465,8 @@ bool st_image_read_exr(const char *path, st_image *out, st_err *err) {
     static const char *const rgba[] = {"R", "G", "B", "A"}, *const y[] = {"Y"};
     *out = (st_image){0};
     exr_context_t ctx;
-    if (!exr_open(path, &ctx, err)) return false;
+    int fd;
+    if (!exr_open(path, &ctx, &fd, err)) return false;
     const exr_attr_chlist_t *chl = NULL;
     bool ok = false;
     exr_result_t rc = exr_get_channels(ctx, 0, &chl);
@@ -433,14 +485,15 @@ bool st_image_read_exr(const char *path, st_image *out, st_err *err) {
         st_fail(err, ST_ERR_INPUT, "%s: no R,G,B or Y channels (has: %s)", path,
                 chl->num_channels ? list : "none");
     }
-    exr_finish(&ctx);
+    exr_done(&ctx, fd);
     return ok;
 }
 
 bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err) {
     *meta = (st_exr_meta){0};
     exr_context_t ctx;
-    if (!exr_open(path, &ctx, err)) return false;
+    int fd;
+    if (!exr_open(path, &ctx, &fd, err)) return false;
     int32_t spp = 0, len = 0;
     const char *seeds = NULL;
     if (exr_attr_get_int(ctx, 0, "spp", &spp) == EXR_ERR_SUCCESS && spp > 0) meta->spp = spp;
@@ -455,7 +508,7 @@ bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err) {
     if (exr_attr_get_string(ctx, 0, "strahl.filter", &len, &filter) == EXR_ERR_SUCCESS && filter &&
         len > 0)
         snprintf(meta->filter, sizeof meta->filter, "%.*s", (int)len, filter);
-    exr_finish(&ctx);
+    exr_done(&ctx, fd);
     return true;
 }
 
@@ -463,7 +516,8 @@ bool st_image_read_exr_stderr(const char *path, st_image *out, st_err *err) {
     static const char *const names[] = {"stderr.R", "stderr.G", "stderr.B"};
     *out = (st_image){0};
     exr_context_t ctx;
-    if (!exr_open(path, &ctx, err)) return false;
+    int fd;
+    if (!exr_open(path, &ctx, &fd, err)) return false;
     const exr_attr_chlist_t *chl = NULL;
     bool ok = true;
     exr_result_t rc = exr_get_channels(ctx, 0, &chl);
@@ -471,7 +525,7 @@ bool st_image_read_exr_stderr(const char *path, st_image *out, st_err *err) {
         ok = exr_fail(err, ST_ERR_INPUT, path, "bad channel list", rc);
     else if (has_channel(chl, names[0]) && has_channel(chl, names[1]) && has_channel(chl, names[2]))
         ok = exr_read_named(ctx, path, names, 3, out, err);
-    exr_finish(&ctx);
+    exr_done(&ctx, fd);
     return ok;
 }
 
@@ -495,18 +549,20 @@ bool st_png_write8(const char *path, const uint8_t *px, int width, int height, i
         return st_fail(err, ST_ERR_INPUT, "%s: no image to write", path);
     if ((size_t)width * comp > INT_MAX)
         return st_fail(err, ST_ERR_INPUT, "%s: image too wide for PNG", path);
-    char tmp[4200];
-    if (!tmp_name(tmp, sizeof tmp, path, err)) return false;
-    png_sink s = {fopen(tmp, "wb"), false};
-    if (!s.f) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot create: %s", path, strerror(errno));
+    st_outfile o;
+    if (!st_out_begin(&o, path, err)) return false;
+    png_sink s = {st_out_stream(&o, err), false};
+    if (!s.f) {
+        st_out_abort(&o);
+        return false;
+    }
     int ok = stbi_write_png_to_func(png_put, &s, width, height, comp, px, width * comp);
-    if (fclose(s.f) != 0) s.bad = true;
     if (!ok || s.bad) {
-        unlink(tmp);
+        st_out_abort(&o);
         return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write PNG%s", path,
                        ok ? " (I/O error)" : " (encoder failed)");
     }
-    return commit_tmp(tmp, path, err);
+    return st_out_commit(&o, err);
 }
 
 static uint8_t to8(double v) { // [0,1] -> 0..255, rounded

@@ -295,10 +295,10 @@ bool st_param_from_value(const st_plugin *p, int index, const st_value *v, doubl
         if (v->type != ST_VALUE_NUMBER || !isfinite(v->number))
             return st_fail(err, ST_ERR_INPUT, "%s.%s: expected a number", p->name, d->name);
         if (d->type == ST_PARAM_INT && v->number != floor(v->number))
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is not an integer", p->name, d->name,
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %.9g is not an integer", p->name, d->name,
                            v->number);
         if (v->number < d->min || v->number > d->max)
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", p->name,
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %.9g is out of range [%g, %g]", p->name,
                            d->name, v->number, d->min, d->max);
         *out = v->number;
         return true;

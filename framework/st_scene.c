@@ -3,6 +3,7 @@
 // what glTF files bring: geometry (may supply camera and lights) before camera
 // and the final choice of lights.
 #include "st_scene.h"
+#include "st_file.h"
 #include "st_scene_json.h"
 #include <math.h>
 #include <stdio.h>
@@ -55,7 +56,7 @@ static bool parse_cone(st_jctx *c, const cJSON *v, st_light_desc *l) {
         !st_j_number(c, v, "outer_angle", &outer, &has))
         return false;
     if (!(outer > 0 && outer <= 90))
-        return st_j_fail(c, "outer_angle", "%g is out of range (0, 90] degrees", outer);
+        return st_j_fail(c, "outer_angle", "%.9g is out of range (0, 90] degrees", outer);
     if (!(inner >= 0 && inner < outer))
         return st_j_fail(c, "inner_angle", "%g must be in [0, outer_angle = %g) degrees", inner,
                          outer);
@@ -70,7 +71,7 @@ static bool parse_angular_diameter(st_jctx *c, const cJSON *v, st_light_desc *l)
     bool has;
     if (!st_j_number(c, v, "angular_diameter", &deg, &has)) return false;
     if (!(deg > 0 && deg <= 30))
-        return st_j_fail(c, "angular_diameter", "%g is out of range (0, 30] degrees", deg);
+        return st_j_fail(c, "angular_diameter", "%.9g is out of range (0, 30] degrees", deg);
     l->angular_diameter = (float)(deg * 3.14159265358979323846 / 180.0);
     return true;
 }
@@ -151,7 +152,7 @@ static bool parse_phase(st_jctx *c, const cJSON *v, st_medium_desc *m) {
         return st_j_fail(c, NULL, "expected \"isotropic\", \"rayleigh\" or {\"hg\": g}");
     double g;
     if (!st_j_object(c, v, keys) || !st_j_number(c, v, "hg", &g, NULL)) return false;
-    if (g < -1 || g > 1) return st_j_fail(c, "hg", "%g is out of range [-1, 1]", g);
+    if (g < -1 || g > 1) return st_j_fail(c, "hg", "%.9g is out of range [-1, 1]", g);
     // |g| = 1 is a delta distribution; the phase function's normalisation
     // needs |g| < 1 (docs/physics.md: clamp to 0.999).
     m->phase = ST_PHASE_HG;
@@ -263,7 +264,7 @@ static bool parse_camera(st_jctx *c, const cJSON *v, bool from_gltf, st_camera_d
          !st_j_float(c, v, "far", &cam->far_z, &has)))
         return false;
     if (!(cam->fov_y > 0 && cam->fov_y < 180))
-        return st_j_fail(c, "fov_y", "%g is out of range (0, 180) degrees", cam->fov_y);
+        return st_j_fail(c, "fov_y", "%.9g is out of range (0, 180) degrees", cam->fov_y);
     if (!(cam->near_z > 0)) return st_j_fail(c, "near", "expected > 0, got %g", cam->near_z);
     if (!(cam->far_z > cam->near_z))
         return st_j_fail(c, "far", "%g is not greater than near (%g)", cam->far_z, cam->near_z);
@@ -331,7 +332,48 @@ static void line_col(const char *text, size_t at, int *line, int *col) {
     }
 }
 
+// Scene files are shallow; deeper nesting is refused with its own message
+// (cJSON would only say "invalid JSON" past its limit of 1000).
+#define ST_SCENE_MAX_DEPTH 64
+#define ST_STR2(x) #x
+#define ST_STR(x) ST_STR2(x)
+
+// What cJSON cannot report: a NUL byte, raw or escaped as \u0000 (cJSON
+// cuts the string there, so "shadow_map\u0000x" would read as shadow_map),
+// and the nesting depth. Returns the offending offset and a message, or NULL.
+static const char *prescan(const char *json, size_t len, size_t *at) {
+    int depth = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        char ch = json[i];
+        *at = i;
+        if (!ch) return "NUL byte (not a text file)";
+        if (in_string) {
+            if (ch == '"') {
+                in_string = false;
+            } else if (ch == '\\' && i + 1 < len) {
+                if (json[i + 1] == 'u' && i + 5 < len && !memcmp(json + i + 2, "0000", 4))
+                    return "\\u0000 (NUL) in a string";
+                i++;
+            }
+        } else if (ch == '"') {
+            in_string = true;
+        } else if (ch == '[' || ch == '{') {
+            if (++depth > ST_SCENE_MAX_DEPTH)
+                return "nested deeper than " ST_STR(ST_SCENE_MAX_DEPTH) " levels (the limit)";
+        } else if (ch == ']' || ch == '}') {
+            depth--;
+        }
+    }
+    return NULL;
+}
+
 bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *out, st_err *err) {
+    return st_scene_parse_ex(json, len, path, NULL, out, err);
+}
+
+bool st_scene_parse_ex(const char *json, size_t len, const char *path, const st_scene_opts *opts,
+                       st_scene *out, st_err *err) {
     memset(out, 0, sizeof *out);
     if (!path || !path[0]) path = "<scene>";
     if (strlen(path) >= sizeof out->path)
@@ -341,6 +383,14 @@ bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *ou
     snprintf(out->path, sizeof out->path, "%s", path);
     st_path_dir(out->dir, sizeof out->dir, path);
 
+    size_t bad_at = 0;
+    const char *bad = prescan(json, len, &bad_at);
+    if (bad) {
+        int line, col;
+        line_col(json, bad_at, &line, &col);
+        memset(out, 0, sizeof *out);
+        return st_fail(err, ST_ERR_INPUT, "%s: line %d, column %d: %s", path, line, col, bad);
+    }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, false);
     size_t at = end && end >= json && end <= json + len ? (size_t)(end - json) : 0;
@@ -356,7 +406,7 @@ bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *ou
         memset(out, 0, sizeof *out);
         return st_fail(err, ST_ERR_INPUT, "%s: line %d, column %d: %s", path, line, col, what);
     }
-    st_jctx c = {.file = path, .err = err};
+    st_jctx c = {.file = path, .err = err, .flags = opts ? opts->flags : 0};
     bool ok = parse_document(&c, root, out);
     cJSON_Delete(root);
     if (!ok) st_scene_free(out);
@@ -364,12 +414,16 @@ bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *ou
 }
 
 bool st_scene_load(const char *path, st_scene *out, st_err *err) {
+    return st_scene_load_ex(path, NULL, out, err);
+}
+
+bool st_scene_load_ex(const char *path, const st_scene_opts *opts, st_scene *out, st_err *err) {
     memset(out, 0, sizeof *out);
     if (!path) return st_fail(err, ST_ERR_INPUT, "no scene file given");
     size_t len = 0;
-    char *text = st_read_file(path, &len, err);
+    char *text = st_read_input(path, ST_CAP_SCENE, "scene file", &len, err);
     if (!text) return false;
-    bool ok = st_scene_parse(text, len, path, out, err);
+    bool ok = st_scene_parse_ex(text, len, path, opts, out, err);
     free(text);
     return ok;
 }

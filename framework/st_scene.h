@@ -100,6 +100,7 @@ typedef struct st_value {
 typedef struct st_param_setting {
     char name[ST_NAME_MAX];
     st_value value;
+    char set_arg[128]; // the --set argument that gave the value ("": the scene file)
 } st_param_setting;
 
 typedef struct st_module_setting {
@@ -134,9 +135,22 @@ typedef struct st_scene {
 // NaN/Inf, out-of-range values and missing files fail with an ST_ERR_INPUT
 // message naming the file and key path ("scene.json: geometry[2].quad.u: ...").
 bool st_scene_load(const char *path, st_scene *out, st_err *err);
+// How a scene is loaded. Zero: the defaults.
+enum {
+    // glTF buffer and image URIs may resolve outside the glTF file's folder
+    // tree (by default such a URI is refused: a downloaded model must not
+    // read /etc/passwd into a render). The scene file's own paths are free.
+    ST_ASSETS_ANYWHERE = 1u << 0,
+};
+typedef struct st_scene_opts {
+    unsigned flags; // ST_ASSETS_*
+} st_scene_opts;
+bool st_scene_load_ex(const char *path, const st_scene_opts *opts, st_scene *out, st_err *err);
 // Same from a string already in memory; `path` is used for messages and as
 // the base of relative asset paths.
 bool st_scene_parse(const char *json, size_t len, const char *path, st_scene *out, st_err *err);
+bool st_scene_parse_ex(const char *json, size_t len, const char *path, const st_scene_opts *opts,
+                       st_scene *out, st_err *err);
 void st_scene_free(st_scene *scene);
 
 // Applies "MODULE.PARAM=VALUE" (command line --set). The module must be in the
@@ -173,11 +187,17 @@ bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]);
 // not NULL and *has_camera is false, the first perspective camera met in the
 // node tree becomes scene->camera and *has_camera is set. All or nothing: on
 // failure the scene is left as it was.
+// Buffer and image URIs must resolve inside the glTF file's folder tree
+// unless flags has ST_ASSETS_ANYWHERE; a refused URI is named in the error.
 bool st_gltf_load(const char *path, st_scene *scene, bool *has_camera, st_err *err);
+bool st_gltf_load_ex(const char *path, unsigned flags, st_scene *scene, bool *has_camera,
+                     st_err *err);
 // Same from bytes in memory; `name` is used in messages, external buffers
 // resolve against `base_dir`.
 bool st_gltf_load_memory(const void *data, size_t len, const char *name, const char *base_dir,
                          st_scene *scene, bool *has_camera, st_err *err);
+bool st_gltf_load_memory_ex(const void *data, size_t len, const char *name, const char *base_dir,
+                            unsigned flags, st_scene *scene, bool *has_camera, st_err *err);
 
 #ifdef __cplusplus
 }

@@ -109,7 +109,7 @@ static bool parse_gltf(st_jctx *c, const cJSON *entry, st_scene *s, bool *has_ca
     if (!st_j_string(c, entry, "gltf", rel, sizeof rel, NULL)) return false;
     st_path_join(full, sizeof full, s->dir, rel);
     int first = s->num_meshes;
-    if (!st_gltf_load(full, s, has_camera, c->err)) {
+    if (!st_gltf_load_ex(full, c->flags, s, has_camera, c->err)) {
         st_err_prefix(c->err, "%s: %s.gltf: ", c->file, c->path);
         return false;
     }

@@ -111,7 +111,7 @@ bool st_j_number(st_jctx *c, const cJSON *obj, const char *key, double *out, boo
 }
 
 static bool to_float(st_jctx *c, const char *key, double d, float *out) {
-    if (fabs(d) > FLT_MAX) return st_j_fail(c, key, "%g is out of range for a 32-bit float", d);
+    if (fabs(d) > FLT_MAX) return st_j_fail(c, key, "%.9g is out of range for a 32-bit float", d);
     *out = (float)d;
     return true;
 }
@@ -131,8 +131,8 @@ bool st_j_int(st_jctx *c, const cJSON *obj, const char *key, int lo, int hi, int
     const cJSON *v = field(c, obj, key, present, &ok);
     if (!v) return ok;
     if (!finite_number(c, key, v, &d)) return false;
-    if (d != floor(d)) return st_j_fail(c, key, "expected an integer, got %g", d);
-    if (d < lo || d > hi) return st_j_fail(c, key, "%g is out of range [%d, %d]", d, lo, hi);
+    if (d != floor(d)) return st_j_fail(c, key, "expected an integer, got %.9g", d);
+    if (d < lo || d > hi) return st_j_fail(c, key, "%.9g is out of range [%d, %d]", d, lo, hi);
     *out = (int)d;
     return true;
 }

@@ -14,6 +14,7 @@ typedef struct st_jctx {
     st_err *err;
     char path[512]; // current key path, e.g. "geometry[2].quad"
     size_t len;
+    unsigned flags; // st_scene_opts.flags (ST_ASSETS_*)
 } st_jctx;
 
 // Path bookkeeping: push returns a mark that pop restores.

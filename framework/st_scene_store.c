@@ -56,6 +56,7 @@ bool st_module_setting_put(st_module_setting *m, const char *param, const st_val
     for (int i = 0; i < m->num_params; i++) {
         if (!strcmp(m->params[i].name, param)) {
             m->params[i].value = *value;
+            m->params[i].set_arg[0] = 0;
             return true;
         }
     }
@@ -130,7 +131,12 @@ bool st_scene_set(st_scene *scene, const char *assignment, st_err *err) {
     }
     st_value v;
     if (!parse_value(eq + 1, &v, what, err)) return false;
-    return st_module_setting_put(m, param, &v, err);
+    if (!st_module_setting_put(m, param, &v, err)) return false;
+    // Remembered so that a later range check blames the --set, not the scene file.
+    for (int i = 0; i < m->num_params; i++)
+        if (!strcmp(m->params[i].name, param))
+            snprintf(m->params[i].set_arg, sizeof m->params[i].set_arg, "%.127s", what);
+    return true;
 }
 
 uint64_t st_scene_triangle_count(const st_scene *scene) {

@@ -857,15 +857,16 @@ static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
                 size_t l = strlen(names);
                 snprintf(names + l, sizeof names - l, "%s%s", i ? ", " : "", p->params[i].name);
             }
-            return st_fail(
-                err, ST_ERR_INPUT,
-                "%s: modules[%d].params.%s: module '%s' has no parameter '%s' (it has: %s)",
-                w->scene->path, idx, ms->params[k].name, p->name, ms->params[k].name,
-                p->num_params ? names : "none");
+            st_fail(err, ST_ERR_INPUT, "module '%s' has no parameter '%s' (it has: %s)", p->name,
+                    ms->params[k].name, p->num_params ? names : "none");
         }
-        if (!st_param_from_value(p, pi, &ms->params[k].value, &mi->params[pi], err)) {
-            st_err_prefix(err, "%s: modules[%d].params.%s: ", w->scene->path, idx,
-                          ms->params[k].name);
+        if (pi < 0 || !st_param_from_value(p, pi, &ms->params[k].value, &mi->params[pi], err)) {
+            // Blame what gave the value: a --set argument or the scene file's key.
+            if (ms->params[k].set_arg[0])
+                st_err_prefix(err, "--set %s: ", ms->params[k].set_arg);
+            else
+                st_err_prefix(err, "%s: modules[%d].params.%s: ", w->scene->path, idx,
+                              ms->params[k].name);
             return false;
         }
     }
@@ -1248,7 +1249,7 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
         return st_fail(err, ST_ERR_INPUT, "%s.%s: not a finite number", module, param);
     if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT) {
         if (value < d->min || value > d->max)
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: %g is out of range [%g, %g]", module, param,
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: %.9g is out of range [%g, %g]", module, param,
                            value, d->min, d->max);
         if (d->type == ST_PARAM_INT) value = floor(value + 0.5);
     } else if (d->type == ST_PARAM_BOOL) {
@@ -1256,7 +1257,7 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
     } else {
         int nchoices = st_param_num_choices(d);
         if (value < 0 || value >= nchoices || value != floor(value))
-            return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %g out of range", module, param,
+            return st_fail(err, ST_ERR_INPUT, "%s.%s: choice %.9g out of range", module, param,
                            value);
     }
     if (mi->params[k] == value) return true;

@@ -8,6 +8,7 @@
 #define _GNU_SOURCE
 #include "cmd_common.h"
 #include "st_cmd.h"
+#include "st_file.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -69,6 +70,8 @@ static const char help_text[] =
     "  --size WxH                 render size (default: the scene's; must match REF)\n"
     "  --filter box|point         pixel filter (default: REF's strahl.filter header attribute,\n"
     "                             point without one); a different one is used with a warning\n"
+    "  --allow-outside-assets     let glTF buffer/image URIs leave the glTF file's folder\n"
+    "                             (default: refused)\n"
     "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
     "                             (default 1/1: all); only shard 1 writes the CSV header,\n"
     "                             so `cat` of shards 1..N in order is the whole table\n"
@@ -228,6 +231,12 @@ int st_cmd_bench(int argc, char **argv) {
                 return st_fail(&err, ST_ERR_INPUT, "at most %d --sweep", MAX_SWEEPS),
                        st_report("bench", &err);
             if (!parse_sweep(argv[++i], &sweeps[nsweeps++], &err)) return st_report("bench", &err);
+            for (int k = 0; k < nsweeps - 1; k++)
+                if (!strcmp(sweeps[k].module, sweeps[nsweeps - 1].module) &&
+                    !strcmp(sweeps[k].param, sweeps[nsweeps - 1].param))
+                    return st_fail(&err, ST_ERR_INPUT, "--sweep %s: %s.%s is swept twice", argv[i],
+                                   sweeps[k].module, sweeps[k].param),
+                           st_report("bench", &err);
         } else if (!strcmp(a, "--set") && nx) {
             if (nsets == MAX_SETS)
                 return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("bench", &err);
@@ -265,6 +274,7 @@ int st_cmd_bench(int argc, char **argv) {
                 return st_fail(&err, ST_ERR_INPUT,
                                "--budget-error %s: expected a non-negative number", argv[i]),
                        st_report("bench", &err);
+        } else if (st_cmd_scene_option(a)) {
         } else if (a[0] == '-' || scene_path) {
             return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a),
                    st_report("bench", &err);
@@ -279,11 +289,43 @@ int st_cmd_bench(int argc, char **argv) {
                        "--csv OUT.csv [--plot OUT.png|svg] [--frames F] [--warmup W] [--metric M] "
                        "[--budget-error X] [--append] [--mode recompute|steady]"),
                st_report("bench", &err);
-    if (plot) {
-        const char *dot = strrchr(plot, '.');
-        if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg")))
-            return st_fail(&err, ST_ERR_INPUT, "--plot %s: expected .png or .svg", plot),
-                   st_report("bench", &err);
+    for (int i = 0; i < nsets; i++)
+        for (int k = 0; k < nsweeps; k++) {
+            char mp[2 * ST_NAME_MAX + 2];
+            snprintf(mp, sizeof mp, "%s.%s=", sweeps[k].module, sweeps[k].param);
+            if (!strncmp(sets[i], mp, strlen(mp)))
+                return st_fail(&err, ST_ERR_INPUT, "--set %s: %s.%s is also swept", sets[i],
+                               sweeps[k].module, sweeps[k].param),
+                       st_report("bench", &err);
+        }
+    // Outputs are checked before any work, and never one of the inputs.
+    static const char *const csv_ext[] = {"csv", NULL}, *const plot_ext[] = {"png", "svg", NULL};
+    const char *inputs[] = {scene_path, ref_path, NULL, NULL};
+    if (!st_check_output("--csv", csv, csv_ext, inputs, &err) ||
+        (plot && (inputs[2] = csv, !st_check_output("--plot", plot, plot_ext, inputs, &err))) ||
+        !st_plot_check_baseline(baseline, &err))
+        return st_report("bench", &err);
+    char header[1024];
+    snprintf(header, sizeof header,
+             "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_"
+             "ms_median,error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,"
+             "pass_gpu_ms,error_raw,ref_noise_rms,ref_noise_warning",
+             metric);
+    // --append: the rows so far, read (and their header checked) now.
+    char *old = NULL;
+    size_t old_len = 0;
+    if (append && access(csv, F_OK) == 0) {
+        old = st_read_input(csv, ST_CAP_TEXT, "CSV file", &old_len, &err);
+        if (!old) return st_report("bench", &err);
+        size_t l1 = strcspn(old, "\r\n");
+        if (!strncmp(old, "scene,", 6) && (l1 != strlen(header) || strncmp(old, header, l1))) {
+            st_fail(&err, ST_ERR_INPUT,
+                    "--append %s: its header differs from this run's (%.*s); append to a CSV of "
+                    "the same --metric and strahl version",
+                    csv, (int)(l1 < 200 ? l1 : 200), old);
+            free(old);
+            return st_report("bench", &err);
+        }
     }
     st_image ref = {0}, ref_se = {0};
     st_exr_meta ref_meta = {0};
@@ -292,6 +334,7 @@ int st_cmd_bench(int argc, char **argv) {
         !st_image_read_exr_meta(ref_path, &ref_meta, &err)) {
         err.kind = ST_ERR_INPUT;
         st_image_free(&ref);
+        free(old);
         return st_report("bench", &err);
     }
     // Render with the reference's pixel filter unless told otherwise.
@@ -310,6 +353,7 @@ int st_cmd_bench(int argc, char **argv) {
         total *= sweeps[k].num_values;
     if (total > MAX_ROWS) {
         st_image_free(&ref);
+        free(old);
         return st_fail(&err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS),
                st_report("bench", &err);
     }
@@ -384,27 +428,17 @@ int st_cmd_bench(int argc, char **argv) {
     }
     {
         // CSV (atomically; --append adds rows to an existing file).
-        char tmp[1100];
-        snprintf(tmp, sizeof tmp, "%s.tmp-%d", csv, (int)getpid());
-        FILE *f = fopen(tmp, "w");
+        st_outfile o;
+        FILE *f = st_out_begin(&o, csv, &err) ? st_out_stream(&o, &err) : NULL;
         if (!f) {
-            st_fail(&err, ST_ERR_RUNTIME, "%s: cannot write", csv);
+            st_out_abort(&o);
             goto fail;
         }
-        FILE *old = append ? fopen(csv, "r") : NULL;
         if (old) {
-            char line[4096];
-            while (fgets(line, sizeof line, old))
-                fputs(line, f);
-            fclose(old);
+            fwrite(old, 1, old_len, f);
+            if (old_len && old[old_len - 1] != '\n') fputc('\n', f);
         } else if (shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
-            fprintf(f,
-                    "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_"
-                    "ms_median,"
-                    "error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,"
-                    "pass_gpu_ms,"
-                    "error_raw,ref_noise_rms,ref_noise_warning\n",
-                    metric);
+            fprintf(f, "%s\n", header);
         }
         for (int i = 0; i < done; i++) {
             row *r = &rows[i];
@@ -417,11 +451,7 @@ int st_cmd_bench(int argc, char **argv) {
                     r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
                     r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
         }
-        if (fclose(f) != 0 || rename(tmp, csv) != 0) {
-            unlink(tmp);
-            st_fail(&err, ST_ERR_RUNTIME, "%s: cannot write", csv);
-            goto fail;
-        }
+        if (!st_out_commit(&o, &err)) goto fail;
     }
     {
         // Pareto front: settings no faster setting beats in error.
@@ -464,5 +494,6 @@ out:
     st_image_free(&ref);
     st_image_free(&ref_se);
     free(rows);
+    free(old);
     return rc;
 }

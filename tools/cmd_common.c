@@ -30,9 +30,17 @@ bool st_parse_int(const char *s, long lo, long hi, long *out) {
     return true;
 }
 
+static st_scene_opts scene_opts;
+
+bool st_cmd_scene_option(const char *arg) {
+    if (strcmp(arg, "--allow-outside-assets")) return false;
+    scene_opts.flags |= ST_ASSETS_ANYWHERE;
+    return true;
+}
+
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
                         st_scene *scene, st_err *err) {
-    if (!st_scene_load(path, scene, err)) return false;
+    if (!st_scene_load_ex(path, &scene_opts, scene, err)) return false;
     for (int i = 0; i < num_sets; i++) {
         if (!st_scene_set(scene, sets[i], err)) { // its message names the --set
             st_scene_free(scene);

@@ -9,7 +9,12 @@
 bool st_parse_size(const char *s, int *w, int *h);
 // Parses a positive integer within [lo, hi].
 bool st_parse_int(const char *s, long lo, long hi, long *out);
-// Loads a scene and applies --set assignments and a --size override.
+// Consumes a scene-loading option shared by render, reference, bench and
+// view (--allow-outside-assets: glTF URIs may leave the glTF's folder);
+// false when arg is not one.
+bool st_cmd_scene_option(const char *arg);
+// Loads a scene (with the options above) and applies --set assignments and a
+// --size override.
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
                         st_scene *scene, st_err *err);
 // Prints a warning to stderr when the reference's noise is more than a third
@@ -44,6 +49,10 @@ void st_progress_end(st_progress_bar *p, int done, const char *extra);
 // baseline "M.P=V,..." marks that setting (NULL: none).
 bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric,
                  const char *baseline, const char *title, st_err *err);
+// Checks of plot arguments before any work: --baseline is M.P=V[,M.P=V...],
+// a title has no control characters (each string goes into a gnuplot script).
+bool st_plot_check_baseline(const char *baseline, st_err *err);
+bool st_plot_check_title(const char *title, st_err *err);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

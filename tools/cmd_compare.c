@@ -3,6 +3,7 @@
 // everything (including the heat map) succeeded.
 #include "cmd_common.h"
 #include "st_cmd.h"
+#include "st_file.h"
 #include "st_image.h"
 #include <math.h>
 #include <stdio.h>
@@ -105,7 +106,7 @@ static void print_text(const st_metrics *m, int w, int h, const char *a, const c
 }
 
 int st_cmd_compare(int argc, char **argv) {
-    const char *files[2] = {NULL, NULL}, *heatmap = NULL;
+    const char *files[3] = {NULL, NULL, NULL}, *heatmap = NULL;
     int nfiles = 0;
     bool json = false;
     for (int i = 1; i < argc; i++) {
@@ -133,9 +134,9 @@ int st_cmd_compare(int argc, char **argv) {
                         "[--json] [--heatmap OUT.png])\n");
         return ST_EXIT_INPUT;
     }
-    if (heatmap && !heatmap[0]) return bad_usage("empty heat map path", heatmap);
-
     st_err err = {0};
+    static const char *const exts[] = {"png", NULL};
+    if (heatmap && !st_check_output("--heatmap", heatmap, exts, files, &err)) return fail(&err);
     st_image a = {0}, b = {0}, bs = {0};
     st_exr_meta meta = {0}, meta_a = {0};
     st_metrics m;

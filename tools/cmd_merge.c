@@ -5,7 +5,9 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cmd_common.h"
 #include "st_cmd.h"
+#include "st_file.h"
 #include "st_image.h"
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,21 +36,67 @@ static int bad(const char *fmt, const char *a, const char *b) {
     return st_report("merge", &err);
 }
 
-// Whether the comma-separated seed lists x and y share a seed; names it.
-static bool seeds_overlap(const char *x, const char *y, char *which, size_t n) {
-    for (const char *p = x; *p;) {
+#define MAX_SEEDS 2048
+
+// The strahl.seeds attribute of a shard: comma-separated decimal integers
+// (digits only: no sign, space or 0x; "01" is 1), each at most 2^64 - 1.
+// Seeds are compared as numbers, so one seed written two ways still counts
+// twice. Appends to seeds[*n]; a seed already there (this shard or an
+// earlier one) is an error naming it.
+static bool parse_seeds(const char *shard, const char *text, unsigned long long *seeds, int *n,
+                        int first_of_shard, st_err *err) {
+    for (const char *p = text;;) {
         size_t len = strcspn(p, ",");
-        for (const char *q = y; *q;) {
-            size_t l2 = strcspn(q, ",");
-            if (l2 == len && !strncmp(p, q, len)) {
-                snprintf(which, n, "%.*s", (int)len, p);
-                return true;
-            }
-            q += l2 + (q[l2] == ',');
-        }
-        p += len + (p[len] == ',');
+        char tok[32];
+        bool digits = len > 0 && len < sizeof tok;
+        for (size_t i = 0; digits && i < len; i++)
+            digits = p[i] >= '0' && p[i] <= '9';
+        if (!digits)
+            return st_fail(err, ST_ERR_INPUT,
+                           "%s: strahl.seeds '%.200s': '%.*s' is not a decimal seed", shard, text,
+                           (int)(len < 40 ? len : 40), p);
+        memcpy(tok, p, len);
+        tok[len] = 0;
+        errno = 0;
+        unsigned long long v = strtoull(tok, NULL, 10);
+        if (errno)
+            return st_fail(err, ST_ERR_INPUT, "%s: strahl.seeds: seed %s is larger than 2^64 - 1",
+                           shard, tok);
+        for (int i = 0; i < *n; i++)
+            if (seeds[i] == v)
+                return st_fail(err, ST_ERR_INPUT,
+                               "%s: seed %llu is %s; shards need different --seed (else they "
+                               "are the same samples)",
+                               shard, v,
+                               i >= first_of_shard ? "in the shard twice"
+                                                   : "in an earlier shard too");
+        if (*n == MAX_SEEDS)
+            return st_fail(err, ST_ERR_INPUT, "%s: more than %d seeds in all", shard, MAX_SEEDS);
+        seeds[(*n)++] = v;
+        if (!p[len]) return true;
+        p += len + 1;
     }
-    return false;
+}
+
+// Radiance and its standard error are finite and non-negative in a shard of
+// strahl reference; anything else would poison the mean. Names the shard.
+static bool check_shard(const char *shard, const st_image *img, const st_image *se, st_err *err) {
+    static const char *const ch[] = {"R", "G", "B"};
+    for (int pass = 0; pass < 2; pass++) {
+        const st_image *m = pass ? se : img;
+        const char *what = pass ? "standard error stderr." : "radiance ";
+        size_t n = (size_t)m->width * m->height * 3;
+        for (size_t i = 0; i < n; i++) {
+            float v = m->data[i];
+            if (isfinite(v) && v >= 0) continue;
+            size_t px = i / 3;
+            return st_fail(err, ST_ERR_INPUT,
+                           "%s: %s%s is %.9g at pixel (%zu, %zu); not a shard "
+                           "of strahl reference",
+                           shard, what, ch[i % 3], v, px % (size_t)m->width, px / (size_t)m->width);
+        }
+    }
+    return true;
 }
 
 int st_cmd_merge(int argc, char **argv) {
@@ -71,17 +119,22 @@ int st_cmd_merge(int argc, char **argv) {
     }
     if (!out) return bad("missing -o OUT.exr%s%s", "", "");
     if (n < 1) return bad("no shards to merge%s%s", "", "");
-    const char *dot = strrchr(out, '.');
-    if (!dot || strcasecmp(dot, ".exr")) return bad("-o %s: the output is an .exr%s", out, "");
+    static const char *const exts[] = {"exr", NULL};
+    st_err cerr = {0};
+    // The output may be one of the shards (merging into a reference): it is
+    // written, atomically, only after every shard has been read.
+    if (!st_check_output("-o", out, exts, NULL, &cerr)) return st_report("merge", &cerr);
 
     static const char *const rgb[] = {"R", "G", "B"};
     st_err err = {0};
     st_image sum = {0}, img = {0}, se = {0};
     st_exr_meta *all = calloc(1, sizeof *all), *m = calloc(1, sizeof *m);
     double *acc = NULL; // per value: sum n_i m_i, then sum n_i^2 s_i^2
+    unsigned long long *seeds = calloc(MAX_SEEDS, sizeof *seeds);
+    int nseeds = 0;
     long long total = 0;
     int rc = ST_EXIT_OK;
-    if (!all || !m) {
+    if (!all || !m || !seeds) {
         st_fail(&err, ST_ERR_RUNTIME, "out of memory");
         goto fail;
     }
@@ -100,6 +153,9 @@ int st_cmd_merge(int argc, char **argv) {
                     in[k]);
             goto fail;
         }
+        if (!check_shard(in[k], &img, &se, &err) ||
+            !parse_seeds(in[k], m->seeds, seeds, &nseeds, nseeds, &err))
+            goto fail;
         const size_t count = (size_t)img.width * img.height * 3;
         if (k == 0) {
             *all = *m;
@@ -109,7 +165,6 @@ int st_cmd_merge(int argc, char **argv) {
                 goto fail;
             }
         } else {
-            char seed[64];
             if (img.width != sum.width || img.height != sum.height) {
                 st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, %s is %dx%d", in[k], img.width,
                         img.height, in[0], sum.width, sum.height);
@@ -121,21 +176,6 @@ int st_cmd_merge(int argc, char **argv) {
                         m->config, in[0], all->config);
                 goto fail;
             }
-            if (seeds_overlap(m->seeds, all->seeds, seed, sizeof seed)) {
-                st_fail(&err, ST_ERR_INPUT,
-                        "%s: seed %s is in an earlier shard too; shards need different --seed "
-                        "(else they are the "
-                        "same samples)",
-                        in[k], seed);
-                goto fail;
-            }
-            size_t l = strlen(all->seeds);
-            if (l + strlen(m->seeds) + 2 > sizeof all->seeds) {
-                st_fail(&err, ST_ERR_INPUT, "%s: too many seeds to record in the header", in[k]);
-                goto fail;
-            }
-            all->seeds[l] = ',';
-            memcpy(all->seeds + l + 1, m->seeds, strlen(m->seeds) + 1); // fits: checked above
         }
         total += m->spp;
         if (total > 2147483647LL) {
@@ -157,6 +197,17 @@ int st_cmd_merge(int argc, char **argv) {
             sum.data[6 * i + 3 + c] = (float)(sqrt(acc[3 * px + 3 * i + c]) / total);
         }
     all->spp = (int)total;
+    // The seeds in their canonical form ("01" -> "1").
+    size_t l = 0;
+    all->seeds[0] = 0;
+    for (int i = 0; i < nseeds; i++) {
+        int w = snprintf(all->seeds + l, sizeof all->seeds - l, "%s%llu", i ? "," : "", seeds[i]);
+        if (w < 0 || (size_t)w >= sizeof all->seeds - l) {
+            st_fail(&err, ST_ERR_INPUT, "too many seeds to record in the header of %s", out);
+            goto fail;
+        }
+        l += (size_t)w;
+    }
     static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
     if (!st_image_write_exr_meta(out, &sum, names, all, &err)) goto fail;
     printf("strahl merge: %s (%dx%d, %lld spp from %d shard(s))\n", out, sum.width, sum.height,
@@ -171,5 +222,6 @@ done:
     free(acc);
     free(all);
     free(m);
+    free(seeds);
     return rc;
 }

@@ -6,6 +6,8 @@
 // units.
 #define _GNU_SOURCE
 #include "cmd_common.h"
+#include "plot_csv.h"
+#include "st_file.h"
 #include "st_cmd.h"
 #include "st_module.h"
 #include <math.h>
@@ -13,27 +15,20 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
-#define MAX_ROWS 4096
-#define MAX_PARAMS 8
+extern char **environ;
+
+#define MAX_ROWS ST_PLOT_MAX_ROWS
 #define MAX_CURVES 64
 
-typedef struct {
-    char scene[128];
-    int np;
-    char name[MAX_PARAMS][64]; // "toth.samples"
-    char value[MAX_PARAMS][64];
-    double ms, err, x;
-    int curve;
-    bool is_default, is_baseline;
-} prow;
-
-typedef struct {
-    prow *rows;
-    int n;
-    char metric[64];
-} ptable;
+typedef st_plot_row prow;
+typedef st_plot_table ptable;
 
 static const char help_text[] =
     "usage: strahl plot BENCH.csv... -o OUT.png|OUT.svg [--baseline MODULE.PARAM=V,...] [--title "
@@ -55,75 +50,6 @@ static bool is_number(const char *s) {
     char *e;
     strtod(s, &e);
     return e != s && !*e;
-}
-
-// Splits a CSV line into at most max fields (in place).
-static int split(char *line, char **f, int max) {
-    int n = 0;
-    for (char *p = line; p && n < max;) {
-        f[n++] = p;
-        p = strchr(p, ',');
-        if (p) *p++ = 0;
-    }
-    return n;
-}
-
-static bool read_csv(const char *path, ptable *t, st_err *err) {
-    FILE *f = fopen(path, "r");
-    if (!f) return st_fail(err, ST_ERR_INPUT, "%s: cannot open", path);
-    char line[8192];
-    int ln = 0;
-    while (fgets(line, sizeof line, f)) {
-        ln++;
-        line[strcspn(line, "\r\n")] = 0;
-        if (!line[0]) continue;
-        char *fld[32];
-        int nf = split(line, fld, 32);
-        if (!strcmp(fld[0], "scene")) { // a header (shard 1, or a concatenation)
-            if (nf > 8 && !strncmp(fld[8], "error_", 6))
-                snprintf(t->metric, sizeof t->metric, "%s", fld[8] + 6);
-            continue;
-        }
-        if (nf < 9) {
-            fclose(f);
-            return st_fail(err, ST_ERR_INPUT,
-                           "%s:%d: expected a strahl bench row (9 or more fields)", path, ln);
-        }
-        if (t->n == MAX_ROWS) {
-            fclose(f);
-            return st_fail(err, ST_ERR_INPUT, "%s: more than %d rows", path, MAX_ROWS);
-        }
-        prow *r = &t->rows[t->n];
-        memset(r, 0, sizeof *r);
-        const char *slash = strrchr(fld[0], '/');
-        snprintf(r->scene, sizeof r->scene, "%s", slash ? slash + 1 : fld[0]);
-        char *dot = strrchr(r->scene, '.');
-        if (dot && !strcmp(dot, ".json")) *dot = 0;
-        char *e1, *e2;
-        r->ms = strtod(fld[5], &e1);
-        r->err = strtod(fld[8], &e2);
-        if (*e1 || *e2 || !(r->ms > 0) || !isfinite(r->err)) {
-            fclose(f);
-            return st_fail(err, ST_ERR_INPUT, "%s:%d: bad frame time '%s' or error '%s'", path, ln,
-                           fld[5], fld[8]);
-        }
-        for (char *tok = strtok(fld[1], " "); tok && r->np < MAX_PARAMS; tok = strtok(NULL, " ")) {
-            char *eq = strchr(tok, '=');
-            if (!eq) continue;
-            snprintf(r->name[r->np], 64, "%.*s", (int)(eq - tok), tok);
-            snprintf(r->value[r->np], 64, "%s", eq + 1);
-            r->np++;
-        }
-        if (!r->np) {
-            fclose(f);
-            return st_fail(err, ST_ERR_INPUT, "%s:%d: setting '%s' has no MODULE.PARAM=VALUE", path,
-                           ln, fld[1]);
-        }
-        r->x = is_number(r->value[0]) ? atof(r->value[0]) : 0;
-        t->n++;
-    }
-    fclose(f);
-    return true;
 }
 
 // Whether the value of `name` (MODULE.PARAM) equals the plugin's default.
@@ -182,18 +108,64 @@ static int cmp_x(const void *a, const void *b) {
     return (x->x > y->x) - (x->x < y->x);
 }
 
-// Single-quoted gnuplot string: ' doubles.
+// Single-quoted gnuplot string: ' doubles, and nothing else is special
+// inside (no backquote command or @macro substitution, no backslash
+// escapes). A newline would end the command, so control characters, refused
+// on input already, become spaces here too.
 static void gp_str(FILE *f, const char *s) {
     fputc('\'', f);
     for (; *s; s++) {
         if (*s == '\'') fputc('\'', f);
-        fputc(*s, f);
+        fputc((unsigned char)*s < 0x20 || *s == 0x7f ? ' ' : *s, f);
     }
     fputc('\'', f);
 }
 
+// Runs gnuplot (posix_spawnp, no shell) with the script on its stdin and its
+// stdout, the image, into out_fd; its messages go to log_fd.
+static bool run_gnuplot(const char *script, size_t len, int out_fd, int log_fd, st_err *err) {
+    int p[2];
+    if (pipe2(p, O_CLOEXEC) != 0)
+        return st_fail(err, ST_ERR_RUNTIME, "cannot start gnuplot: %s", strerror(errno));
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_adddup2(&fa, p[0], STDIN_FILENO);
+    posix_spawn_file_actions_adddup2(&fa, out_fd, STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&fa, log_fd, STDERR_FILENO);
+    char *const argv[] = {"gnuplot", NULL};
+    pid_t pid;
+    int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    close(p[0]);
+    if (rc != 0) {
+        close(p[1]);
+        return st_fail(err, ST_ERR_RUNTIME, "cannot run gnuplot (is gnuplot-nox installed?): %s",
+                       strerror(rc));
+    }
+    // gnuplot may exit before reading everything: EPIPE, not a signal.
+    struct sigaction ign = {.sa_handler = SIG_IGN}, old;
+    sigaction(SIGPIPE, &ign, &old);
+    bool wrote = true;
+    for (size_t at = 0; at < len;) {
+        ssize_t w = write(p[1], script + at, len - at);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            wrote = false;
+            break;
+        }
+        at += (size_t)w;
+    }
+    close(p[1]);
+    sigaction(SIGPIPE, &old, NULL);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (!wrote || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed");
+    return true;
+}
+
 static bool draw(ptable *t, const char *out, const char *baseline, const char *title, st_err *err) {
-    if (!t->n) return st_fail(err, ST_ERR_INPUT, "%s: no rows to plot", out);
     bool multi_scene = false;
     for (int i = 1; i < t->n; i++)
         multi_scene |= strcmp(t->rows[i].scene, t->rows[0].scene) != 0;
@@ -234,16 +206,16 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     prow *sorted[MAX_ROWS];
     for (int i = 0; i < t->n; i++)
         sorted[i] = &t->rows[i];
-    char dat[1200], gp[1200], tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp-%d", out, (int)getpid());
-    snprintf(dat, sizeof dat, "%s.dat", tmp);
-    snprintf(gp, sizeof gp, "%s.gp", tmp);
-    FILE *d = fopen(dat, "w");
-    if (!d) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write plot data", dat);
+    // The script goes to gnuplot's stdin with the data inline (a datablock)
+    // and the image comes back on its stdout: no path reaches gnuplot.
+    char *script = NULL;
+    size_t script_len = 0;
+    FILE *d = open_memstream(&script, &script_len);
+    if (!d) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     // Blocks (gnuplot `index`): one per curve, then the front, the baseline, the defaults.
+    fprintf(d, "$data << EOD\n");
     qsort(sorted, (size_t)t->n, sizeof sorted[0], cmp_x);
     for (int c = 0, i = 0; c < nc; c++) {
-        fprintf(d, "# %s\n", labels[c]);
         for (; i < t->n && sorted[i]->curve == c; i++)
             fprintf(d, "%.9g %.9g\n", sorted[i]->ms, sorted[i]->err);
         fprintf(d, "\n\n");
@@ -251,7 +223,6 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     // The front of each scene (times and errors of different scenes do not
     // compete), as separate line segments of one block.
     qsort(sorted, (size_t)t->n, sizeof sorted[0], cmp_ms);
-    fprintf(d, "# Pareto front\n");
     for (int i = 0; i < t->n; i++) {
         bool first = true;
         for (int k = 0; k < i && first; k++)
@@ -271,19 +242,21 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
         nb += t->rows[i].is_baseline;
         nd += t->rows[i].is_default;
     }
-    if (nb) fprintf(d, "\n\n# baseline\n");
+    if (baseline && baseline[0] && !nb) {
+        fclose(d);
+        free(script);
+        return st_fail(err, ST_ERR_INPUT, "--baseline %s: no row of the CSV has this setting",
+                       baseline);
+    }
+    if (nb) fprintf(d, "\n\n");
     for (int i = 0; i < t->n; i++)
         if (t->rows[i].is_baseline) fprintf(d, "%.9g %.9g\n", t->rows[i].ms, t->rows[i].err);
-    if (nd) fprintf(d, "\n\n# defaults\n");
+    if (nd) fprintf(d, "\n\n");
     for (int i = 0; i < t->n; i++)
         if (t->rows[i].is_default) fprintf(d, "%.9g %.9g\n", t->rows[i].ms, t->rows[i].err);
-    bool dok = fclose(d) == 0;
+    fprintf(d, "EOD\n");
 
-    FILE *f = dok ? fopen(gp, "w") : NULL;
-    if (!f) {
-        unlink(dat);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write gnuplot script", gp);
-    }
+    FILE *f = d;
     const char *dot = strrchr(out, '.');
     bool svg = dot && !strcasecmp(dot, ".svg");
     const char *m = t->metric[0] ? t->metric : "error";
@@ -297,9 +270,8 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     snprintf(def_title, sizeof def_title, "%.*s on %s (along each curve: %s)",
              (int)strcspn(r0->name[0], "."), r0->name[0],
              multi_scene ? "several scenes" : r0->scene, along);
-    fprintf(f, "set terminal %s size 900,700 font ',10'\nset output ", svg ? "svg" : "pngcairo");
-    gp_str(f, tmp);
-    fprintf(f, "\nset logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#dddddd'\nset format "
+    fprintf(f, "set terminal %s size 900,700 font ',10'\n", svg ? "svg" : "pngcairo");
+    fprintf(f, "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#dddddd'\nset format "
                "x '%%g'\n"
                "set format y '%%g'\nset xlabel 'median frame time [ms] (log scale)'\nset ylabel ");
     gp_str(f, ylabel);
@@ -309,17 +281,15 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
                "noenhanced\nset offsets graph 0.05, graph "
                "0.05, graph 0.1, graph 0.1\nplot ");
     for (int c = 0; c < nc; c++) {
-        gp_str(f, dat);
-        fprintf(f, " index %d using 1:2 with linespoints lw 1.5 pt 7 ps 0.7 title ", c);
+        fprintf(f, "$data index %d using 1:2 with linespoints lw 1.5 pt 7 ps 0.7 title ", c);
         gp_str(f, labels[c]);
         fprintf(f, ", \\\n     ");
     }
-    gp_str(f, dat);
-    fprintf(f, " index %d using 1:2 with steps lw 2 dt 2 lc rgb 'black' title 'Pareto front'", nc);
+    fprintf(f, "$data index %d using 1:2 with steps lw 2 dt 2 lc rgb 'black' title 'Pareto front'",
+            nc);
     if (nb) {
         fprintf(f, ", \\\n     ");
-        gp_str(f, dat);
-        fprintf(f, " index %d using 1:2 with points pt 6 ps 3 lw 2 lc rgb '#d62728' title ",
+        fprintf(f, "$data index %d using 1:2 with points pt 6 ps 3 lw 2 lc rgb '#d62728' title ",
                 nc + 1);
         char bl[600];
         snprintf(bl, sizeof bl, "baseline (%s)", baseline);
@@ -327,63 +297,90 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     }
     if (nd) {
         fprintf(f, ", \\\n     ");
-        gp_str(f, dat);
-        fprintf(f,
-                " index %d using 1:2 with points pt 4 ps 3 lw 2 lc rgb '#2ca02c' title 'plugin "
-                "defaults'",
-                nc + 1 + (nb > 0));
+        fprintf(
+            f,
+            "$data index %d using 1:2 with points pt 4 ps 3 lw 2 lc rgb '#2ca02c' title 'plugin "
+            "defaults'",
+            nc + 1 + (nb > 0));
     }
     fputc('\n', f);
     if (fclose(f) != 0) {
-        unlink(dat);
-        unlink(gp);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write gnuplot script", gp);
+        free(script);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     }
-    // gnuplot's chatter (e.g. "empty x range" for a single point) goes to a
-    // log that is shown only when it fails.
-    char log[1300], cmd[4000];
-    snprintf(log, sizeof log, "%s.log", tmp);
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' >'%s' 2>&1", gp, log);
-    int rc = system(cmd);
-    unlink(gp);
-    unlink(dat);
-    if (rc != 0) {
+    // gnuplot's chatter (e.g. "empty x range" for a single point) goes to an
+    // anonymous temporary file that is shown only when it fails.
+    st_outfile o;
+    FILE *log = tmpfile();
+    if (!log || !st_out_begin(&o, out, err)) {
+        if (log) fclose(log);
+        free(script);
+        if (!log) return st_fail(err, ST_ERR_RUNTIME, "cannot create a temporary file");
+        return false;
+    }
+    bool ok = run_gnuplot(script, script_len, o.fd, fileno(log), err);
+    free(script);
+    if (!ok) {
         char msg[512] = "";
-        FILE *lf = fopen(log, "r");
-        if (lf) {
-            size_t got = fread(msg, 1, sizeof msg - 1, lf);
-            msg[got] = 0;
-            msg[strcspn(msg, "\n")] = 0;
-            fclose(lf);
-        }
-        unlink(log);
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME,
-                       "gnuplot failed drawing %s (is gnuplot-nox installed?)%s%s", out,
+        rewind(log);
+        size_t got = fread(msg, 1, sizeof msg - 1, log);
+        msg[got] = 0;
+        msg[strcspn(msg, "\n")] = 0;
+        st_out_abort(&o);
+        fclose(log);
+        return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s%s%s", out,
                        msg[0] ? ": " : "", msg);
     }
-    unlink(log);
-    if (rename(tmp, out) != 0) {
-        unlink(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write", out);
+    fclose(log);
+    return st_out_commit(&o, err);
+}
+
+bool st_plot_check_baseline(const char *baseline, st_err *err) {
+    if (!baseline) return true;
+    if (!baseline[0] || strlen(baseline) > 500 || st_plot_has_control(baseline))
+        return st_fail(err, ST_ERR_INPUT,
+                       "--baseline: expected MODULE.PARAM=VALUE,... (at most 500 characters, no "
+                       "control characters)");
+    for (const char *p = baseline; *p;) {
+        size_t n = strcspn(p, ",");
+        const char *dot = memchr(p, '.', n), *eq = memchr(p, '=', n);
+        if (!dot || !eq || dot > eq || dot == p || eq == dot + 1 || eq + 1 == p + n)
+            return st_fail(err, ST_ERR_INPUT, "--baseline %s: '%.*s' is not MODULE.PARAM=VALUE",
+                           baseline, (int)n, p);
+        p += n + (p[n] == ',');
+        if (p[-1] == ',' && !*p)
+            return st_fail(err, ST_ERR_INPUT, "--baseline %s: empty setting after ','", baseline);
     }
     return true;
 }
 
-static bool plot_ext_ok(const char *out) {
-    const char *dot = strrchr(out, '.');
-    return dot && (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".svg"));
+bool st_plot_check_title(const char *title, st_err *err) {
+    if (title && st_plot_has_control(title))
+        return st_fail(err, ST_ERR_INPUT,
+                       "--title: contains a control character (a newline?); give one line");
+    return true;
 }
 
 bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *metric,
                  const char *baseline, const char *title, st_err *err) {
-    if (!plot_ext_ok(out)) return st_fail(err, ST_ERR_INPUT, "%s: the plot is a .png or .svg", out);
+    static const char *const exts[] = {"png", "svg", NULL};
+    const char *inputs[65];
+    int ni = 0;
+    for (; ni < n && ni < 64; ni++)
+        inputs[ni] = csvs[ni];
+    inputs[ni] = NULL;
+    if (!st_check_output("-o", out, exts, inputs, err) || !st_plot_check_baseline(baseline, err) ||
+        !st_plot_check_title(title, err))
+        return false;
     ptable t = {.rows = calloc(MAX_ROWS, sizeof(prow))};
     if (!t.rows) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     if (metric) snprintf(t.metric, sizeof t.metric, "%s", metric);
     bool ok = true;
     for (int i = 0; i < n && ok; i++)
-        ok = read_csv(csvs[i], &t, err);
+        ok = st_plot_read_csv(csvs[i], &t, err);
+    if (ok && !t.n)
+        ok = st_fail(err, ST_ERR_INPUT, "%s%s: no rows to plot (only headers or nothing)", csvs[0],
+                     n > 1 ? " and the other CSVs" : "");
     ok = ok && draw(&t, out, baseline, title, err);
     free(t.rows);
     return ok;

@@ -6,6 +6,7 @@
 #include "cmd_common.h"
 #include "reference/ref.h"
 #include "st_cmd.h"
+#include "st_file.h"
 #include "st_image.h"
 #include <errno.h>
 #include <stdio.h>
@@ -35,6 +36,8 @@ static const char usage_text[] =
     "                            recorded in the header as strahl.filter\n"
     "  --threads N               worker threads, 1..256 (default: all online cores)\n"
     "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
+    "  --allow-outside-assets    let glTF buffer/image URIs leave the glTF file's folder\n"
+    "                            (default: refused)\n"
     "  -h, --help                this text\n"
     "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"
     "example:\n"
@@ -84,6 +87,8 @@ int st_cmd_reference(int argc, char **argv) {
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(usage_text, stdout);
             return ST_EXIT_OK;
+        } else if (st_cmd_scene_option(a)) {
+            continue;
         } else if (a[0] != '-') {
             if (scene_path) return bad(&err, "unexpected argument '%s' (one scene only)", a);
             scene_path = a;
@@ -143,9 +148,9 @@ int st_cmd_reference(int argc, char **argv) {
     }
     if (!scene_path) return bad(&err, "%s", "missing SCENE.json");
     if (!out_path) return bad(&err, "%s", "missing -o OUT.exr");
-    const char *dot = strrchr(out_path, '.');
-    if (!dot || strcasecmp(dot, ".exr"))
-        return bad(&err, "-o %s: the reference writes .exr only", out_path);
+    static const char *const exts[] = {"exr", NULL};
+    const char *inputs[] = {scene_path, NULL};
+    if (!st_check_output("-o", out_path, exts, inputs, &err)) return st_report("reference", &err);
 
     st_scene scene;
     // --set is checked against the scene's modules like `render` does, so the

@@ -3,6 +3,7 @@
 #define _GNU_SOURCE
 #include "cmd_common.h"
 #include "st_cmd.h"
+#include "st_file.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -32,14 +33,11 @@ static const char help_text[] =
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
+    "  --allow-outside-assets   let glTF buffer/image URIs leave the glTF file's folder\n"
+    "                           (default: refused)\n"
     "  -h, --help               this text\n"
     "example:\n"
     "  strahl render scenes/cornell.json -o out/cornell.png --stats\n";
-
-static bool out_ext_ok(const char *p) {
-    const char *dot = strrchr(p, '.');
-    return dot && (!strcasecmp(dot, ".exr") || !strcasecmp(dot, ".png"));
-}
 
 // The GPU memory table: every target and buffer by name, then per owner.
 static void print_memory(st_world *w, bool json) {
@@ -205,6 +203,7 @@ int st_cmd_render(int argc, char **argv) {
             stats = 1;
         } else if (!strcmp(a, "--stats=json")) {
             stats = 2;
+        } else if (st_cmd_scene_option(a)) {
         } else if (a[0] == '-' || scene_path) {
             return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a),
                    st_report("render", &err);
@@ -216,9 +215,9 @@ int st_cmd_render(int argc, char **argv) {
         return st_fail(&err, ST_ERR_INPUT,
                        "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)"),
                st_report("render", &err);
-    if (!out_ext_ok(out))
-        return st_fail(&err, ST_ERR_INPUT, "-o %s: the output must end in .exr or .png", out),
-               st_report("render", &err);
+    static const char *const exts[] = {"exr", "png", NULL};
+    const char *inputs[] = {scene_path, NULL};
+    if (!st_check_output("-o", out, exts, inputs, &err)) return st_report("render", &err);
     // Without --frames a still image is a converged one: frames run until
     // every progressive module reports convergence (or a cap is reached).
     bool until_converged = !frames_given;

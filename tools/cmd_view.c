@@ -5,6 +5,7 @@
 #define _GNU_SOURCE
 #include "cmd_common.h"
 #include "st_cmd.h"
+#include "st_file.h"
 #include "view/view.h"
 #include <GLFW/glfw3.h>
 #include <math.h>
@@ -31,6 +32,8 @@ static const char help_text[] =
     "  --ui-scale S              overlay text scale, 0.5..8 (default 1)\n"
     "  --shots DIR               screenshot folder (default .)\n"
     "  --hide-panel              start with the parameter panel hidden (default shown)\n"
+    "  --allow-outside-assets    let glTF buffer/image URIs leave the glTF file's folder\n"
+    "                            (default: refused)\n"
     "  -h, --help                this text\n"
     "example:\n"
     "  strahl view scenes/godrays_colonnade.json --set toth.samples=64\n";
@@ -100,6 +103,7 @@ int st_cmd_view(int argc, char **argv) {
             shots = argv[++i];
         } else if (!strcmp(a, "--hide-panel")) {
             hide_panel = true;
+        } else if (st_cmd_scene_option(a)) {
         } else if (a[0] == '-' || scene_path) {
             return usage_error("unexpected argument '%s' (usage: strahl view SCENE.json [--script "
                                "FILE] [--size WxH] "
@@ -115,11 +119,17 @@ int st_cmd_view(int argc, char **argv) {
 
     st_err err = {0};
     st_scene scene = {0};
-    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
+    // The script is read (a regular file within the cap) before any window opens.
+    FILE *script_f = script ? st_fopen_input(script, ST_CAP_TEXT, "viewer script", &err) : NULL;
+    if (script && !script_f) return st_report("view", &err);
+    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err)) {
+        if (script_f) fclose(script_f);
         return st_report("view", &err);
+    }
     int rc = ST_EXIT_OK;
     view *v = calloc(1, sizeof *v);
     if (!v) {
+        if (script_f) fclose(script_f);
         st_scene_free(&scene);
         return st_fail(&err, ST_ERR_RUNTIME, "out of memory"), st_report("view", &err);
     }
@@ -166,7 +176,8 @@ int st_cmd_view(int argc, char **argv) {
     fflush(stdout);
 
     if (script) {
-        rc = view_run_script(v, script);
+        rc = view_run_script(v, script, script_f);
+        script_f = NULL; // closed by view_run_script
     } else {
         while (!v->quit) {
             if (!view_frame(v, &err)) goto fail;
@@ -176,6 +187,7 @@ int st_cmd_view(int argc, char **argv) {
 fail:
     rc = st_report("view", &err);
 done:
+    if (script_f) fclose(script_f);
     if (v->world) st_world_destroy(v->world);
     if (v->ctx) view_gl_free(&v->gl);
     st_context_destroy(v->ctx);

@@ -192,9 +192,9 @@ int main(void) {
     free(out);
     free(err);
 
-    // Heat map into a missing directory is a runtime failure, no output.
+    // Heat map into a missing directory is bad input, found before any work.
     rc = run("a.exr b.exr --heatmap no/such/dir/h.png", &out, &err);
-    CHECK(rc == 1 && err && strstr(err, "no/such/dir/h.png") && out && !out[0],
+    CHECK(rc == 2 && err && strstr(err, "no/such/dir/h.png") && out && !out[0],
           "unwritable heat map: exit %d", rc);
     free(out);
     free(err);

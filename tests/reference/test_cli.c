@@ -121,10 +121,10 @@ static void bad_runs(void) {
           "missing scene exits 2");
     CHECK(st_test_sh("%s reference %s", ST_TEST_STRAHL, scene) == 2, "missing -o exits 2");
     CHECK(!st_test_exists(fresh), "a failed run left an output file");
-    // An unwritable destination is a runtime failure, and leaves nothing.
+    // An unwritable destination is bad input, found before rendering; nothing is left.
     CHECK(st_test_sh("%s reference %s -o %s/no-such-dir/x.exr --spp 1", ST_TEST_STRAHL, scene,
-                     ST_TEST_SCRATCH) == 1,
-          "unwritable output exits 1");
+                     ST_TEST_SCRATCH) == 2,
+          "unwritable output exits 2");
 }
 
 int main(void) {

@@ -13,6 +13,7 @@
 #ifndef ST_VIEW_H
 #define ST_VIEW_H
 #include "st_world.h"
+#include <stdio.h>
 
 #define VIEW_MAX_MODS 32
 #define VIEW_MAX_ROWS 128
@@ -208,8 +209,9 @@ double view_param_to_t(const st_param_def *d, double value);
 double view_param_from_t(const st_param_def *d, double t);
 
 // ---- script (view_script.c) ---------------------------------------------
-// Runs a script file; returns an exit code (0 ok, 1 failed expectation or
+// Runs a script already opened as f (path names it in messages; f is
+// closed); returns an exit code (0 ok, 1 failed expectation or
 // runtime error, 2 bad script).
-int view_run_script(view *v, const char *path);
+int view_run_script(view *v, const char *path, FILE *f);
 
 #endif

@@ -1,6 +1,7 @@
 // strahl view actions: everything a key, the panel or a script line can do.
 // Each action reports failures through st_err and leaves the world usable.
 #define _GNU_SOURCE
+#include "st_file.h"
 #include "view.h"
 #include <GLFW/glfw3.h>
 #include <ctype.h>
@@ -348,10 +349,12 @@ static void json_str(FILE *f, const char *s) {
 }
 
 bool view_write_stats(view *v, const char *path, st_err *err) {
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) return st_fail(err, ST_ERR_RUNTIME, "%s: cannot create", path);
+    st_outfile o;
+    FILE *f = st_out_begin(&o, path, err) ? st_out_stream(&o, err) : NULL;
+    if (!f) {
+        st_out_abort(&o);
+        return false;
+    }
     static const char *states[] = {"ran", "skipped", "culled"};
     fprintf(f,
             "{\"frame\": %llu, \"width\": %d, \"height\": %d, \"frame_ms\": %.4f, \"world_ms\": "
@@ -404,13 +407,7 @@ bool view_write_stats(view *v, const char *path, st_err *err) {
                 wd->h);
     }
     fprintf(f, "\n]}\n");
-    bool ok = !ferror(f);
-    ok = (fclose(f) == 0) && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
-        return st_fail(err, ST_ERR_RUNTIME, "%s: write failed", path);
-    }
-    return true;
+    return st_out_commit(&o, err);
 }
 
 void view_set_camera(view *v, const float pos[3], const float target[3]) {

@@ -230,6 +230,9 @@ static bool run_line(view *v, char *line, st_err *err) {
         NEED(1, "PATH.json");
         return view_write_stats(v, tok[1], err);
     }
+    // `sh` runs a shell command on purpose: a script is code, written by the
+    // user like a shell script (docs/security.md). Nothing else in strahl
+    // starts a shell.
     if (!strcmp(cmd, "sh")) {
         const char *c = rest_after(line, 1);
         if (!*c) return st_fail(err, ST_ERR_INPUT, "sh: usage: sh COMMAND");
@@ -303,12 +306,7 @@ static bool run_line(view *v, char *line, st_err *err) {
 #undef NUMS
 }
 
-int view_run_script(view *v, const char *path) {
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        fprintf(stderr, "strahl view: %s: cannot open the script\n", path);
-        return ST_EXIT_INPUT;
-    }
+int view_run_script(view *v, const char *path, FILE *f) {
     char line[4096];
     int lineno = 0, rc = ST_EXIT_OK;
     while (!v->quit && fgets(line, sizeof line, f)) {
