@@ -75,12 +75,15 @@ static void render_pixel(const ref_job *job, int i, int j) {
     const bool want_inscatter =
         (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
     double direct[3] = {0, 0, 0}, T[3] = {1, 1, 1};
-    if (want_direct) st_ref_direct(g, &x, direct);
+    // A varying density makes the transmittances (view ray, light paths)
+    // random estimates: direct light and T are then drawn per sample below.
+    const bool varies = sc->medium.present && st_density_varies(&sc->density);
+    if (want_direct && !varies) st_ref_direct(g, &x, NULL, direct);
     // A ray that hits nothing sees the background at the far plane (dimmed by T below).
     if (want_direct && !x.hit)
         for (int c = 0; c < 3; c++)
             direct[c] = sc->background[c];
-    if (sc->medium.present)
+    if (sc->medium.present && !varies)
         for (int c = 0; c < 3; c++)
             T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * s);
 
@@ -89,10 +92,12 @@ static void render_pixel(const ref_job *job, int i, int j) {
     const int spp = o->spp > 0 ? o->spp : 1;
     // Welford's running mean and squared deviations, per channel.
     double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-    const bool stochastic = want_indirect || want_inscatter;
+    const bool stochastic = want_indirect || want_inscatter || varies;
     const int n = stochastic ? spp : 1; // direct light alone has no noise
     for (int k = 0; k < n; k++) {
         double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0}, v[3];
+        if (varies && want_direct && x.hit) st_ref_direct(g, &x, &rng, direct);
+        if (varies) st_ref_transmittance(g, job->cam.pos, dir, 0.0, s, &rng, T);
         if (want_indirect) st_ref_indirect(g, o, &x, o->bounces, &rng, ind);
         if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, dir, s, &rng, ins);
         for (int c = 0; c < 3; c++) {
