@@ -230,7 +230,7 @@ static void emitter_through_height_fog(void) {
             tmin = fmin(tmin, Tv);
         }
     CHECK(tmin < 0.2, "the fog must matter: smallest view transmittance %g", tmin);
-    st_ref_options o = {.spp = 1024, .aov = ST_REF_COMBINED, .seed = 5};
+    st_ref_options o = {.spp = 256, .aov = ST_REF_COMBINED, .seed = 5};
     st_image img;
     if (render(&s, &o, &img)) {
         check_z("emitter through height fog", &img, want);
@@ -286,7 +286,7 @@ static void inscatter_height_fog(st_phase_kind phase, double g, const char *name
             double len = far_z / (c.d[0] * f[0] + c.d[1] * f[1] + c.d[2] * f[2]);
             want[j * 11 + i] = st_integrate(scatter_integrand, &c, 0.0, len, 0.0, 1e-10);
         }
-    st_ref_options o = {.spp = 128, .aov = ST_REF_INSCATTER, .seed = 11, .march_steps = 64};
+    st_ref_options o = {.spp = 32, .aov = ST_REF_INSCATTER, .seed = 11, .march_steps = 64};
     st_image img;
     if (render(&s, &o, &img)) {
         check_z(name, &img, want);
@@ -344,7 +344,7 @@ static void vdb_box(const char *dir) {
             contract_ray(&s, i, j, r);
             want[j * 33 + i] = exp(-sig_a * st_density_integral(&d, cam, r, 0.0, 9.0 / -r[2]));
         }
-    st_ref_options opt = {.spp = 4096, .aov = ST_REF_COMBINED, .seed = 3};
+    st_ref_options opt = {.spp = 1024, .aov = ST_REF_COMBINED, .seed = 3};
     st_image img;
     if (render(&s, &opt, &img)) {
         check_z("vdb box", &img, want);

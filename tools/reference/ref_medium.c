@@ -33,14 +33,27 @@
 #include "st_vec3.h"
 
 // Ratio tracking on [a, b] with majorant density `maj`: tentative collisions
-// at rate mu = max_c sigma_t[c] maj, each multiplying T by 1 - sigma_t d(x) /
-// mu. Unbiased for e^(-sigma_t integral d); Russian roulette once every
-// channel is below 0.1 keeps the walk short in thick fog (still unbiased).
+// at a rate mu >= max_c sigma_t[c] maj (and >= mu_floor), each multiplying T
+// by 1 - sigma_t d(x) / mu. Unbiased for e^(-sigma_t integral d); Russian
+// roulette once every channel is below 0.1 keeps the walk short in thick fog
+// (still unbiased).
+// The tracking rate: RATE_OVER times the majorant, and at least RATE_MIN
+// tentative collisions expected over the whole tracked interval. Ratio
+// tracking's relative variance is about e^(sigma_t^2 L / mu) - 1 for a
+// constant density (tau^2 / (mu L) when thin), so a rate above the tight
+// majorant buys variance cheaply (a density lookup per collision). Measured
+// on tests/data/crosscheck/height_fog.json (48x36, 64 spp, 16 strata): image
+// noise 0.0098 with the tight majorant, 0.0013 with these (2.2x the time:
+// 25x the samples' worth); more gains little (64: 0.00067 at 3.4x the time).
+#define RATE_OVER 4.0
+#define RATE_MIN 16.0
+
 static bool ratio_track(const st_ref_geometry *g, const double o[3], const double w[3], double a,
-                        double b, double maj, st_ref_rng *rng, double T[3]) {
+                        double b, double maj, double mu_floor, st_ref_rng *rng, double T[3]) {
     double mu = 0.0;
     for (int c = 0; c < 3; c++)
-        mu = fmax(mu, g->sigma_t[c] * maj);
+        mu = fmax(mu, RATE_OVER * g->sigma_t[c] * maj);
+    if (mu > 0.0) mu = fmax(mu, mu_floor);
     if (!(mu > 0.0)) return true;
     if (!isfinite(mu)) { // denser than a double holds: nothing gets through
         T[0] = T[1] = T[2] = 0.0;
@@ -87,7 +100,8 @@ void st_ref_transmittance(const st_ref_geometry *g, const double o[3], const dou
     const double len = (t1 - t0) / pieces;
     for (int k = 0; k < pieces; k++) {
         double a = t0 + k * len, b = k + 1 == pieces ? t1 : t0 + (k + 1) * len;
-        if (!ratio_track(g, o, w, a, b, st_density_majorant(dd, o, w, a, b), rng, out)) return;
+        double maj = st_density_majorant(dd, o, w, a, b);
+        if (!ratio_track(g, o, w, a, b, maj, RATE_MIN / (t1 - t0), rng, out)) return;
     }
 }
 
