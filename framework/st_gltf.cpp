@@ -1,5 +1,5 @@
-// glTF 2.0 loading (tinygltf) behind the C API of st_scene.h: the only C++
-// in libstrahl. tinygltf parses; everything it leaves unchecked (indices into
+// glTF 2.0 loading (tinygltf) behind the C API of st_scene.h (st_vdb.cpp is
+// libstrahl's only other C++). tinygltf parses; everything it leaves unchecked (indices into
 // the arrays, accessor bounds, finite numbers, tree shape of the nodes) is
 // checked here so malformed files give an error, never a crash. No
 // exception leaves this file.

@@ -29,6 +29,47 @@ void st_transmittance(const double sigma_t[3], double d, double out[3]);
 // intensity I at distance d: rho/pi I max(cos, 0) / d^2 e^(-sigma_t d).
 double st_direct_point(double rho, double intensity, double cos_theta, double d, double sigma_t);
 
+// ---- Heterogeneous media (medium.density) ----------------------------------
+// sigma_s(x) = sigma_s d(x), sigma_a(x) = sigma_a d(x), with d the density
+// (1 for a homogeneous medium). Every path's attenuation e^(-sigma_t d)
+// becomes e^(-sigma_t tau), tau the density's integral along the path (the
+// optical depth per unit sigma_t). docs/physics.md "Heterogeneous media".
+//
+// Rays are o + t w with w a unit vector, segments t in [t0, t1].
+
+// Whether the medium's density varies (height fog or grid).
+static inline bool st_density_varies(const st_density_desc *d) {
+    return d && d->kind != ST_DENSITY_UNIFORM;
+}
+// d(x).
+double st_density_at(const st_density_desc *d, const double x[3]);
+// Height fog's integral along a segment that starts at height y, climbs dy
+// per metre (the ray direction's y component) and is `length` long:
+//   integral_0^L e^(-k (y + dy t - y0)) dt = L d(y_low) (1 - e^(-x)) / x,
+// x = k |dy| L >= 0, y_low the segment's lower end: the form never overflows
+// beyond d(y_low) L, and (1 - e^(-x)) / x = -expm1(-x)/x -> 1 as x -> 0
+// (horizontal rays, falloff 0) without cancellation.
+double st_height_fog_integral(double base, double falloff, double y, double dy, double length);
+// tau = integral_t0^t1 d(o + t w) dt: height fog in closed form; a grid by
+// DDA through the cells between voxel centres, where the trilinear density
+// along the line is a cubic in t that 2-point Gauss-Legendre integrates
+// exactly (so tau is exact up to rounding, at most n[0] + n[1] + n[2] + 3
+// cells); t1 - t0 for a homogeneous medium.
+double st_density_integral(const st_density_desc *d, const double o[3], const double w[3],
+                           double t0, double t1);
+// Narrows [*t0, *t1] to where d can be non-zero (a grid's block); false when
+// nothing is left. Height fog and uniform media keep the interval.
+bool st_density_clip(const st_density_desc *d, const double o[3], const double w[3], double *t0,
+                     double *t1);
+// A majorant of d over the segment: d at its lower end for height fog (d
+// falls with y), the largest voxel for a grid, 1 for a uniform medium.
+double st_density_majorant(const st_density_desc *d, const double o[3], const double w[3],
+                           double t0, double t1);
+// e^(-sigma_t tau) per channel along the segment (st_transmittance for a
+// uniform medium).
+void st_segment_transmittance(const double sigma_t[3], const st_density_desc *d, const double o[3],
+                              const double w[3], double t0, double t1, double out[3]);
+
 // ---- Light arriving at a point ----------------------------------------------
 // glTF's spot falloff (KHR_lights_punctual): with c = cos of the angle between
 // the spot's axis and the direction from the light to the point,

@@ -160,8 +160,79 @@ static bool parse_phase(st_jctx *c, const cJSON *v, st_medium_desc *m) {
     return true;
 }
 
-static bool parse_medium(st_jctx *c, const cJSON *v, st_medium_desc *m) {
-    static const char *const keys[] = {"sigma_s", "sigma_a", "phase", NULL};
+// medium.density.height: {"base": y0, "falloff": k}, density e^(-k (y - y0)).
+// k >= 0 (a negative falloff grows without bound upward: no finite majorant
+// along a ray to the sky) and at most 1e4/m; base finite.
+static bool parse_height_fog(st_jctx *c, const cJSON *v, st_density_desc *d) {
+    static const char *const keys[] = {"base", "falloff", NULL};
+    if (!st_j_object(c, v, keys) || !st_j_number(c, v, "base", &d->base, NULL) ||
+        !st_j_number(c, v, "falloff", &d->falloff, NULL))
+        return false;
+    if (!(d->falloff >= 0 && d->falloff <= 1e4))
+        return st_j_fail(c, "falloff", "%g is out of range [0, 1e4] (1/m)", d->falloff);
+    if (!(fabs(d->base) <= 1e6))
+        return st_j_fail(c, "base", "%g is out of range [-1e6, 1e6] (m)", d->base);
+    d->kind = ST_DENSITY_HEIGHT;
+    return true;
+}
+
+// medium.density {"vdb": FILE, "grid": NAME, "transform": {"translate": [x, y, z],
+// "scale": [sx, sy, sz]}}: the file resolves against the scene's folder; the
+// transform (both keys optional) follows the grid's own index-to-world map.
+static bool parse_vdb(st_jctx *c, const cJSON *v, const char *dir, st_density_desc *d) {
+    static const char *const keys[] = {"vdb", "grid", "transform", NULL};
+    static const char *const tkeys[] = {"translate", "scale", NULL};
+    char rel[4096], full[8192], grid[ST_NAME_MAX] = "density";
+    bool has;
+    if (!st_j_object(c, v, keys) || !st_j_string(c, v, "vdb", rel, sizeof rel, NULL) ||
+        !st_j_string(c, v, "grid", grid, sizeof grid, &has))
+        return false;
+    float t[3] = {0, 0, 0}, sc[3] = {1, 1, 1};
+    const cJSON *tr = st_j_get(v, "transform");
+    if (tr) {
+        size_t mark = st_j_push(c, "transform");
+        bool ok = st_j_object(c, tr, tkeys) && st_j_vec3(c, tr, "translate", t, &has) &&
+                  st_j_vec3(c, tr, "scale", sc, &has);
+        for (int k = 0; ok && k < 3; k++)
+            if (!(fabsf(sc[k]) > 0))
+                ok = st_j_fail(c, "scale", "element %d is 0, expected a non-zero factor", k);
+        st_j_pop(c, mark);
+        if (!ok) return false;
+    }
+    double td[3] = {t[0], t[1], t[2]}, sd[3] = {sc[0], sc[1], sc[2]};
+    st_path_join(full, sizeof full, dir, rel);
+    st_density_grid *g = calloc(1, sizeof *g);
+    if (!g) return st_fail(c->err, ST_ERR_RUNTIME, "%s: out of memory", c->file);
+    if (!st_vdb_load(full, grid, td, sd, g, c->err)) {
+        free(g);
+        st_err_prefix(c->err, "%s: %s.vdb: ", c->file, c->path);
+        return false;
+    }
+    d->kind = ST_DENSITY_GRID;
+    d->grid = g;
+    return true;
+}
+
+static bool parse_density(st_jctx *c, const cJSON *v, const char *dir, st_density_desc *d) {
+    static const char *const keys[] = {"height", "vdb", "grid", "transform", NULL};
+    if (!st_j_object(c, v, keys)) return false;
+    const cJSON *h = st_j_get(v, "height");
+    if (h && st_j_get(v, "vdb"))
+        return st_j_fail(c, NULL, "expected either \"height\" or \"vdb\", not both");
+    if (h) {
+        if (v->child->next) return st_j_fail(c, NULL, "\"height\" takes no other keys");
+        size_t mark = st_j_push(c, "height");
+        bool ok = parse_height_fog(c, h, d);
+        st_j_pop(c, mark);
+        return ok;
+    }
+    if (!st_j_get(v, "vdb")) return st_j_fail(c, NULL, "expected a \"height\" or a \"vdb\" key");
+    return parse_vdb(c, v, dir, d);
+}
+
+static bool parse_medium(st_jctx *c, const cJSON *v, st_scene *s) {
+    static const char *const keys[] = {"sigma_s", "sigma_a", "phase", "density", NULL};
+    st_medium_desc *m = &s->medium;
     bool has;
     if (!st_j_object(c, v, keys) || !st_j_vec3(c, v, "sigma_s", m->sigma_s, NULL) ||
         !st_j_range3(c, "sigma_s", m->sigma_s, 0, INFINITY) ||
@@ -172,6 +243,13 @@ static bool parse_medium(st_jctx *c, const cJSON *v, st_medium_desc *m) {
     if (phase) {
         size_t mark = st_j_push(c, "phase");
         bool ok = parse_phase(c, phase, m);
+        st_j_pop(c, mark);
+        if (!ok) return false;
+    }
+    const cJSON *density = st_j_get(v, "density");
+    if (density) {
+        size_t mark = st_j_push(c, "density");
+        bool ok = parse_density(c, density, s->dir, &s->density);
         st_j_pop(c, mark);
         if (!ok) return false;
     }
@@ -302,7 +380,7 @@ static bool parse_document(st_jctx *c, const cJSON *root, st_scene *s) {
     s->width = s->height = 512;
     s->filter = ST_FILTER_BOX; // what Cycles, Mitsuba and pbrt report
     SECTION("image", parse_image(c, v, s));
-    SECTION("medium", parse_medium(c, v, &s->medium));
+    SECTION("medium", parse_medium(c, v, s));
     // Radiance where camera rays leave the scene, >= 0 per channel.
     if (!st_j_vec3(c, root, "background", s->background, &s->has_background) ||
         !st_j_range3(c, "background", s->background, 0, INFINITY))

@@ -67,6 +67,35 @@ bool st_filter_parse(const char *s, st_pixel_filter *out);
 
 typedef enum { ST_PHASE_ISOTROPIC = 0, ST_PHASE_RAYLEIGH, ST_PHASE_HG } st_phase_kind;
 
+// medium.density: how the medium's density varies in space. sigma_s and
+// sigma_a are scaled by it (docs/physics.md "Heterogeneous media").
+typedef enum {
+    ST_DENSITY_UNIFORM = 0, // no "density" key: the homogeneous medium, density 1
+    ST_DENSITY_HEIGHT,      // exponential height fog e^(-falloff (y - base))
+    ST_DENSITY_GRID         // an OpenVDB float grid, trilinear between voxel centres
+} st_density_kind;
+
+// A float grid densified over its active voxels' bounding box plus a ring of
+// zero voxels, so the trilinear density falls to 0 at the block's faces and
+// is 0 outside it. Voxel (i, j, k) of the block has index coordinate
+// lo + (i, j, k); its centre is at that index coordinate (OpenVDB's
+// convention), placed in the world by the affine map to_world.
+typedef struct st_density_grid {
+    int n[3];                // voxels per axis (>= 3), x fastest in values
+    int lo[3];               // index coordinate of values[0]
+    float *values;           // n[0] n[1] n[2] finite values >= 0
+    double to_world[12];     // 3x4 row major: world = M (i, j, k, 1)
+    double to_index[12];     // its inverse
+    double bmin[3], bmax[3]; // world bounds of the block (density 0 outside)
+    double max_value;        // largest voxel value: bounds the trilinear density
+} st_density_grid;
+
+typedef struct st_density_desc {
+    st_density_kind kind;
+    double base, falloff;  // ST_DENSITY_HEIGHT: y0 [m] and k >= 0 [1/m]
+    st_density_grid *grid; // ST_DENSITY_GRID: owned by the scene
+} st_density_desc;
+
 typedef struct st_medium_desc {
     bool present;
     float sigma_s[3], sigma_a[3]; // 1/m
@@ -129,6 +158,9 @@ typedef struct st_scene {
     int num_modules;
     int mesh_capacity, light_capacity; // allocated lengths, grown by st_scene_add_*
     st_pixel_filter filter;            // "image.filter"; box when the file does not say
+    // medium.density (kind ST_DENSITY_UNIFORM without one). Here and not in
+    // st_medium_desc because fields of st_scene are only appended (plugin ABI).
+    st_density_desc density;
 } st_scene;
 
 // Parses and validates a scene file. Strict: unknown keys, wrong types,
@@ -198,6 +230,22 @@ bool st_gltf_load_memory(const void *data, size_t len, const char *name, const c
                          st_scene *scene, bool *has_camera, st_err *err);
 bool st_gltf_load_memory_ex(const void *data, size_t len, const char *name, const char *base_dir,
                             unsigned flags, st_scene *scene, bool *has_camera, st_err *err);
+
+// OpenVDB (st_vdb.cpp, OpenVDB behind a C API): reads float grid `grid` of
+// the .vdb file at `path` into *out (values densified, see st_density_grid),
+// placed by the grid's own index-to-world map followed by world = translate +
+// scale * p. Strict: a regular file under ST_VDB_MAX_FILE_BYTES, the grid
+// present (the message lists the file's grids), of type float, with an
+// affine transform, background 0, at most ST_VDB_MAX_VOXELS voxels in its
+// active bounding box and every value there finite and >= 0. Messages name
+// the file and the grid; the caller prefixes the key path.
+#define ST_VDB_MAX_FILE_BYTES (1ull << 30)
+#ifndef ST_VDB_MAX_VOXELS
+#define ST_VDB_MAX_VOXELS (1ull << 25)
+#endif
+bool st_vdb_load(const char *path, const char *grid, const double translate[3],
+                 const double scale[3], st_density_grid *out, st_err *err);
+void st_density_grid_free(st_density_grid *g);
 
 #ifdef __cplusplus
 }

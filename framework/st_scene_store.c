@@ -175,5 +175,7 @@ void st_scene_free(st_scene *scene) {
     for (int i = 0; i < scene->num_modules; i++)
         free(scene->modules[i].params);
     free(scene->modules);
+    st_density_grid_free(scene->density.grid);
+    free(scene->density.grid);
     memset(scene, 0, sizeof *scene);
 }

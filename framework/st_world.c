@@ -1049,6 +1049,16 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
         st_fail(err, ST_ERR_RUNTIME, "out of memory");
         return NULL;
     }
+    // No GPU technique (the regular pass included) models a varying density
+    // yet: refuse rather than draw a homogeneous medium's image.
+    if (scene->medium.present && st_density_varies(&scene->density)) {
+        st_fail(err, ST_ERR_INPUT,
+                "%s: medium.density (%s) is supported by strahl reference only so far; the GPU "
+                "techniques and the regular pass model a homogeneous medium",
+                scene->path, scene->density.kind == ST_DENSITY_HEIGHT ? "height fog" : "vdb grid");
+        free(w);
+        return NULL;
+    }
     w->scene = scene;
     light_defines(w);
     if (opts) w->opts = *opts;

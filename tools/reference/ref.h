@@ -12,6 +12,8 @@
 //   inscatter single scattering in the homogeneous medium, exact visibility,
 //             see ref_medium.c.
 //   combined  (direct + indirect) e^(-sigma_t s) + inscatter.
+// A medium of varying density (medium.density) scales sigma_s and sigma_a by
+// d(x) and estimates each e^(-sigma_t d) by ratio tracking (ref_medium.c).
 // With a medium every light path is attenuated (docs/physics.md): light ->
 // surface (direct), light -> scattering point (in-scatter) and sender ->
 // receiver (each bounce) by e^(-sigma_t d); the view ray by e^(-sigma_t s).
@@ -102,9 +104,18 @@ st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,
                                   const double viewer[3]);
 
 // Surface terms (ref_shade.c). Radiances are RGB.
-void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out[3]);
+// rng: for the light paths' transmittance in a medium of varying density
+// (NULL is fine otherwise).
+void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, st_ref_rng *rng,
+                   double out[3]);
 void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *s,
                      int bounces, st_ref_rng *rng, double out[3]);
+
+// Transmittance along o + t w (w unit) for t in [t0, t1] (ref_medium.c):
+// e^(-sigma_t (t1 - t0)) in a homogeneous medium (1 without one), a ratio
+// tracking estimate when the density varies (rng then must not be NULL).
+void st_ref_transmittance(const st_ref_geometry *g, const double o[3], const double w[3], double t0,
+                          double t1, st_ref_rng *rng, double out[3]);
 
 // In-scattering along the view ray [0, s] (ref_medium.c).
 void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const double origin[3],

@@ -16,9 +16,97 @@
 // phase and shadows): an unbiased estimate for every phase function and any
 // visibility, with far less noise than strata uniform in t. A light on the
 // ray's line (h ~ 0) falls back to strata uniform in t.
+//
+// A varying density (medium.density: height fog, an OpenVDB grid) scales
+// sigma_s and sigma_a by d(x); every transmittance is then estimated by ratio
+// tracking (Novak et al. 2014) against a majorant of the density
+// (st_ref_transmittance), never by the closed forms of st_physics.c, so the
+// tests can hold the reference against those as independent oracles. The
+// sampling of scattering points stays the same (equi-angular strata, strata
+// in t for directional lights); each point's integrand is multiplied by
+// d(x), the view ray's transmittance to it (the running product of ratio
+// tracking over the segments between consecutive points, which are sorted in
+// t) and its light path's transmittance (one ratio tracking per point). A
+// uniform density keeps the homogeneous code above bit for bit.
 #include "ref.h"
 #include <math.h>
 #include "st_vec3.h"
+
+// Ratio tracking on [a, b] with majorant density `maj`: tentative collisions
+// at a rate mu >= max_c sigma_t[c] maj (and >= mu_floor), each multiplying T
+// by 1 - sigma_t d(x) / mu. Unbiased for e^(-sigma_t integral d); Russian
+// roulette once every channel is below 0.1 keeps the walk short in thick fog
+// (still unbiased).
+//
+// The tracking rate: RATE_OVER times the majorant, and at least RATE_MIN
+// tentative collisions expected over each tracked interval (the view ray's
+// transmittance, which every scattering point on it shares, is tracked
+// interval by interval between the points: RATE_MIN per interval). Ratio
+// tracking's relative variance is about e^(sigma_t^2 L / mu) - 1 for a
+// constant density (tau^2 / (mu L) when thin), so a rate above the tight
+// majorant buys variance cheaply (a density lookup per collision). Measured
+// on tests/data/crosscheck/height_fog.json (48x36, 64 spp, --steps 16): image
+// noise rms 0.0098 in 2.35 s with the tight majorant, 0.0013 in 7.0 s with
+// these (7.5x less noise: 19x the efficiency); RATE_MIN 64: 0.0007 in 13 s.
+#define RATE_OVER 4.0
+#define RATE_MIN 16.0
+
+static bool ratio_track(const st_ref_geometry *g, const double o[3], const double w[3], double a,
+                        double b, double maj, double mu_floor, st_ref_rng *rng, double T[3]) {
+    double mu = 0.0;
+    for (int c = 0; c < 3; c++)
+        mu = fmax(mu, RATE_OVER * g->sigma_t[c] * maj);
+    if (mu > 0.0) mu = fmax(mu, mu_floor);
+    if (!(mu > 0.0)) return true;
+    if (!isfinite(mu)) { // denser than a double holds: nothing gets through
+        T[0] = T[1] = T[2] = 0.0;
+        return false;
+    }
+    const st_density_desc *dd = &g->desc->density;
+    for (double t = a;;) {
+        t -= log(1.0 - st_ref_rng_uniform(rng)) / mu;
+        if (!(t < b)) return true;
+        double x[3] = {o[0] + t * w[0], o[1] + t * w[1], o[2] + t * w[2]};
+        double d = st_density_at(dd, x), tmax = 0.0;
+        for (int c = 0; c < 3; c++) {
+            T[c] *= fmax(0.0, 1.0 - g->sigma_t[c] * d / mu);
+            tmax = fmax(tmax, T[c]);
+        }
+        if (tmax < 0.1) {
+            double q = tmax / 0.1; // survival probability
+            if (!(st_ref_rng_uniform(rng) < q)) {
+                T[0] = T[1] = T[2] = 0.0;
+                return false;
+            }
+            for (int c = 0; c < 3; c++)
+                T[c] /= q;
+        }
+    }
+}
+
+void st_ref_transmittance(const st_ref_geometry *g, const double o[3], const double w[3], double t0,
+                          double t1, st_ref_rng *rng, double out[3]) {
+    const st_density_desc *dd = &g->desc->density;
+    if (!st_density_varies(dd)) {
+        st_transmittance(g->sigma_t, t1 - t0, out);
+        return;
+    }
+    out[0] = out[1] = out[2] = 1.0;
+    if (!st_density_clip(dd, o, w, &t0, &t1)) return;
+    // Height fog: pieces over which the density changes by at most a factor
+    // e (k |dy| length <= 1), at most 64, each with its own majorant (the
+    // density at its lower end), so the majorant is tight. A grid: one piece.
+    int pieces = 1;
+    if (dd->kind == ST_DENSITY_HEIGHT)
+        pieces = (int)fmin(64.0, ceil(dd->falloff * fabs(w[1]) * (t1 - t0)));
+    if (pieces < 1) pieces = 1;
+    const double len = (t1 - t0) / pieces;
+    for (int k = 0; k < pieces; k++) {
+        double a = t0 + k * len, b = k + 1 == pieces ? t1 : t0 + (k + 1) * len;
+        double maj = st_density_majorant(dd, o, w, a, b);
+        if (!ratio_track(g, o, w, a, b, maj, RATE_MIN / (t1 - t0), rng, out)) return;
+    }
+}
 
 // The integrand at ray distance t for light i, times `weight`: dt / d^2 for
 // point and spot lights (the 1/d^2 is folded into the equi-angular weight), dt
@@ -44,6 +132,90 @@ static void source(const st_ref_geometry *g, const double origin[3], const doubl
         out[c] += w[c];
 }
 
+// The varying-density integrand at ray distance t for light i (see source()),
+// with Tv the view ray's transmittance to t.
+static void source_varying(const st_ref_geometry *g, const double origin[3], const double dir[3],
+                           int i, const double sigma_s[3], const double Tv[3], double t,
+                           double weight, st_ref_rng *rng, double out[3]) {
+    const st_medium_desc *m = &g->desc->medium;
+    double x[3] = {origin[0] + t * dir[0], origin[1] + t * dir[1], origin[2] + t * dir[2]};
+    double d = st_density_at(&g->desc->density, x);
+    if (!(d > 0.0)) return;
+    st_incident in;
+    if (!st_light_incident(&g->desc->lights[i], g->light_entry[i], x, &in)) return;
+    const double unfold = isfinite(in.dist) ? in.dist * in.dist : 1.0;
+    double ph = st_phase_eval(m->phase, st_dot3(in.to_light, dir), m->g);
+    double w[3], any = 0.0;
+    for (int c = 0; c < 3; c++) {
+        w[c] = weight * unfold * Tv[c] * sigma_s[c] * d * ph * in.E[c];
+        any += w[c];
+    }
+    if (!(any > 0.0) || !st_ref_light_visible(g, x, x, &in)) return;
+    double Tl[3];
+    st_ref_transmittance(g, x, in.to_light, 0.0, in.path, rng, Tl);
+    for (int c = 0; c < 3; c++)
+        out[c] += w[c] * Tl[c];
+}
+
+// The view ray's transmittance from 0 to t, advanced point by point.
+typedef struct {
+    double t, T[3];
+} view_track;
+
+static const double *view_to(const st_ref_geometry *g, const double origin[3], const double dir[3],
+                             view_track *v, double t, st_ref_rng *rng) {
+    if (t > v->t && (v->T[0] > 0.0 || v->T[1] > 0.0 || v->T[2] > 0.0)) {
+        double Ts[3];
+        st_ref_transmittance(g, origin, dir, v->t, t, rng, Ts);
+        double tmax = 0.0;
+        for (int c = 0; c < 3; c++)
+            v->T[c] *= Ts[c], tmax = fmax(tmax, v->T[c]);
+        if (tmax < 0.05) { // Russian roulette on the running product
+            double q = tmax / 0.05;
+            bool live = st_ref_rng_uniform(rng) < q;
+            for (int c = 0; c < 3; c++)
+                v->T[c] = live ? v->T[c] / q : 0.0;
+        }
+    }
+    v->t = fmax(v->t, t);
+    return v->T;
+}
+
+// In-scattering with a varying density: the same strata as below.
+static void inscatter_varying(const st_ref_geometry *g, const st_ref_options *o,
+                              const double origin[3], const double dir[3], double s,
+                              const double sigma_s[3], st_ref_rng *rng, double out[3]) {
+    const st_scene *sc = g->desc;
+    const int n = o->march_steps > 0 ? o->march_steps : 256;
+    for (int i = 0; i < sc->num_lights; i++) {
+        const st_light_desc *l = &sc->lights[i];
+        view_track v = {0.0, {1.0, 1.0, 1.0}};
+        double to_l[3] = {l->position[0] - origin[0], l->position[1] - origin[1],
+                          l->position[2] - origin[2]};
+        double t0 = st_dot3(to_l, dir);
+        double h2 = st_dot3(to_l, to_l) - t0 * t0, h = sqrt(fmax(h2, 0.0));
+        bool angular = l->type != ST_LIGHT_DIRECTIONAL && h > 1e-6 * (fabs(t0) + s);
+        double a0 = angular ? atan2(-t0, h) : 0.0, a1 = angular ? atan2(s - t0, h) : 0.0;
+        for (int k = 0; k < n; k++) {
+            double u = st_ref_rng_uniform(rng), t, weight;
+            if (angular) { // t grows with the angle: the points come in order
+                double da = (a1 - a0) / n, a = a0 + (k + u) * da;
+                t = fmin(fmax(t0 + h * tan(a), 0.0), s);
+                weight = da / h;
+            } else {
+                double dt = s / n;
+                t = (k + u) * dt;
+                double d2 = (t - t0) * (t - t0) + h2;
+                if (l->type != ST_LIGHT_DIRECTIONAL && !(d2 > 0.0)) continue;
+                weight = l->type == ST_LIGHT_DIRECTIONAL ? dt : dt / d2;
+            }
+            const double *Tv = view_to(g, origin, dir, &v, t, rng);
+            if (Tv[0] > 0.0 || Tv[1] > 0.0 || Tv[2] > 0.0)
+                source_varying(g, origin, dir, i, sigma_s, Tv, t, weight, rng, out);
+        }
+    }
+}
+
 void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const double origin[3],
                       const double dir[3], double s, st_ref_rng *rng, double out[3]) {
     out[0] = out[1] = out[2] = 0.0;
@@ -56,6 +228,10 @@ void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const d
         sigma_t[c] = m->sigma_s[c] + (double)m->sigma_a[c];
     }
     if (sigma_s[0] == 0.0 && sigma_s[1] == 0.0 && sigma_s[2] == 0.0) return;
+    if (st_density_varies(&sc->density)) {
+        inscatter_varying(g, o, origin, dir, s, sigma_s, rng, out);
+        return;
+    }
     const int n = o->march_steps > 0 ? o->march_steps : 256;
     for (int i = 0; i < sc->num_lights; i++) {
         const st_light_desc *l = &sc->lights[i];

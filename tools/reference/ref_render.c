@@ -78,14 +78,17 @@ static void view_ray(const ref_job *job, int i, int j, double u, double v, ref_v
     r->x = st_ref_intersect(g, job->cam.pos, r->dir, t_near, t_far);
     r->s = r->x.hit ? r->x.t : t_far;
     const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
+    const bool varies = sc->medium.present && st_density_varies(&sc->density);
     for (int c = 0; c < 3; c++)
         r->direct[c] = 0, r->T[c] = 1;
-    if (want_direct) st_ref_direct(g, &r->x, r->direct);
+    // A varying density makes the transmittances (view ray, light paths)
+    // random estimates: direct light and T are then drawn per sample.
+    if (want_direct && !varies) st_ref_direct(g, &r->x, NULL, r->direct);
     // A ray that hits nothing sees the background at the far plane (dimmed by T below).
     if (want_direct && !r->x.hit)
         for (int c = 0; c < 3; c++)
             r->direct[c] = sc->background[c];
-    if (sc->medium.present)
+    if (sc->medium.present && !varies)
         for (int c = 0; c < 3; c++)
             r->T[c] = exp(-((double)sc->medium.sigma_s[c] + sc->medium.sigma_a[c]) * r->s);
 }
@@ -128,6 +131,7 @@ static void render_pixel(const ref_job *job, double *cells, int i, int j) {
     ref_view r;
     if (!box) view_ray(job, i, j, 0.5, 0.5, &r); // one view ray for every sample
 
+    const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
     const bool want_indirect =
         (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) && o->bounces > 0;
     const bool want_inscatter =
@@ -135,8 +139,11 @@ static void render_pixel(const ref_job *job, double *cells, int i, int j) {
     const int spp = o->spp > 0 ? o->spp : 1;
     // Welford's running mean and squared deviations, per channel.
     double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-    // Direct light through the centre alone has no noise; over the pixel it has.
-    const bool stochastic = box || want_inscatter || (want_indirect && r.x.hit && r.x.lit_side);
+    // Direct light through the centre alone has no noise; over the pixel or
+    // through a varying density it has.
+    const bool varies = sc->medium.present && st_density_varies(&sc->density);
+    const bool stochastic =
+        box || varies || want_inscatter || (want_indirect && r.x.hit && r.x.lit_side);
     const int n = stochastic ? spp : 1;
     const int m = grid_size(n), whole = n / (m * m) * (m * m), per_cell = n / (m * m);
     if (box) memset(cells, 0, sizeof(double) * 6 * (size_t)(m * m));
@@ -148,6 +155,8 @@ static void render_pixel(const ref_job *job, double *cells, int i, int j) {
             view_ray(job, i, j, u, v, &r);
         }
         double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0}, v[3];
+        if (varies && want_direct && r.x.hit) st_ref_direct(g, &r.x, &rng, r.direct);
+        if (varies) st_ref_transmittance(g, job->cam.pos, r.dir, 0.0, r.s, &rng, r.T);
         if (want_indirect && r.x.hit && r.x.lit_side)
             st_ref_indirect(g, o, &r.x, o->bounces, &rng, ind);
         if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, r.dir, r.s, &rng, ins);

@@ -39,7 +39,8 @@ static void offset_point(const st_ref_geometry *g, const st_ref_surface *s, doub
         out[k] = s->p[k] + g->eps * s->ng[k];
 }
 
-void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out[3]) {
+void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, st_ref_rng *rng,
+                   double out[3]) {
     out[0] = out[1] = out[2] = 0.0;
     if (!s->hit || !s->lit_side) return; // back faces are black but occlude
     for (int c = 0; c < 3; c++)
@@ -55,15 +56,20 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, double out
         if (cos_n <= 0.0 || st_dot3(s->ng, in.to_light) <= 0.0) continue;
         if (in.E[0] == 0.0 && in.E[1] == 0.0 && in.E[2] == 0.0) continue;
         if (!st_ref_light_visible(g, from, s->p, &in)) continue;
+        // A varying density: the light path's transmittance by ratio tracking.
+        double T[3] = {1.0, 1.0, 1.0}, path = in.path;
+        if (st_density_varies(&sc->density))
+            st_ref_transmittance(g, s->p, in.to_light, 0.0, in.path, rng, T), path = 0.0;
         for (int c = 0; c < 3; c++)
-            out[c] += st_direct_lambert(s->mesh->albedo[c], in.E[c], cos_n, in.path, g->sigma_t[c]);
+            out[c] +=
+                st_direct_lambert(s->mesh->albedo[c], in.E[c] * T[c], cos_n, path, g->sigma_t[c]);
     }
 }
 
 // Outgoing radiance of y toward its viewer with `bounces` bounces of indirect.
 static void outgoing(const st_ref_geometry *g, const st_ref_options *o, const st_ref_surface *y,
                      int bounces, st_ref_rng *rng, double out[3]) {
-    st_ref_direct(g, y, out);
+    st_ref_direct(g, y, rng, out);
     if (bounces <= 0 || !y->hit || !y->lit_side) return;
     double ind[3];
     st_ref_indirect(g, o, y, bounces, rng, ind);
@@ -95,7 +101,7 @@ static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o,
     if (!y.hit || !y.lit_side) return;
     double L[3], T[3];
     outgoing(g, o, &y, bounces - 1, rng, L);
-    st_transmittance(g->sigma_t, y.t, T); // dir is unit: t is the distance
+    st_ref_transmittance(g, from, dir, 0.0, y.t, rng, T); // dir is unit: t is the distance
     for (int c = 0; c < 3; c++)
         out[c] = x->mesh->albedo[c] * L[c] * T[c];
 }
@@ -114,9 +120,9 @@ static void mis_score(const st_ref_geometry *g, const st_ref_options *o, const s
     double cos_x = st_dot3(x->n, w) / d, cos_y = -st_dot3(y->n, w) / d,
            cos_yg = -st_dot3(y->ng, w) / d;
     if (cos_x <= 0.0 || cos_y <= 0.0 || cos_yg <= 0.0) return;
-    double L[3], T[3];
+    double L[3], T[3], u[3] = {w[0] / d, w[1] / d, w[2] / d};
     outgoing(g, o, y, bounces - 1, rng, L);
-    st_transmittance(g->sigma_t, d, T);
+    st_ref_transmittance(g, x->p, u, 0.0, d, rng, T);
     double k = scale * 2.0 * cos_x * cos_y / (cos_x * cos_yg + ST_PI * d2 / g->total_area);
     for (int c = 0; c < 3; c++)
         out[c] = x->mesh->albedo[c] * k * L[c] * T[c];
@@ -155,9 +161,9 @@ static void indirect_thesis(const st_ref_geometry *g, const st_ref_options *o,
     if (!(d > 0.0)) return;
     double cos_x = st_dot3(x->n, w) / d, cos_y = -st_dot3(y.n, w) / d;
     if (cos_x <= 0.0 || cos_y <= 0.0) return; // "facing each other"
-    double L[3], T[3];
+    double L[3], T[3], u[3] = {w[0] / d, w[1] / d, w[2] / d};
     outgoing(g, o, &y, bounces - 1, rng, L);
-    st_transmittance(g->sigma_t, d, T);
+    st_ref_transmittance(g, x->p, u, 0.0, d, rng, T);
     for (int c = 0; c < 3; c++)
         out[c] = x->mesh->albedo[c] / ST_PI * 2.0 * ST_PI * cos_x * L[c] * T[c];
 }
