@@ -61,7 +61,7 @@ typedef struct shadow_map {
     st_world *w;
     const double *p;
     int size, sun_size; // the cube faces' and the cascades' size in texels
-    float far_z;
+    float lo[3], hi[3]; // scene bounds, re-taken when the geometry changes
     st_shader *depth;
     st_pass_info info;
     // Directional lights: slot per light (-1 none), cascades in a 2D array.
@@ -105,24 +105,30 @@ static GLuint texture(shadow_map *s, const char *name) {
     return t ? t->color[0] : 0;
 }
 
-// Far plane: past the farthest scene vertex from any light.
-static float scene_far(const st_scene *sc) {
-    float far2 = 1e-6f;
+// The scene's world-space bounds (every vertex), for the cube's clip planes.
+static void scene_bounds(const st_scene *sc, float lo[3], float hi[3]) {
+    for (int k = 0; k < 3; k++)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
     for (int m = 0; m < sc->num_meshes; m++) {
         const st_mesh *me = &sc->meshes[m];
-        mat4 model; // cglm wants aligned matrices; the mesh's may not be
-        memcpy(model, me->model, sizeof model);
+        const float *M = me->model; // column-major
         for (uint32_t v = 0; v < me->num_vertices; v++) {
-            vec4 p = {me->positions[3 * v], me->positions[3 * v + 1], me->positions[3 * v + 2], 1},
-                 wp;
-            glm_mat4_mulv(model, p, wp);
-            for (int l = 0; l < sc->num_lights; l++) {
-                vec3 lp = {sc->lights[l].position[0], sc->lights[l].position[1],
-                           sc->lights[l].position[2]};
-                float d2 = glm_vec3_distance2(wp, lp);
-                if (d2 > far2) far2 = d2;
+            const float *p = me->positions + 3 * (size_t)v;
+            for (int r = 0; r < 3; r++) {
+                float w = M[r] * p[0] + M[4 + r] * p[1] + M[8 + r] * p[2] + M[12 + r];
+                lo[r] = fminf(lo[r], w), hi[r] = fmaxf(hi[r], w);
             }
         }
+    }
+}
+
+// Far plane for a light at lp: past the bounds' farthest corner (no vertex
+// is farther), so every occluder is drawn wherever the light has moved.
+static float light_far(const shadow_map *s, const float lp[3]) {
+    float far2 = 1e-6f;
+    for (int k = 0; k < 3; k++) {
+        float a = fabsf(s->lo[k] - lp[k]), b = fabsf(s->hi[k] - lp[k]), m = fmaxf(a, b);
+        if (isfinite(m)) far2 += m * m;
     }
     return sqrtf(far2) * 1.01f + 1e-3f;
 }
@@ -132,7 +138,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     if (!s) return NULL;
     s->w = w;
     s->p = p;
-    s->far_z = scene_far(st_world_scene(w));
+    scene_bounds(st_world_scene(w), s->lo, s->hi);
     const st_scene *sc = st_world_scene(w);
     for (int i = 0; i < sc->num_lights && i < ST_MAX_LIGHTS; i++) {
         s->sun_slot[i] = sc->lights[i].type == ST_LIGHT_DIRECTIONAL ? s->num_suns++ : -1;
@@ -257,8 +263,12 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
                                      {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     static const float ups[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
                                     {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    // Clip planes from the light's current position (st_world_set_light
+    // moves it; a plane fixed at create would cut off what lies past it).
+    if (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY)) scene_bounds(f->scene, s->lo, s->hi);
+    float far_z = light_far(s, lp);
     mat4 proj;
-    glm_perspective(glm_rad(90.0f), 1.0f, s->far_z * 1e-4f, s->far_z, proj);
+    glm_perspective(glm_rad(90.0f), 1.0f, far_z * 1e-4f, far_z, proj);
     const st_target *t = st_world_get_target(s->w, "shadow_map.cubes", err);
     if (!t) return false;
     st_shader_use(s->depth);

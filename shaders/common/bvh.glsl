@@ -7,7 +7,14 @@ layout(std430, binding = 6) readonly buffer st_bvh_nodes_buf { vec4 st_bvh_nodes
 layout(std430, binding = 7) readonly buffer st_bvh_tris_buf { vec4 st_bvh_tris[]; };
 
 // Is the segment o + t (q - o), t in (tmin, 1 - tmin), blocked by a triangle?
-bool st_bvh_occluded_t(vec3 o, vec3 q, float tmin) {
+// A triangle hit from behind (the ray leaving through its back, winding
+// cross(e1, e2) the front) counts only if o lies more than `back` (metres)
+// behind its plane: a surface point that float rounding put a hair outside
+// a closed room or inside the solid it touches at a crease would otherwise
+// shadow itself with the adjacent face (measured across the plane, not
+// along the ray, which can be long at grazing angles). As the CPU
+// reference's back-side window (tools/reference/ref_geometry.c).
+bool st_bvh_occluded_back(vec3 o, vec3 q, float tmin, float back) {
     float tmax = 1.0 - tmin;
     vec3 d = q - o;
     vec3 dd = vec3(abs(d.x) < 1e-30 ? 1e-30 : d.x, abs(d.y) < 1e-30 ? 1e-30 : d.y, abs(d.z) < 1e-30 ? 1e-30 : d.z);
@@ -40,7 +47,8 @@ bool st_bvh_occluded_t(vec3 o, vec3 q, float tmin) {
                 float v = dot(d, qv) * id;
                 if (v < 0.0 || u + v > 1.0) continue;
                 float t = dot(e2, qv) * id;
-                if (t > tmin && t < tmax) return true;
+                if (t > tmin && t < tmax &&
+                    (det > 0.0 || t * -det > back * length(cross(e1, e2)))) return true;
             }
         } else if (sp <= 62) {
             stack[sp++] = first;
@@ -49,6 +57,8 @@ bool st_bvh_occluded_t(vec3 o, vec3 q, float tmin) {
     }
     return false;
 }
+
+bool st_bvh_occluded_t(vec3 o, vec3 q, float tmin) { return st_bvh_occluded_back(o, q, tmin, 0.0); }
 
 // Between two surface points: the ends' own surfaces lie within 1e-4 of the
 // segment's length.

@@ -157,8 +157,13 @@ float st_shadow_exact(int light, vec3 p, vec3 n) {
     } else {
         q = st_light_pos[light];
     }
-    vec3 o = p + n * (1e-5 * distance(p, q));
-    return st_bvh_occluded_t(o, q, 1e-6) ? 0.0 : 1.0;
+    float len = distance(p, q);
+    vec3 o = p + n * (1e-5 * len);
+    // A face p lies behind by float rounding (the ceiling, for a wall pixel
+    // at the crease) is not an occluder; rounding scales with |p| too.
+    vec3 ap = abs(p);
+    float back = 2e-5 * max(len, max(ap.x, max(ap.y, ap.z)));
+    return st_bvh_occluded_back(o, q, 1e-6, back) ? 0.0 : 1.0;
 }
 
 // Surfaces: the bias grows with the slope, since a texel covers a longer
