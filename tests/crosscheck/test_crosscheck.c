@@ -1,6 +1,13 @@
 // One case of the Cycles cross-check suite (tests/data/crosscheck, made by
 // tools/crosscheck/regen.sh; docs/accuracy.md explains it). Usage:
-//   test_crosscheck CASE KIND       KIND: direct | bounce | medium
+//   test_crosscheck CASE KIND [FILTER]   KIND: direct | bounce | medium
+//                                        FILTER: point (default) | box
+// FILTER is Cycles' pixel filter: point = a 0.01 px Gaussian (pixel
+// centres, like a single strahl frame); box = Cycles' standard 1 px box (the
+// cases made the way users make them). For box cases both strahl images
+// are rendered at SS x SS the size and box-averaged here (box_down): that
+// stands in for `strahl render/reference --filter box`, which is not in
+// this branch yet (the merge switches these cases to the default filter).
 // Renders the case with `strahl reference` and with `strahl render` (the
 // scene's modules at their default parameters) and compares both with the
 // committed Cycles image (the mean of two seeds, plus |a - b| / 2 per pixel).
@@ -29,9 +36,11 @@
 //    bias of b noise levels on a fraction f of the pixels raises M by about
 //    f min(b^2, 16), so e.g. 3 % too bright at 0.5 % noise on a fifth of the
 //    image (b = 6, f = 0.2: +3.2) fails by far.
+//    Box cases: see the comment at the reference's check in main().
 // 2. The GPU plugins at their defaults against Cycles, with the issue's
 //    measures relMSE = mean((a-b)^2 / (b^2 + 0.01)) and NRMSE = rmse /
-//    mean(b), b = Cycles: direct cases relMSE <= 0.001; medium cases (toth)
+//    mean(b), b = Cycles: direct cases relMSE <= 0.001 (box cases also
+//    issue 20's NRMSE <= 0.02); medium cases (toth)
 //    relMSE <= 0.005 and NRMSE <= 0.05; bounce cases (atlas_gi at its
 //    default, the precomputed transfer): the atlas_gi issue's relMSE <= 0.005
 //    and NRMSE <= 0.03, and the image mean within a factor 2.
@@ -42,6 +51,9 @@
 
 #define CLIP 16.0
 #define K_SIGMA 4.0
+// Box cases: strahl renders SS x SS samples per pixel on a grid (8 for
+// direct light, where the grid's error at edges dominates; 4 otherwise).
+static int SS = 4;
 
 static const char *data_dir = ST_TEST_SOURCE_DIR "/tests/data/crosscheck";
 
@@ -52,7 +64,16 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // None at present: every bound holds at the defaults.
+    // Issue 20's box-filtered cases (docs/accuracy.md). shadow_map against
+    // the reference on the same 8 x 8 grid: NRMSE 0.040 per sub-pixel (its
+    // own error on the smooth sphere's and Suzanne's shadows); the
+    // reference against Cycles 0.0057.
+    {"meshes_direct", "shadow_map", "nrmse", 0.0224},
+    // toth against the reference on the same 4 x 4 grid: debiased NRMSE
+    // 0.044 per sub-pixel; against Cycles the window's edges (bright medium
+    // outside, dark frame) differ between the grid and Cycles' box, and
+    // Cycles' own noise is 0.055 of the mean at 1024 spp.
+    {"fog_room", "toth", "nrmse", 0.211},
     {NULL, NULL, NULL, 0},
 };
 
@@ -136,6 +157,36 @@ static stat_result noise_test(const st_image *ref, const st_image *cyc, const st
     return s;
 }
 
+// The mean of each SS x SS block (the box filter over a supersampled
+// image). With `stderr_from` >= 0 the channels from there on are standard
+// errors: the block's is sqrt(sum s^2) / SS^2 (independent sub-pixels).
+static bool box_down(st_image *img, int stderr_from) {
+    st_image out = {0};
+    st_err err = {0};
+    const int w = img->width / SS, h = img->height / SS, ch = img->channels;
+    if (w * SS != img->width || h * SS != img->height || !st_image_alloc(&out, w, h, ch, &err)) {
+        fprintf(stderr, "box_down: %dx%d is not %d x the case's size (%s)\n", img->width,
+                img->height, SS, err.msg);
+        return false;
+    }
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++)
+            for (int k = 0; k < ch; k++) {
+                double sum = 0;
+                for (int dj = 0; dj < SS; dj++)
+                    for (int di = 0; di < SS; di++) {
+                        double v = st_image_px(img, SS * i + di, SS * j + dj)[k];
+                        sum += stderr_from >= 0 && k >= stderr_from ? v * v : v;
+                    }
+                st_image_px(&out, i, j)[k] =
+                    (float)(stderr_from >= 0 && k >= stderr_from ? sqrt(sum) / (SS * SS)
+                                                                 : sum / (SS * SS));
+            }
+    st_image_free(img);
+    *img = out;
+    return true;
+}
+
 static bool compare(const st_image *a, const st_image *b, double *relmse, double *nrmse) {
     st_metrics m;
     st_err err = {0};
@@ -149,13 +200,19 @@ static bool compare(const st_image *a, const st_image *b, double *relmse, double
 }
 
 int main(int argc, char **argv) {
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium\n");
+    if (argc != 3 && argc != 4) {
+        fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium [point|box]\n");
         return 2;
     }
-    const char *name = argv[1], *kind = argv[2];
+    const char *name = argv[1], *kind = argv[2], *filter = argc == 4 ? argv[3] : "point";
+    const bool box = !strcmp(filter, "box");
+    if (!box && strcmp(filter, "point")) {
+        fprintf(stderr, "test_crosscheck: filter '%s' is not point or box\n", filter);
+        return 2;
+    }
     const bool direct = !strcmp(kind, "direct"), bounce = !strcmp(kind, "bounce"),
                medium = !strcmp(kind, "medium");
+    if (direct) SS = 8;
     if (!direct && !bounce && !medium) {
         fprintf(stderr, "test_crosscheck: kind '%s' is not direct, bounce or medium\n", kind);
         return 2;
@@ -173,11 +230,15 @@ int main(int argc, char **argv) {
     // The reference: bounces as Cycles was rendered (atlas_gi's default 1);
     // in-scattering with 16 equi-angular strata per sample and fresh jitter
     // per sample (unbiased, and its stderr channels measure its noise).
-    const char *opts = direct   ? "--bounces 0 --spp 1"
-                       : bounce ? "--bounces 1 --spp 256"
-                                : "--bounces 0 --spp 64 --steps 16";
-    CHECK(st_test_sh("%s reference %s -o %s %s --seed 1", ST_TEST_STRAHL, scene, ref_path, opts) ==
-              0,
+    // Box cases: the same samples per pixel, spread over an SS x SS grid.
+    const char *opts =
+        direct   ? "--bounces 0 --spp 1"
+        : bounce ? (box ? "--bounces 1 --spp 16" : "--bounces 1 --spp 256")
+                 : (box ? "--bounces 0 --spp 4 --steps 16" : "--bounces 0 --spp 64 --steps 16");
+    char size[64] = "";
+    if (box) snprintf(size, sizeof size, "--size %dx%d", SS * cyc.width, SS * cyc.height);
+    CHECK(st_test_sh("%s reference %s -o %s %s %s --seed 1", ST_TEST_STRAHL, scene, ref_path, opts,
+                     size) == 0,
           "strahl reference exits 0");
     static const char *const ch[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
     st_err err = {0};
@@ -185,6 +246,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "%s\n", err.msg);
         return 1;
     }
+    if (box && !box_down(&ref, 3)) return 1;
     CHECK(ref.width == cyc.width && ref.height == cyc.height && se.width == cyc.width &&
               se.height == cyc.height,
           "sizes: reference %dx%d, Cycles %dx%d, noise %dx%d", ref.width, ref.height, cyc.width,
@@ -202,12 +264,23 @@ int main(int argc, char **argv) {
     CHECK(compare(&ref_rgb, &cyc, &s.relmse, &s.nrmse), "compare reference");
     printf("crosscheck %s reference: relmse %.6g nrmse %.6g noise-statistic %.4f bound %.4f\n",
            name, s.relmse, s.nrmse, s.m, s.bound);
-    check_le(name, "reference", "noise-statistic", s.m, s.bound);
+    if (box && !bounce) {
+        // The reference samples an SS x SS grid, not the whole pixel: at
+        // edges it differs from Cycles' box deterministically, and direct
+        // light (no noise) or a medium case's high-contrast window edges
+        // outweigh the noise that could absorb it, so the noise statistic is
+        // reported, not asserted, until `strahl reference --filter box`
+        // integrates over the pixel; relMSE against Cycles checks the model.
+        printf("crosscheck %s reference: noise-statistic not asserted (grid-sampled box)\n", name);
+        check_le(name, "reference", "relmse", s.relmse, 0.001);
+    } else {
+        check_le(name, "reference", "noise-statistic", s.m, s.bound);
+    }
 
     // The GPU plugins of the scene, every parameter at its default.
-    CHECK(st_test_sh("%s render %s -o %s", ST_TEST_STRAHL, scene, gpu_path) == 0,
+    CHECK(st_test_sh("%s render %s -o %s %s", ST_TEST_STRAHL, scene, gpu_path, size) == 0,
           "strahl render exits 0");
-    if (read_rgb(gpu_path, &gpu)) {
+    if (read_rgb(gpu_path, &gpu) && (!box || box_down(&gpu, -1))) {
         double relmse = INFINITY, nrmse = INFINITY;
         CHECK(st_image_count_nonfinite(&gpu) == 0, "NaN/Inf in the GPU image");
         CHECK(compare(&gpu, &cyc, &relmse, &nrmse), "compare GPU");
@@ -215,6 +288,7 @@ int main(int argc, char **argv) {
         printf("crosscheck %s %s: relmse %.6g nrmse %.6g\n", name, method, relmse, nrmse);
         if (direct) {
             check_le(name, method, "relmse", relmse, 0.001);
+            if (box) check_le(name, method, "nrmse", nrmse, 0.02); // issue 20's bound
         } else if (medium) {
             check_le(name, method, "relmse", relmse, 0.005);
             check_le(name, method, "nrmse", nrmse, 0.05);
