@@ -911,13 +911,14 @@ static bool progress(void *self, st_progress *out) {
     int n = snprintf(
         out->info, sizeof out->info,
         "transfer precompute %.2f s (CPU %.2f s) on %d threads, %u texels, %d nodes (<= %d "
-        "texels per leaf, %u buried), %llu links, %llu rays, %.1f MiB; GPU %.1f MiB (nodes %.1f, "
+        "texels per leaf, %u buried, %u sealed), %llu links, %llu rays, %.1f MiB; GPU %.1f MiB "
+        "(nodes %.1f, "
         "links %.1f, gathered %.1f, perm %.1f, leaf map %.1f)",
         T->seconds, T->cpu_seconds, T->threads, texels, T->num_nodes, T->leaf_texels, T->buried,
-        (unsigned long long)T->num_links, (unsigned long long)T->rays, transfer_bytes(T) / mib,
-        g->TG.bytes / mib, g->TG.mem[TRG_MEM_NODES] / mib, g->TG.mem[TRG_MEM_LINKS] / mib,
-        g->TG.mem[TRG_MEM_GATHERED] / mib, g->TG.mem[TRG_MEM_PERM] / mib,
-        g->TG.mem[TRG_MEM_LEAF] / mib);
+        T->sealed, (unsigned long long)T->num_links, (unsigned long long)T->rays,
+        transfer_bytes(T) / mib, g->TG.bytes / mib, g->TG.mem[TRG_MEM_NODES] / mib,
+        g->TG.mem[TRG_MEM_LINKS] / mib, g->TG.mem[TRG_MEM_GATHERED] / mib,
+        g->TG.mem[TRG_MEM_PERM] / mib, g->TG.mem[TRG_MEM_LEAF] / mib);
     int np = g->prof_n < AG_PROF_MAX ? g->prof_n : AG_PROF_MAX;
     for (int i = 0; i < AG_PROF_STEPS && np && n > 0 && (size_t)n < sizeof out->info; i++)
         n += snprintf(

@@ -69,6 +69,32 @@ static float angle_between(const float *a, const float *b) {
     return acosf(fmaxf(-1.0f, fminf(1.0f, d)));
 }
 
+// A leaf is one layer of surface: its texels lie within 0.2 x its size of
+// the plane through their centroid along their mean normal (a curved
+// surface's sag is far less). Two parallel layers a few centimetres apart
+// (a slab's faces; a double-sided closed mesh's back side under its front)
+// would otherwise share a leaf, whose links see half their rays blocked.
+static bool thin(const tree_ctx *c, const uint32_t *perm, long b, long e, float size) {
+    double n[3] = {0, 0, 0}, p[3] = {0, 0, 0}, a = 0;
+    for (long s = b; s < e; s++) {
+        const texel *x = &c->tx[perm[s]];
+        for (int k = 0; k < 3; k++)
+            n[k] += x->a * x->n[k], p[k] += x->a * x->p[k];
+        a += x->a;
+    }
+    double nl = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(nl > 0) || !(a > 0)) return true;
+    float lo = INFINITY, hi = -INFINITY;
+    for (long s = b; s < e; s++) {
+        const texel *x = &c->tx[perm[s]];
+        float h = 0;
+        for (int k = 0; k < 3; k++)
+            h += (float)(n[k] / nl) * (x->p[k] - (float)(p[k] / a));
+        lo = fminf(lo, h), hi = fmaxf(hi, h);
+    }
+    return hi - lo <= 0.2f * size;
+}
+
 static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, long leaf,
                        float leaf_size, st_err *err) {
     t->nodes = calloc(2 * (size_t)n, sizeof *t->nodes);
@@ -105,7 +131,8 @@ static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, l
         // atlas is coarse (a big scene, a small atlas) leaves keep one texel.
         float size = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
         bool small = e - b <= 1 || c.leaf_size <= 0 || size <= c.leaf_size;
-        if (e - b <= c.leaf && bend <= 0.3f * c.lambda && small) continue;
+        if (e - b <= c.leaf && bend <= 0.3f * c.lambda && small && thin(&c, t->perm, b, e, size))
+            continue;
         long mid = (b + e) / 2;
         select_kth(&c, t->perm, b, e, mid, axis);
         nd->child = count;
@@ -208,8 +235,9 @@ typedef struct task {
 typedef struct ctx {
     const transfer *t;
     const texel *tx;
-    const texel *ts; // the texels in slot order: a node's texels are contiguous
-    float *cone_cs;  // per node: cos and sin of the normal cone's half-angle
+    const texel *ts;  // the texels in slot order: a node's texels are contiguous
+    float *cone_cs;   // per node: cos and sin of the normal cone's half-angle
+    uint8_t *layered; // per node: its texels lie on more than one layer (not thin)
     const tr_opts *o;
     float cos_cone;
     RTCScene scene;
@@ -396,8 +424,12 @@ static void refine(ctx *c, int r, const int *cand, int num, int depth, bool spaw
             // A partly blocked link would smear its shadow over the whole
             // receiver node: open the larger node while it has children
             // and is not too small to matter.
-            bool sopen = sn->child >= 0 && sn->end - sn->begin > (uint32_t)c->o->min_split;
-            bool ropen = rn->child >= 0 && rn->end - rn->begin > (uint32_t)c->o->min_split;
+            // A node of two layers (leaves are one) is opened whatever its
+            // size: its rays would disagree by layer, not by a shadow.
+            bool sopen = sn->child >= 0 &&
+                         (sn->end - sn->begin > (uint32_t)c->o->min_split || c->layered[s]);
+            bool ropen = rn->child >= 0 &&
+                         (rn->end - rn->begin > (uint32_t)c->o->min_split || c->layered[r]);
             bool open = false, partial = false;
             float w = link_weight(c, rn, sn, lb, sopen || ropen, &open, &partial);
             if (open) {
@@ -448,7 +480,11 @@ static void *worker(void *p) {
 }
 
 // A texel whose centre lies inside a closed solid (a floor texel under a
-// box, a wall's face covered by the next wall box) sees only back faces.
+// box, a wall's face covered by the next wall box, the back side of a
+// double-sided closed mesh) sees only back faces. Four of five rays suffice
+// (none may escape): where closed meshes touch, a ray from inside one
+// crosses coincident faces and may report the other mesh's front face
+// (a slab's back side under a block standing on it).
 // Its value still reaches the image through the atlas' bilinear filter at
 // contact edges, so it borrows the position of a nearby free texel.
 static bool buried(const ctx *c, const float *tris, const texel *x) {
@@ -488,27 +524,30 @@ static bool buried(const ctx *c, const float *tris, const texel *x) {
         float e2[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
         float ng[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                        e1[0] * e2[1] - e1[1] * e2[0]};
-        if (ng[0] * d[0] + ng[1] * d[1] + ng[2] * d[2] <= 0) return false; // a front face
-        back++;
+        back += ng[0] * d[0] + ng[1] * d[1] + ng[2] * d[2] > 0;
     }
-    return back == 5;
+    return back >= 4;
 }
 
-// Buried texels take the position and normal of the nearest free texel of
-// the same orientation within 3 texels in the atlas (in ts, the copy the
-// links sample). Returns how many moved.
-static uint32_t move_buried(const ctx *c, const float *tris, const texel *tx, texel *ts,
-                            const uint32_t *perm, uint32_t n, int W, int H) {
+// Per valid atlas cell: -2 free, -1 buried with no free texel to borrow
+// from, else the cell whose position and normal a buried texel borrows: the
+// nearest free texel of the same orientation within 3 texels in the atlas.
+// NULL when out of memory.
+static long *find_buried(const ctx *c, const float *tris, const texel *tx, int W, int H) {
     size_t cells = (size_t)W * H;
+    long *b = malloc(cells * sizeof *b);
     uint8_t *bur = calloc(cells, 1);
-    if (!bur) return 0;
-    for (uint32_t i = 0; i < n; i++)
-        bur[perm[i]] = buried(c, tris, &tx[perm[i]]) ? 1 : 0;
-    uint32_t moved = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t id = perm[i];
+    if (!b || !bur) {
+        free(b);
+        free(bur);
+        return NULL;
+    }
+    for (size_t i = 0; i < cells; i++)
+        bur[i] = tx[i].a > 0 && buried(c, tris, &tx[i]);
+    for (size_t id = 0; id < cells; id++) {
+        b[id] = -2;
         if (!bur[id]) continue;
-        int x0 = (int)(id % (uint32_t)W), y0 = (int)(id / (uint32_t)W);
+        int x0 = (int)(id % (size_t)W), y0 = (int)(id / (size_t)W);
         const texel *me = &tx[id];
         float best = INFINITY;
         long bi = -1;
@@ -524,13 +563,10 @@ static uint32_t move_buried(const ctx *c, const float *tris, const texel *tx, te
                 float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 if (d2 < best && d2 < 16.0f * me->a) best = d2, bi = (long)j;
             }
-        if (bi < 0) continue;
-        for (int k = 0; k < 3; k++)
-            ts[i].p[k] = tx[bi].p[k], ts[i].n[k] = tx[bi].n[k];
-        moved++;
+        b[id] = bi;
     }
     free(bur);
-    return moved;
+    return b;
 }
 
 static bool make_scene(ctx *c, RTCDevice dev, const float *tris, uint32_t n, st_err *err) {
@@ -578,63 +614,92 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
         free(tx);
         return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for a %dx%d atlas", W, H);
     }
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    uint32_t k = 0;
     for (size_t i = 0; i < cells; i++) {
         t->texel_leaf[i] = -1;
         if (!(pos[4 * i + 3] > 0)) continue;
         texel *x = &tx[i];
-        for (int a = 0; a < 3; a++) {
+        for (int a = 0; a < 3; a++)
             x->p[a] = pos[4 * i + a], x->n[a] = nrm[4 * i + a];
-            lo[a] = fminf(lo[a], x->p[a]), hi[a] = fmaxf(hi[a], x->p[a]);
-        }
         x->a = pos[4 * i + 3];
-        t->perm[k++] = (uint32_t)i;
     }
-    if (!n) {
-        t->seconds = (st_now_ms() - t0) / 1000;
-        return true;
-    }
-    float extent = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
-    long leaf = o->max_leaves > 0 ? ((long)n + o->max_leaves - 1) / o->max_leaves : 1;
-    if (!build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, (float)o->leaf_size, err)) {
-        free(tx);
-        return false;
-    }
-    t->leaf_texels = 1;
-    for (int i = 0; i < t->num_nodes; i++)
-        if (t->nodes[i].child < 0 && (int)(t->nodes[i].end - t->nodes[i].begin) > t->leaf_texels)
-            t->leaf_texels = (int)(t->nodes[i].end - t->nodes[i].begin);
-    // Links.
-    texel *ts = malloc((size_t)n * sizeof *ts);
-    if (!ts) {
-        free(tx);
-        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
-    }
-    for (uint32_t i = 0; i < n; i++)
-        ts[i] = tx[t->perm[i]];
-    ctx c = {.t = t, .tx = tx, .ts = ts, .o = o};
-    c.cone_cs = malloc(2 * (size_t)t->num_nodes * sizeof *c.cone_cs);
-    if (!c.cone_cs) {
-        free(tx);
-        free(ts);
-        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %d nodes", t->num_nodes);
-    }
-    for (int i = 0; i < t->num_nodes; i++)
-        c.cone_cs[2 * i] = cosf(t->nodes[i].cone), c.cone_cs[2 * i + 1] = sinf(t->nodes[i].cone);
+    ctx c = {.t = t, .tx = tx, .o = o};
     pthread_mutex_init(&c.lock, NULL);
-    int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
-    if (threads < 1) threads = 1;
-    if (threads > 64) threads = 64;
-    t->threads = threads;
     char cfg[32];
     snprintf(cfg, sizeof cfg, "threads=1"); // our own threads trace; no TBB pool
     RTCDevice dev = rtcNewDevice(cfg);
     bool ok = dev && make_scene(&c, dev, tris, num_tris, err);
     if (!dev) st_fail(err, ST_ERR_RUNTIME, "transfer: embree device failed");
+    // Buried texels (inside closed solids). One with a free neighbour
+    // borrows its position for the links (it reaches the image through the
+    // atlas' bilinear filter at contact edges); one without lies deep inside
+    // a solid (the back side of a double-sided closed mesh, a face covered
+    // by the next box) where nothing sees it and no light reaches it: it
+    // takes no part in the transfer (no links, no flux; its value is 0).
+    long *borrow = ok && o->visibility ? find_buried(&c, tris, tx, W, H) : NULL;
+    if (ok && o->visibility && !borrow)
+        ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    uint32_t k = 0;
+    for (size_t i = 0; ok && i < cells; i++) {
+        if (!(tx[i].a > 0)) continue;
+        if (borrow && borrow[i] == -1) {
+            t->sealed++;
+            continue;
+        }
+        if (borrow && borrow[i] >= 0) t->buried++;
+        for (int a = 0; a < 3; a++)
+            lo[a] = fminf(lo[a], tx[i].p[a]), hi[a] = fmaxf(hi[a], tx[i].p[a]);
+        t->perm[k++] = (uint32_t)i;
+    }
+    n = k;
+    if (!ok || !n) {
+        free(borrow);
+        free(tx);
+        pthread_mutex_destroy(&c.lock);
+        if (c.scene) rtcReleaseScene(c.scene);
+        if (dev) rtcReleaseDevice(dev);
+        t->seconds = (st_now_ms() - t0) / 1000;
+        return ok;
+    }
+    float extent = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
+    long leaf = o->max_leaves > 0 ? ((long)n + o->max_leaves - 1) / o->max_leaves : 1;
+    if (!build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, (float)o->leaf_size, err)) {
+        ok = false;
+        n = 0;
+    }
+    t->leaf_texels = 1;
+    for (int i = 0; i < t->num_nodes; i++)
+        if (t->nodes[i].child < 0 && (int)(t->nodes[i].end - t->nodes[i].begin) > t->leaf_texels)
+            t->leaf_texels = (int)(t->nodes[i].end - t->nodes[i].begin);
+    // Links, from the texels in slot order, buried ones at their borrowed
+    // position and normal.
+    texel *ts = ok ? malloc((size_t)n * sizeof *ts) : NULL;
+    c.cone_cs = ok ? malloc(2 * (size_t)t->num_nodes * sizeof *c.cone_cs) : NULL;
+    if (ok && (!ts || !c.cone_cs))
+        ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
+    for (uint32_t i = 0; ok && i < n; i++) {
+        uint32_t id = t->perm[i];
+        ts[i] = tx[id];
+        if (borrow && borrow[id] >= 0)
+            for (int a = 0; a < 3; a++)
+                ts[i].p[a] = tx[borrow[id]].p[a], ts[i].n[a] = tx[borrow[id]].n[a];
+    }
+    free(borrow);
+    c.ts = ts;
+    c.layered = ok ? malloc((size_t)t->num_nodes) : NULL;
+    if (ok && !c.layered) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    tree_ctx tc = {.tx = tx, .perm = t->perm};
+    for (int i = 0; ok && i < t->num_nodes; i++) {
+        const tr_node *nd = &t->nodes[i];
+        c.cone_cs[2 * i] = cosf(nd->cone), c.cone_cs[2 * i + 1] = sinf(nd->cone);
+        c.layered[i] = !thin(&tc, t->perm, nd->begin, nd->end, 2 * nd->rad);
+    }
+    int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
+    if (threads < 1) threads = 1;
+    if (threads > 64) threads = 64;
+    t->threads = threads;
     worker_arg *wa = calloc((size_t)threads, sizeof *wa);
     if (ok && !wa) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
-    if (ok && o->visibility) t->buried = move_buried(&c, tris, tx, ts, t->perm, n, W, H);
     if (ok) {
         for (int i = 0; i < threads; i++)
             wa[i].c = &c;
@@ -657,6 +722,7 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     free(tx);
     free(ts);
     free(c.cone_cs);
+    free(c.layered);
     // Gather every thread's links grouped by receiver: a counting sort. A
     // receiver's links all come from one task (or the serial top), in an
     // order that does not depend on the thread schedule.

@@ -10,7 +10,9 @@
 // less than `spread` over the link's texel pairs; otherwise the larger node
 // is opened. Near contact edges this goes down to leaves; far away whole
 // walls link to whole walls. Texels buried inside closed solids borrow a
-// free neighbour's position (they reach the image through the filter).
+// free neighbour's position (they reach the image through the filter);
+// those with none (deep inside a solid: the back side of a double-sided
+// closed mesh) are left out.
 //
 // A link's weight is w = integral over the sender of
 //   V cos+x cos+j pi / (pi d^2 + a_j) dA_j,
@@ -73,6 +75,7 @@ typedef struct transfer {
     int threads;
     int leaf_texels; // most texels per leaf
     uint32_t buried; // texels inside closed solids that borrowed a free neighbour's position
+    uint32_t sealed; // buried texels with no free neighbour: left out of the transfer
 } transfer;
 
 // pos: W H x 4 floats (world position, texel area; area 0 = gutter),

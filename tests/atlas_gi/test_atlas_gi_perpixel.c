@@ -10,7 +10,9 @@
 //   - the same box seen from a second pose with the red wall out of view
 //     (scenes/gi_cornell_pose2.json);
 //   - the Cornell box exported from Blender as glTF (5 cm box walls, blocks
-//     rotated 20 and 30 degrees; scenes/gi_blender_cornell.json).
+//     rotated 20 and 30 degrees; scenes/gi_blender_cornell.json);
+//   - the same box exported with Blender's default materials, double-sided
+//     (scenes/gi_blender_cornell_ds.json; issue 20).
 // Odd widths (63 x 64, 23 x 24): no pixel centre lies exactly on the rooms'
 // corner edges (the camera looks down the room's axis, so with even sizes
 // the corners run through pixel centres on the diagonals, where the
@@ -63,6 +65,8 @@ int main(void) {
     per_pixel("cornell_pose2", ST_TEST_SOURCE_DIR "/scenes/gi_cornell_pose2.json", "23x24", 81920);
     per_pixel("blender_cornell", ST_TEST_SOURCE_DIR "/scenes/gi_blender_cornell.json", "63x64",
               4096);
+    per_pixel("blender_cornell_ds", ST_TEST_SOURCE_DIR "/scenes/gi_blender_cornell_ds.json",
+              "63x64", 4096);
     static const char json[] =
         "{\"image\": {\"width\": 64, \"height\": 64},\n"
         " \"camera\": {\"position\": [0, 1, 3.4], \"target\": [0, 1, 0], \"up\": [0, 1, 0], "

@@ -1,6 +1,12 @@
 // One case of the Cycles cross-check suite (tests/data/crosscheck, made by
 // tools/crosscheck/regen.sh; docs/accuracy.md explains it). Usage:
-//   test_crosscheck CASE KIND       KIND: direct | bounce | medium | fog
+//   test_crosscheck CASE KIND [FILTER]   KIND: direct | bounce | medium | fog
+//                                        FILTER: point (default) | box
+// FILTER is Cycles' pixel filter: point = a 0.01 px Gaussian (pixel
+// centres, like a single strahl frame), matched by `--filter point`; box =
+// Cycles' standard 1 px box (the cases made the way users make them),
+// matched by strahl's default `--filter box` (the reference integrates over
+// the pixel, render accumulates jittered frames until converged).
 // Renders the case with `strahl reference` and with `strahl render` (the
 // scene's modules at their default parameters) and compares both with the
 // committed Cycles image (the mean of two seeds, plus |a - b| / 2 per pixel).
@@ -31,7 +37,8 @@
 //    image (b = 6, f = 0.2: +3.2) fails by far.
 // 2. The GPU plugins at their defaults against Cycles, with the issue's
 //    measures relMSE = mean((a-b)^2 / (b^2 + 0.01)) and NRMSE = rmse /
-//    mean(b), b = Cycles: direct cases relMSE <= 0.001; medium cases (toth)
+//    mean(b), b = Cycles: direct cases relMSE <= 0.001 (box cases also
+//    issue 20's NRMSE <= 0.02); medium cases (toth)
 //    relMSE <= 0.005 and NRMSE <= 0.05; bounce cases (atlas_gi at its
 //    default, the precomputed transfer): the atlas_gi issue's relMSE <= 0.005
 //    and NRMSE <= 0.03, and the image mean within a factor 2.
@@ -42,7 +49,6 @@
 
 #define CLIP 16.0
 #define K_SIGMA 4.0
-
 static const char *data_dir = ST_TEST_SOURCE_DIR "/tests/data/crosscheck";
 
 // Assertions known to fail at the plugins' current defaults: kept as
@@ -52,7 +58,16 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // None at present: every bound holds at the defaults.
+    // Issue 20's box-filtered cases (docs/accuracy.md). shadow_map against
+    // the reference on the same 8 x 8 grid: NRMSE 0.040 per sub-pixel (its
+    // own error on the smooth sphere's and Suzanne's shadows); the
+    // reference against Cycles 0.0057.
+    {"meshes_direct", "shadow_map", "nrmse", 0.0224},
+    // toth against the reference on the same 4 x 4 grid: debiased NRMSE
+    // 0.044 per sub-pixel; against Cycles the window's edges (bright medium
+    // outside, dark frame) differ between the grid and Cycles' box, and
+    // Cycles' own noise is 0.055 of the mean at 1024 spp.
+    {"fog_room", "toth", "nrmse", 0.211},
     {NULL, NULL, NULL, 0},
 };
 
@@ -149,11 +164,16 @@ static bool compare(const st_image *a, const st_image *b, double *relmse, double
 }
 
 int main(int argc, char **argv) {
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium|fog\n");
+    if (argc != 3 && argc != 4) {
+        fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium|fog [point|box]\n");
         return 2;
     }
-    const char *name = argv[1], *kind = argv[2];
+    const char *name = argv[1], *kind = argv[2], *filter = argc == 4 ? argv[3] : "point";
+    const bool box = !strcmp(filter, "box");
+    if (!box && strcmp(filter, "point")) {
+        fprintf(stderr, "test_crosscheck: filter '%s' is not point or box\n", filter);
+        return 2;
+    }
     const bool direct = !strcmp(kind, "direct"), bounce = !strcmp(kind, "bounce"),
                medium = !strcmp(kind, "medium"), fog = !strcmp(kind, "fog");
     if (!direct && !bounce && !medium && !fog) {
@@ -173,12 +193,13 @@ int main(int argc, char **argv) {
     // The reference: bounces as Cycles was rendered (atlas_gi's default 1);
     // in-scattering with 16 equi-angular strata per sample and fresh jitter
     // per sample (unbiased, and its stderr channels measure its noise).
-    const char *opts = direct   ? "--bounces 0 --spp 1"
+    // Box cases: samples spread over the pixel (direct light then has noise
+    // at edges: 64 samples, 4 in each cell of a 4 x 4 grid).
+    const char *opts = direct   ? (box ? "--bounces 0 --spp 64" : "--bounces 0 --spp 1")
                        : bounce ? "--bounces 1 --spp 256"
                                 : "--bounces 0 --spp 64 --steps 16";
-    // The point filter: these Cycles images use a 0.01 px Gaussian (pixel centres).
-    CHECK(st_test_sh("%s reference %s -o %s %s --seed 1 --filter point", ST_TEST_STRAHL, scene,
-                     ref_path, opts) == 0,
+    CHECK(st_test_sh("%s reference %s -o %s %s --seed 1 --filter %s", ST_TEST_STRAHL, scene,
+                     ref_path, opts, filter) == 0,
           "strahl reference exits 0");
     static const char *const ch[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
     st_err err = {0};
@@ -216,7 +237,8 @@ int main(int argc, char **argv) {
     }
 
     // The GPU plugins of the scene, every parameter at its default.
-    CHECK(st_test_sh("%s render %s -o %s --filter point", ST_TEST_STRAHL, scene, gpu_path) == 0,
+    CHECK(st_test_sh("%s render %s -o %s --filter %s", ST_TEST_STRAHL, scene, gpu_path, filter) ==
+              0,
           "strahl render exits 0");
     if (read_rgb(gpu_path, &gpu)) {
         double relmse = INFINITY, nrmse = INFINITY;
@@ -226,6 +248,7 @@ int main(int argc, char **argv) {
         printf("crosscheck %s %s: relmse %.6g nrmse %.6g\n", name, method, relmse, nrmse);
         if (direct) {
             check_le(name, method, "relmse", relmse, 0.001);
+            if (box) check_le(name, method, "nrmse", nrmse, 0.02); // issue 20's bound
         } else if (medium) {
             check_le(name, method, "relmse", relmse, 0.005);
             check_le(name, method, "nrmse", nrmse, 0.05);

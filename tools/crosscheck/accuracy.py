@@ -9,7 +9,10 @@ committed Cycles image (relMSE, NRMSE) and timed.
 Uses only the strahl binaries of a release build and the committed files;
 Blender is not needed. Applicable plugins: the scene's own module list, and
 for the bounce cases also ssgi in place of atlas_gi (the same bounce from
-screen space)."""
+screen space). Box-filtered cases (cases.txt's fourth column) are measured by
+the test itself (build/tests/crosscheck/test_crosscheck, which renders strahl
+at 4 x 4 or 8 x 8 the size and box-averages it until `--filter box` is in);
+their time is that of a frame at the case's own size."""
 import argparse
 import json
 import os
@@ -56,24 +59,55 @@ def main():
     with open(os.path.join(DATA, "cases.txt")) as f:
         for line in f:
             if re.match(r"^[a-z]", line):
-                name, kind, _ = line.split()[:3]
+                f4 = line.split()
+                name, kind = f4[0], f4[1]
+                filt = f4[3] if len(f4) > 3 else "point"
+                if len(f4) > 4 and f4[4] == "manual" and name not in args.cases:
+                    continue  # too slow for the table's run (see the text below)
                 if not args.cases or name in args.cases:
-                    cases.append((name, kind))
+                    cases.append((name, kind, filt))
     rows = []
     renderer = "?"
     with tempfile.TemporaryDirectory() as tmp:
-        for name, kind in cases:
+        for name, kind, filt in cases:
             scene = os.path.join(DATA, name + ".json")
             cyc = os.path.join(DATA, name + ".cycles.exr")
             with open(os.path.join(DATA, name + ".cycles.json")) as f:
                 info = json.load(f)
+            cyinfo = "%.0f s (2 seeds x %d spp), noise NRMSE %.2g" % (
+                sum(info["render_seconds"]), info["spp"], info["relative_rms_standard_error"])
+            if filt == "box":
+                test = os.path.join(args.build, "tests", "crosscheck", "test_crosscheck")
+                p = subprocess.run([test, name, kind, "box"], capture_output=True, text=True, env=env)
+                out = p.stdout
+                m = re.search(r"crosscheck %s reference: relmse (\S+) nrmse (\S+)" % name, out)
+                t = re.search(r"strahl reference: .*?, ([0-9.]+) s\)", out)
+                if not m:
+                    sys.exit("accuracy: %s: no reference line in\n%s%s" % (name, out, p.stderr))
+                ss = re.search(r"--size (\d+)x", out)
+                label = "strahl reference (box: %s x %s grid)" % (
+                    int(ss.group(1)) // info["width"], int(ss.group(1)) // info["width"]) if ss else "strahl reference"
+                rows.append((name, kind + ", box", label, float(m.group(1)), float(m.group(2)),
+                             float(t.group(1)) * 1000.0 if t else float("nan"), cyinfo))
+                with open(scene) as f:
+                    sc = json.load(f)
+                method = {"direct": "shadow_map", "bounce": "atlas_gi", "medium": "toth"}[kind]
+                m = re.search(r"crosscheck %s %s: relmse (\S+) nrmse (\S+)" % (name, method), out)
+                img = os.path.join(tmp, name + ".gpu.exr")
+                stats = json.loads(run([strahl, "render", scene, "-o", img, "--frames", str(FRAMES),
+                                        "--stats=json"], env))
+                renderer = stats["renderer"]
+                rows.append((name, kind + ", box", " + ".join(x["name"] for x in sc["modules"]),
+                             float(m.group(1)) if m else float("nan"),
+                             float(m.group(2)) if m else float("nan"), stats["frame_ms_median"], ""))
+                print("accuracy: %s done" % name, file=sys.stderr)
+                continue
             ref = os.path.join(tmp, name + ".ref.exr")
             out = run([strahl, "reference", scene, "-o", ref] + REF_OPTS[kind], env)
             secs = float(re.search(r", ([0-9.]+) s\)", out).group(1))
             rel, nrmse = compare(strahl, ref, cyc, env)
             rows.append((name, kind, "strahl reference " + " ".join(REF_OPTS[kind]), rel, nrmse, secs * 1000.0,
-                         "%.0f s (2 seeds x %d spp), noise NRMSE %.2g" %
-                         (sum(info["render_seconds"]), info["spp"], info["relative_rms_standard_error"])))
+                         cyinfo))
             with open(scene) as f:
                 sc = json.load(f)
             # fog: a varying density, which no GPU technique models yet (render refuses it).
@@ -141,7 +175,13 @@ def main():
         "  number of pixels counted (channels are correlated and not counted as independent",
         "  samples): a one-sided 4-sigma bound on a mean. A bias of b noise levels on",
         "  a fraction f of the image adds about f min(b^2, 16) to M.",
-        "- shadow_map at its defaults: relMSE <= 0.001 on the direct cases.",
+        "  Box-filtered cases (kind `..., box`): the reference samples a 4 x 4 (8 x 8",
+        "  for direct light) grid per pixel until `strahl reference --filter box`",
+        "  integrates over the pixel, so at edges it differs from Cycles' box",
+        "  deterministically: there the noise statistic is reported, not asserted,",
+        "  and the reference's relMSE against Cycles must be <= 0.001 instead.",
+        "- shadow_map at its defaults: relMSE <= 0.001 on the direct cases, and",
+        "  (issue 20) NRMSE <= 0.02 on the box-filtered direct cases.",
         "- toth at its defaults: relMSE <= 0.005 and NRMSE <= 0.05 on the medium cases.",
         "- fog cases (a medium of varying density): the reference only; `strahl",
         "  render` must refuse the scene (exit 2, no image) until a GPU technique",
@@ -152,7 +192,33 @@ def main():
         "",
         "An assertion that a plugin misses at its current defaults is listed by",
         "name with its measured value in `expected_failures` in the test: it is",
-        "reported, not failed, until the plugin is fixed (none at present).",
+        "reported, not failed, until the plugin is fixed.",
+        "",
+        "## Cases made the way users make scenes (issue 20)",
+        "",
+        "The cases of kind `..., box` are modelled in Blender",
+        "(`tools/crosscheck/make_user_scenes.py`) and exported by its glTF exporter",
+        "with its defaults, so every material is double-sided (Blender's default,",
+        "backface culling off), and Cycles renders them with its standard 1 px box",
+        "pixel filter: ds_cornell_front and ds_cornell_side (the Cornell box with",
+        "walls as closed 5 cm boxes and two rotated blocks, both poses),",
+        "meshes_direct and meshes_bounce (a smooth UV sphere and a smooth, rotated",
+        "and tilted Suzanne on open double-sided walls), dense_bounce (26 linked",
+        "duplicates of a smooth Suzanne subdivided once: 102,338 triangles in a",
+        "98 KB file) and fog_room (a room of closed wall boxes with a window, HG",
+        "g = 0.5, volume bounces 0). strahl's still is not box-filtered in this",
+        "version: the test renders it at 4 x 4 (direct light: 8 x 8) the size and",
+        "averages each block, which stands in for the 1 px box.",
+        "",
+        "dense_bounce (102,338 triangles, atlas_size 1024: at the default 512 its",
+        "13,362 charts do not fit) is marked `manual` in cases.txt: its test took",
+        "14 min 49 s on this shared machine (4 min 39 s CPU), too slow for the",
+        "suite. Measured once with `build/tests/crosscheck/test_crosscheck",
+        "dense_bounce bounce box`: atlas_gi relMSE 0.000145, NRMSE 0.0235 (within",
+        "issue 20's bounds); the reference against Cycles relMSE 0.000156, NRMSE",
+        "0.0244, noise statistic 2.96 over its bound 1.57 (the 4 x 4 grid against",
+        "Cycles' box at the many edges of 26 Suzannes: not a noise-only",
+        "comparison until the reference integrates over the pixel).",
         "",
         "## The floor of a point-sampled image",
         "",

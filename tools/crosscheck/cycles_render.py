@@ -3,6 +3,7 @@
 #
 #   blender -b --factory-startup --python tools/crosscheck/cycles_render.py -- \
 #       SCENE.json OUT [--spp N] [--seeds A,B] [--size WxH] [--bounces K] [--threads T] [--float]
+#       [--filter point|box]
 #
 # With two seeds it writes OUT.exr (the mean of the two renders), OUT_se.exr
 # (per pixel |a - b| / 2, an unbiased one-sample estimate of the standard
@@ -41,11 +42,11 @@
 #    sampling only so that the gate sees the true depth;
 #  - camera: pinhole, fov_y the full vertical field of view (sensor fit
 #    vertical), clip start 1e-5 m (camera rays start at the clip start),
-#    Gaussian pixel filter of width 0.01 px, i.e. one ray through each pixel's
-#    centre like strahl (Cycles forces a box filter to 1 px, which averages
-#    over the pixel and blurs the edges strahl samples at the centre;
-#    measured on a plane with a box and its shadow: relMSE 1.2e-3 with the
-#    1 px box, 3.6e-8 with this filter);
+#    pixel filter: `--filter point` (default) a Gaussian of width 0.01 px,
+#    i.e. one ray through each pixel's centre like strahl's point filter
+#    (measured on a plane with a box and its shadow: relMSE 1.2e-3 with the
+#    1 px box, 3.6e-8 with this filter); `--filter box` Cycles' standard
+#    1 px box (the mean radiance over the pixel, what users render with);
 #  - no clamping, no denoising, no adaptive sampling, no glossy filter,
 #    light sampling threshold 0, black world, Standard view, exposure 0.
 import array
@@ -68,13 +69,18 @@ def fail(msg):
 def parse_args(argv):
     a = argv[argv.index("--") + 1:] if "--" in argv else []
     opt = {"spp": 256, "seeds": [1, 2], "size": None, "bounces": None, "threads": 2, "float": False,
-           "volume_step": 0.02}
+           "volume_step": 0.02, "filter": "point"}
     pos = []
     i = 0
     while i < len(a):
         k = a[i]
         if k == "--float":
             opt["float"] = True
+        elif k == "--filter":
+            if i + 1 >= len(a) or a[i + 1] not in ("point", "box"):
+                fail("--filter: expected point or box")
+            opt["filter"] = a[i + 1]
+            i += 1
         elif k in ("--spp", "--seeds", "--size", "--bounces", "--threads", "--volume-step"):
             if i + 1 >= len(a):
                 fail("%s: missing value" % k)
@@ -103,7 +109,7 @@ def parse_args(argv):
         i += 1
     if len(pos) != 2:
         fail("usage: ... -- SCENE.json OUT [--spp N] [--seeds A,B] [--size WxH] [--bounces K] [--threads T] "
-             "[--float] [--volume-step M]")
+             "[--float] [--volume-step M] [--filter point|box]")
     return pos[0], pos[1], opt
 
 
@@ -256,6 +262,8 @@ def import_gltf(path, entry, bounces, index):
             no_terminator_offset(o)
             for slot in o.material_slots:
                 src = slot.material
+                if src is not None and src.get("strahl_made"):
+                    continue  # a mesh shared by several nodes: replaced already
                 albedo, ds, emission = [0.8, 0.8, 0.8], False, [0.0, 0.0, 0.0]
                 if src is not None:
                     ds = not src.use_backface_culling
@@ -275,6 +283,7 @@ def import_gltf(path, entry, bounces, index):
                 if "double_sided" in entry:
                     ds = bool(entry["double_sided"])
                 slot.material = material("gltf%d" % index, albedo, emission, ds, bounces)
+                slot.material["strahl_made"] = True
 
 
 def gltf_spot_nodes(ld, inner, outer):
@@ -335,9 +344,14 @@ def build_scene(path, opt):
     cy.volume_bounces = 0
     cy.caustics_reflective = False
     cy.caustics_refractive = False
-    cy.pixel_filter_type = "GAUSSIAN"
-    cy.filter_width = 0.01
-    scene.render.filter_size = 0.01
+    if opt["filter"] == "box":
+        cy.pixel_filter_type = "BOX"  # Cycles makes a box 1 px wide whatever the width
+        cy.filter_width = 1.0
+        scene.render.filter_size = 1.0
+    else:
+        cy.pixel_filter_type = "GAUSSIAN"
+        cy.filter_width = 0.01
+        scene.render.filter_size = 0.01
     cy.use_animated_seed = False
     scene.render.film_transparent = False
     scene.render.threads_mode = "FIXED"
@@ -590,7 +604,8 @@ def main():
         "engine": "CYCLES (CPU)",
         "width": w, "height": h, "spp": opt["spp"], "seeds": seeds, "threads": opt["threads"],
         "diffuse_bounces": bounces, "volume_bounces": 0,
-        "pixel_filter": "gaussian, 0.01 px (pixel centres)",
+        "pixel_filter": "box, 1 px (mean over the pixel)" if opt["filter"] == "box"
+                        else "gaussian, 0.01 px (pixel centres)",
         "render_seconds": [round(t, 2) for t in times],
         "image_mean": [round(x / n, 6) for x in sum_mean],
         "rms_standard_error_of_mean": rms_se,
