@@ -10,9 +10,9 @@ Uses only the strahl binaries of a release build and the committed files;
 Blender is not needed. Applicable plugins: the scene's own module list, and
 for the bounce cases also ssgi in place of atlas_gi (the same bounce from
 screen space). Box-filtered cases (cases.txt's fourth column) are measured by
-the test itself (build/tests/crosscheck/test_crosscheck, which renders strahl
-at 4 x 4 or 8 x 8 the size and box-averages it until `--filter box` is in);
-their time is that of a frame at the case's own size."""
+the test itself (build/tests/crosscheck/test_crosscheck, which renders both
+with `--filter box`); their time is that of a frame at the case's own size.
+Point cases run with `--filter point` (Cycles' 0.01 px Gaussian)."""
 import argparse
 import json
 import os
@@ -84,9 +84,7 @@ def main():
                 t = re.search(r"strahl reference: .*?, ([0-9.]+) s\)", out)
                 if not m:
                     sys.exit("accuracy: %s: no reference line in\n%s%s" % (name, out, p.stderr))
-                ss = re.search(r"--size (\d+)x", out)
-                label = "strahl reference (box: %s x %s grid)" % (
-                    int(ss.group(1)) // info["width"], int(ss.group(1)) // info["width"]) if ss else "strahl reference"
+                label = "strahl reference --filter box"
                 rows.append((name, kind + ", box", label, float(m.group(1)), float(m.group(2)),
                              float(t.group(1)) * 1000.0 if t else float("nan"), cyinfo))
                 with open(scene) as f:
@@ -103,7 +101,7 @@ def main():
                 print("accuracy: %s done" % name, file=sys.stderr)
                 continue
             ref = os.path.join(tmp, name + ".ref.exr")
-            out = run([strahl, "reference", scene, "-o", ref] + REF_OPTS[kind], env)
+            out = run([strahl, "reference", scene, "-o", ref, "--filter", "point"] + REF_OPTS[kind], env)
             secs = float(re.search(r", ([0-9.]+) s\)", out).group(1))
             rel, nrmse = compare(strahl, ref, cyc, env)
             rows.append((name, kind, "strahl reference " + " ".join(REF_OPTS[kind]), rel, nrmse, secs * 1000.0,
@@ -124,10 +122,10 @@ def main():
                 # The error of the first frame (as the test renders it), the
                 # time over FRAMES frames of a separate run.
                 img = os.path.join(tmp, name + ".gpu.exr")
-                run([strahl, "render", path, "-o", img], env)
+                run([strahl, "render", path, "-o", img, "--filter", "point"], env)
                 rel, nrmse = compare(strahl, img, cyc, env)
                 stats = json.loads(run([strahl, "render", path, "-o", img, "--frames", str(FRAMES),
-                                        "--stats=json"], env))
+                                        "--filter", "point", "--stats=json"], env))
                 renderer = stats["renderer"]
                 rows.append((name, kind, label, rel, nrmse, stats["frame_ms_median"], ""))
             print("accuracy: %s done" % name, file=sys.stderr)
@@ -175,11 +173,10 @@ def main():
         "  number of pixels counted (channels are correlated and not counted as independent",
         "  samples): a one-sided 4-sigma bound on a mean. A bias of b noise levels on",
         "  a fraction f of the image adds about f min(b^2, 16) to M.",
-        "  Box-filtered cases (kind `..., box`): the reference samples a 4 x 4 (8 x 8",
-        "  for direct light) grid per pixel until `strahl reference --filter box`",
-        "  integrates over the pixel, so at edges it differs from Cycles' box",
-        "  deterministically: there the noise statistic is reported, not asserted,",
-        "  and the reference's relMSE against Cycles must be <= 0.001 instead.",
+        "  Box-filtered cases (kind `..., box`): strahl renders with `--filter box`",
+        "  (the reference spreads its samples over the pixel, 64 of them for direct",
+        "  light; render accumulates jittered frames until converged) against",
+        "  Cycles' standard 1 px box, and the same statistic is asserted.",
         "- shadow_map at its defaults: relMSE <= 0.001 on the direct cases, and",
         "  (issue 20) NRMSE <= 0.02 on the box-filtered direct cases.",
         "- toth at its defaults: relMSE <= 0.005 and NRMSE <= 0.05 on the medium cases.",
@@ -206,9 +203,8 @@ def main():
         "and tilted Suzanne on open double-sided walls), dense_bounce (26 linked",
         "duplicates of a smooth Suzanne subdivided once: 102,338 triangles in a",
         "98 KB file) and fog_room (a room of closed wall boxes with a window, HG",
-        "g = 0.5, volume bounces 0). strahl's still is not box-filtered in this",
-        "version: the test renders it at 4 x 4 (direct light: 8 x 8) the size and",
-        "averages each block, which stands in for the 1 px box.",
+        "g = 0.5, volume bounces 0). strahl renders them with its default 1 px box",
+        "filter (`--filter box`), the reference spreading its samples over the pixel.",
         "",
         "dense_bounce (102,338 triangles, atlas_size 1024: at the default 512 its",
         "13,362 charts do not fit) is marked `manual` in cases.txt: its test took",
