@@ -58,16 +58,14 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // Issue 20's box-filtered cases (docs/accuracy.md). shadow_map against
-    // the reference on the same 8 x 8 grid: NRMSE 0.040 per sub-pixel (its
-    // own error on the smooth sphere's and Suzanne's shadows); the
-    // reference against Cycles 0.0057.
-    {"meshes_direct", "shadow_map", "nrmse", 0.0224},
-    // toth against the reference on the same 4 x 4 grid: debiased NRMSE
-    // 0.044 per sub-pixel; against Cycles the window's edges (bright medium
-    // outside, dark frame) differ between the grid and Cycles' box, and
-    // Cycles' own noise is 0.055 of the mean at 1024 spp.
-    {"fog_room", "toth", "nrmse", 0.211},
+    // Issue 20's box-filtered cases (docs/accuracy.md). shadow_map's own
+    // error on the smooth sphere's and Suzanne's shadows: the reference
+    // against Cycles is at NRMSE 0.0087 (noise statistic within bound).
+    {"meshes_direct", "shadow_map", "nrmse", 0.0216},
+    // Cycles' own noise is 0.055 of the mean at 1024 spp on this case: the
+    // reference itself, within its noise statistic, shows NRMSE 0.13, so
+    // toth's 0.078 is mostly Cycles' noise; a longer Cycles render is due.
+    {"fog_room", "toth", "nrmse", 0.0779},
     {NULL, NULL, NULL, 0},
 };
 
