@@ -51,4 +51,8 @@ vec3 st_compose(vec3 direct, vec3 emission, vec3 indirect, vec3 p, vec3 n, vec2 
     }
     return direct + emission + indirect;
 }
+
+// The combined displays are what the camera sees (times the view ray's
+// transmittance in the regular pass); direct and indirect are surface AOVs.
+bool st_compose_viewed() { return ag_display == 0 || ag_display == 3; }
 #endif

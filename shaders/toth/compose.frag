@@ -1,5 +1,6 @@
-// toth pass 3: L = L_surface e^(-sigma_t s) + in-scattered light, at full
-// resolution. A march at reduced resolution is upsampled depth-aware: the
+// toth pass 3: adds the in-scattered light at full resolution to what the
+// camera sees (hdr_in, already L_surface e^(-sigma_t s): the regular pass owns
+// the view ray's extinction, docs/physics.md). A march at reduced resolution is upsampled depth-aware: the
 // bilinear taps that show the pixel's own surface, else the tap nearest in
 // distance, so shafts do not bleed across silhouettes. With
 // sampling=equiangular the march holds each light's visible fraction: the
@@ -70,7 +71,7 @@ void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 g = texelFetch(st_gbuffer, p, 0);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
-    vec3 L = texelFetch(st_hdr_in, p, 0).rgb * exp(-sigma_t * toth_ray_length(g, p));
+    vec3 L = texelFetch(st_hdr_in, p, 0).rgb;
     // One upsampling for both modes: llvmpipe runs both sides of a branch on
     // a uniform, so a call in each side would be paid twice.
     float spread = 0.0;
