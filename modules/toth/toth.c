@@ -39,6 +39,7 @@ enum {
     P_BISECT,
     P_REFINE_TAPS,
     P_MIN_ROWS,
+    P_EXACT,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -91,6 +92,9 @@ static const st_param_def params[P_COUNT] = {
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
      "the march resolution is raised (quarter -> half -> full) until the march has at least this "
      "many rows (0 = resolution as set)"},
+    {"exact_edges", ST_PARAM_BOOL, 0, 0, 1, NULL,
+     "equiangular: a shadow boundary the shadow map brackets inside a step is settled with exact "
+     "rays against the scene's BVH (needs shadow_map.refine), 4 more halvings"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -243,6 +247,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
         st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(t->march, "toth_exact", t->p[P_EXACT] != 0);
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
@@ -262,6 +267,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(t->compose, "toth_exact", t->p[P_EXACT] != 0);
         st_shader_set_int(t->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
         st_shader_set_int(t->compose, "toth_has_inscatter", src != NULL);
         if (src) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
