@@ -44,9 +44,9 @@ void main() {
     float s = length(to_cam);
 #ifdef ST_HAS_COMPOSE
     // A module's display mode may show a surface AOV (atlas_gi
-    // display=direct|indirect, as the reference's --aov direct|indirect: the
-    // surface's radiance before the view ray); st_compose_viewed says whether
-    // what it returns is seen through the medium.
+    // display=indirect, as the reference's --aov indirect: the surface's
+    // radiance before the view ray); st_compose_viewed says whether what it
+    // returns is seen through the medium.
     vec3 L = st_compose(direct, emission, indirect, p, n, v_uv1);
     if (st_compose_viewed()) L *= st_view_transmittance(s);
 #else
