@@ -57,6 +57,7 @@ struct st_world {
     st_model *models;
     int num_models;
     st_shader *regular;
+    st_shader *background;             // the background seen through a medium (scenes with one)
     char light_defines[64];            // st_world_light_defines
     st_module_inst *mods[MAX_MODULES]; // one heap block per instance: never moves
     unsigned next_serial;
@@ -423,6 +424,22 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
     st_shader_use(w->regular);
     st_world_apply_uniforms(w, w->regular, f);
     st_world_draw(w, w->regular);
+    // With a medium the background is dimmed per pixel (far / cos), which a
+    // clear colour cannot do: drawn at depth 1 where no geometry is.
+    if (w->background && w->scene->medium.present) {
+        glDepthFunc(GL_EQUAL);
+        glDepthMask(GL_FALSE);
+        glColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        st_shader_use(w->background);
+        st_world_apply_uniforms(w, w->background, f);
+        st_shader_set_vec3(w->background, "st_background_radiance", bg);
+        st_draw_fullscreen();
+        glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
+    }
     glDisable(GL_DEPTH_TEST);
     w->cam.current = w->cam.scene.color[0];
     w->cam.post_out = 0;
@@ -1001,8 +1018,19 @@ static bool build_regular(st_world *w, st_err *err) {
                           w->mods[m]->p->regular_include);
     st_shader *sh = st_shader_load("common/regular.vert", "common/regular.frag", defines, err);
     if (!sh) return false;
+    st_shader *bg = NULL;
+    if (w->scene->has_background) {
+        bg = st_shader_load("common/fullscreen.vert", "common/background.frag", w->light_defines,
+                            err);
+        if (!bg) {
+            st_shader_destroy(sh);
+            return false;
+        }
+    }
     st_shader_destroy(w->regular);
+    st_shader_destroy(w->background);
     w->regular = sh;
+    w->background = bg;
     return true;
 }
 
@@ -1137,6 +1165,7 @@ void st_world_destroy(st_world *w) {
     st_targets_free(&w->targets, NULL);
     free_slots(w);
     st_shader_destroy(w->regular);
+    st_shader_destroy(w->background);
     st_model_type_destroy(&w->type);
     st_target_destroy(&w->cam.scene);
     st_target_destroy(&w->cam.post[0]);

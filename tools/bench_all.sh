@@ -6,7 +6,9 @@
 #   GODRAY_SIZE (512x512), GI_SIZE (128x128), FRAMES (5), REF_SPP (16),
 #   GI_REF_SPP (1024), ONLY (godrays, toth, gi, or plots: run one part;
 #   godrays is toth, mitchell and sousa), TOTH_MODE (steady), LIGHT_VIEW_SIZE (384x256),
-#   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below.
+#   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
+#   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5): toth against the CPU
+#   reference (ONLY=truth, also part of toth and all).
 # References are converged enough for the tables they serve: a first run with
 # REF_SPP (GI_REF_SPP) samples measures the reference's own noise (rms of its
 # per-pixel standard error), and a second shard with another seed, merged in,
@@ -27,6 +29,8 @@ SHAFT_ERR=${SHAFT_ERR:-0.02}
 GI_ERR=${GI_ERR:-0.03}
 MAX_REF_SPP=${MAX_REF_SPP:-65536}
 ONLY=${ONLY:-all}
+TRUTH_SIZES=${TRUTH_SIZES:-320x240 512x512}
+TRUTH_ERR=${TRUTH_ERR:-9e-5}
 FRAMES=${FRAMES:-5}
 REF_SPP=${REF_SPP:-16}
 [ -x "$S" ] || { cmake --preset release >/dev/null && cmake --build --preset release; }
@@ -55,6 +59,7 @@ ref_target() {
     case $1 in
     */ref_godrays_*) echo "$SHAFT_ERR" ;; # mitchell, sousa: scaled rmse >= ~0.026
     */ref_gi_*) echo "$GI_ERR" ;;         # atlas_gi: rmse >= ~0.043
+    */truth_ref_*) echo "$TRUTH_ERR" ;;   # toth and the brute force: rmse >= ~9e-5
     *) echo 0 ;;                          # 0: take the given --spp as it is
     esac
 }
@@ -154,6 +159,50 @@ awk -F, 'NR > 1 { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
 log "toth: $OUT/toth_summary.md, $OUT/toth_passes.txt"
 fi
 
+# ---- toth against ground truth (issue 21) --------------------------------------
+# The defaults and the brute-force uniform full-resolution march (128..1024
+# steps, no interleave) in one strahl bench run per scene and size (--append:
+# the brute force first, then the defaults and 32 steps), both scored against
+# `strahl reference --bounces 0` (single scattering with exact visibility),
+# whose noise ref() brings to a third of TRUTH_ERR (bench removes what remains
+# and warns where it cannot). --mode recompute: the shadow map is redone every
+# frame for both. truth_summary.md: per scene and size the 1024-step march's
+# rmse, the defaults' rmse and their ratio, and the cheapest brute-force
+# setting with no higher rmse than the defaults against the defaults' time.
+if [ "$ONLY" = all ] || [ "$ONLY" = toth ] || [ "$ONLY" = truth ]; then
+rm -f "$OUT"/truth.csv
+for s in window hidden_hole colonnade; do
+    scene=scenes/godrays_$s.json
+    for size in $TRUTH_SIZES; do
+        ref "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" --bounces 0 --spp 8 --steps 1024
+        bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+            --set toth.interleave=1 --set toth.resolution=full \
+            --sweep toth.samples=128,256,512,1024 --sweep toth.sampling=uniform
+        bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+            --sweep toth.samples=32,64 --sweep toth.sampling=equiangular
+    done
+done
+# Rows: scene,params,...: frame ms $6, module GPU ms $7, rmse $9 (as toth.csv);
+# the size is not a column, so rows are taken in the order they were written.
+awk -F, 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
+        u = $2 ~ /sampling=uniform/
+        if (u && $2 ~ /samples=128( |$)/) { r++; name[r] = sc; k[r] = 0 }
+        if (u) { k[r]++; bt[r, k[r]] = $6; be[r, k[r]] = $9; bs[r, k[r]] = $2 }
+        if (u && $2 ~ /samples=1024( |$)/) { b1024[r] = $9; t1024[r] = $6 }
+        if (!u && $2 ~ /samples=64( |$)/) { dt[r] = $6; dg[r] = $7; de[r] = $9 } }
+    END {
+        print "| scene (run) | 1024-step march: frame ms, rmse | defaults: frame ms, rmse | rmse ratio | cheapest march with rmse <= defaults | speed-up at equal error |"
+        print "|---|---|---|---:|---|---:|"
+        for (i = 1; i <= r; i++) {
+            best = 0
+            for (j = 1; j <= k[i]; j++) if (be[i, j] <= de[i] && (!best || bt[i, j] < bt[i, best])) best = j
+            printf "| %s (%d) | %.0f, %.3g | %.0f, %.3g | %.2f | ", name[i], i, t1024[i], b1024[i], dt[i], de[i], de[i] / b1024[i]
+            if (best) printf "%s: %.0f ms, %.3g | %.1fx |\n", bs[i, best], bt[i, best], be[i, best], bt[i, best] / dt[i]
+            else printf "none (the 1024-step march: %.1fx the time at %.2fx the rmse) | - |\n", t1024[i] / dt[i], b1024[i] / de[i]
+        } }' "$OUT/truth.csv" > "$OUT/truth_summary.md"
+log "truth: $OUT/truth_summary.md"
+fi
+
 # ---- screen-space god rays (mitchell, sousa) against the CPU reference --------
 if [ "$ONLY" = all ] || [ "$ONLY" = godrays ]; then
 rm -f "$OUT"/mitchell.csv "$OUT"/sousa.csv
@@ -207,10 +256,12 @@ fi
 baseline() {
     case $1 in
     toth) echo --baseline toth.samples=128,toth.sampling=uniform,toth.resolution=full ;;
+    truth) echo --baseline toth.samples=1024,toth.sampling=uniform ;;
     atlas_gi) echo --baseline atlas_gi.samples=400,atlas_gi.atlas_size=1024,atlas_gi.estimator=area ;;
     esac
 }
-for m in toth mitchell sousa atlas_gi; do
+# truth.csv: one plot per scene holds every size of TRUTH_SIZES.
+for m in toth truth mitchell sousa atlas_gi; do
     csv=$OUT/$m.csv
     [ -f "$csv" ] || continue
     metric=$(head -1 "$csv" | cut -d, -f9 | sed 's/^error_//')
@@ -236,7 +287,7 @@ table() { # csv -> markdown rows: scene, setting, frame ms, module gpu ms, error
 }
 {
     echo "<!-- generated by tools/bench_all.sh; edit the script, not this block -->"
-    for m in toth mitchell sousa atlas_gi; do
+    for m in toth truth mitchell sousa atlas_gi; do
         [ -f "$OUT/$m.csv" ] || continue
         echo
         echo "### $m ($(head -1 "$OUT/$m.csv" | cut -d, -f9 | sed 's/^error_//'))"

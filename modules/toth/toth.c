@@ -12,12 +12,14 @@
 //   compose (full resolution)  the unshadowed integral per pixel by
 //           Gauss-Legendre in that angle (no texture fetch), times the
 //           fraction upsampled depth-aware (or marched here where the taps
-//           disagree or show another surface), plus L_surface e^(-sigma_t s)
+//           disagree or show another surface), added to the image the
+//           regular pass attenuated by e^(-sigma_t s)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
-// upsampled; the brute-force baseline. Without a medium, or with sigma_s = 0,
-// no pass runs.
+// upsampled; the brute-force baseline. Without a medium, with sigma_s = 0 or
+// without lights no pass runs: the view ray's extinction belongs to the
+// regular pass (docs/physics.md), toth only adds in-scattered light.
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -37,6 +39,7 @@ enum {
     P_BISECT,
     P_REFINE_TAPS,
     P_MIN_ROWS,
+    P_EXACT,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -83,12 +86,15 @@ static const st_param_def params[P_COUNT] = {
      "two lookups)"},
     {"refine_taps", ST_PARAM_INT, 4, 1, 4, NULL,
      "equiangular below full resolution: a pixel with fewer upsampling taps on its own surface "
-     "inside the image than this marches its own ray (4: every silhouette, crease and border "
-     "pixel; 2: only where at most one tap is usable, faster with many creases, less accurate "
-     "there)"},
+     "inside the image than this marches its own ray, unless all four taps are inside the image "
+     "and see exactly the same fraction (4: every silhouette, crease and border pixel; 2: only "
+     "where at most one tap is usable)"},
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
      "the march resolution is raised (quarter -> half -> full) until the march has at least this "
      "many rows (0 = resolution as set)"},
+    {"exact_edges", ST_PARAM_BOOL, 0, 0, 1, NULL,
+     "equiangular: a shadow boundary the shadow map brackets inside a step is settled with exact "
+     "rays against the scene's BVH (needs shadow_map.refine), 4 more halvings"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -211,8 +217,8 @@ static const st_pass_info *pass_info(void *self, int pass) {
     return &t->info;
 }
 
-// Nothing runs without a scattering medium; without lights only the
-// surface extinction (compose) is left to do.
+// Nothing runs without a scattering medium or without lights: toth adds
+// in-scattered light only (the regular pass applies the view's extinction).
 static bool needed(void *self, int pass, const st_frame *f) {
     toth *t = self;
     // needed() runs for every pass before the world binds targets: a new
@@ -221,8 +227,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
         st_err ignore = {0}; // only fails for a bad name, which create already caught
         declare_targets(t, f->height, &ignore);
     }
-    if (!medium_scatters(f->scene)) return false;
-    return pass_kind(self, pass) == PASS_COMPOSE || f->scene->num_lights > 0;
+    return medium_scatters(f->scene) && f->scene->num_lights > 0;
 }
 
 static void set_common(toth *t, st_shader *sh) {
@@ -242,6 +247,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
         st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(t->march, "toth_exact", t->p[P_EXACT] != 0);
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
@@ -252,10 +258,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         break;
     }
     default: {
-        // Without lights (march skipped) there is nothing to upsample.
-        bool lit = f->scene->num_lights > 0;
         const st_target *src =
-            lit ? st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march") : NULL;
+            st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
         set_common(t, t->compose);
         st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
         st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
@@ -263,15 +267,10 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(t->compose, "toth_exact", t->p[P_EXACT] != 0);
         st_shader_set_int(t->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
         st_shader_set_int(t->compose, "toth_has_inscatter", src != NULL);
         if (src) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
-        // Without lights shadow_map binds no shadow textures, and an unset
-        // sampler of another type on unit 0 makes the draw invalid: bind empty ones.
-        if (!lit) {
-            st_shader_texture(t->compose, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY, 0);
-            st_shader_texture(t->compose, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, 0);
-        }
         break;
     }
     }

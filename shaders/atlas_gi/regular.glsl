@@ -51,4 +51,10 @@ vec3 st_compose(vec3 direct, vec3 emission, vec3 indirect, vec3 p, vec3 n, vec2 
     }
     return direct + emission + indirect;
 }
+
+// What the camera sees (times the view ray's transmittance in the regular
+// pass): every display but indirect, which is the surface AOV the reference's
+// --aov indirect gives (direct is the image without atlas_gi, as a plain
+// render shows it).
+bool st_compose_viewed() { return ag_display != 2; }
 #endif

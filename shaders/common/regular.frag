@@ -1,6 +1,8 @@
 // Regular pass: Lambertian direct light from point lights (docs/physics.md:
 // L = rho/pi * I * cos / d^2 * V * e^(-sigma_t d)) plus emission, plus
-// indirect light when a module provides it. Modules hook in through their
+// indirect light when a module provides it, as the camera sees it: times the
+// view ray's transmittance e^(-sigma_t s) whenever the scene has a medium
+// (whichever volumetric module runs, or none; they add in-scattered light). Modules hook in through their
 // regular_include, which the world expands before this file.
 #include "common/lighting.glsl"
 in vec3 v_world;
@@ -39,12 +41,18 @@ void main() {
         emission = st_emission;
         indirect = st_indirect(p, n, v_uv1);
     }
+    float s = length(to_cam);
 #ifdef ST_HAS_COMPOSE
+    // A module's display mode may show a surface AOV (atlas_gi
+    // display=indirect, as the reference's --aov indirect: the surface's
+    // radiance before the view ray); st_compose_viewed says whether what it
+    // returns is seen through the medium.
     vec3 L = st_compose(direct, emission, indirect, p, n, v_uv1);
+    if (st_compose_viewed()) L *= st_view_transmittance(s);
 #else
-    vec3 L = direct + emission + indirect;
+    vec3 L = (direct + emission + indirect) * st_view_transmittance(s);
 #endif
     o_radiance = vec4(L, 1.0);
-    o_gbuffer = vec4(n, length(to_cam));
+    o_gbuffer = vec4(n, s);
     o_albedo = vec4(st_albedo, front ? 1.0 : 0.0);
 }

@@ -5,7 +5,7 @@
 // image plane at distance 1 and alpha its angle to the optical axis.
 #include "common/medium.glsl"
 #include "atlas_gi/estimator.glsl"
-uniform sampler2D st_hdr_in;     // direct + emission (the regular pass)
+uniform sampler2D st_hdr_in;     // direct + emission, seen through the medium (the regular pass)
 uniform sampler2D st_gbuffer;    // normal, distance (-1: no surface)
 uniform sampler2D st_albedo_tex; // albedo, front side
 uniform sampler1D ss_hammersley;
@@ -54,8 +54,17 @@ void main() {
         vec3 w = d * inversesqrt(d2);
         float cx = dot(nx, w), cj = -dot(gj.xyz, w);
         if (cx <= 0.0 || cj <= 0.0) continue;
-        sum += L * st_path_transmittance(sqrt(d2)) * ag_sample_weight(ss_estimator, cx, cj, area, d2);
+        // hdr holds L0_j e^(-sigma_t d_j) (the regular pass applies the view
+        // ray's extinction); combined needs L0_j e^(-sigma_t (|x - pj| + d_x))
+        // and the indirect display (a surface AOV, like the reference's) L0_j
+        // e^(-sigma_t |x - pj|). For combined the triangle camera, x, pj keeps
+        // the path >= 0: where hdr underflowed, the true contribution is
+        // smaller still. The display's exponent is capped against overflow.
+        float path = sqrt(d2) - gj.w + (ss_display == 1 ? 0.0 : g.w);
+        vec3 tr = exp(min(-st_medium_sigma_t() * path, vec3(80.0)));
+        sum += L * tr * ag_sample_weight(ss_estimator, cx, cj, area, d2);
     }
+    // Combined: L1 is the bounce seen through the medium, like hdr.
     vec3 L1 = ag_estimate(ss_estimator, alb.rgb, sum, fsize.x * fsize.y, float(ss_samples));
     o_color = vec4(ss_display == 1 ? L1 : hdr + L1, 1.0);
 }

@@ -10,6 +10,11 @@
 #include "common/uniforms.glsl"
 #include "common/physics.glsl"
 
+// Light kinds through ST_LIGHT_TYPES (common/uniforms.glsl): a test for a
+// type the scene lacks folds to false and its code compiles out (llvmpipe
+// pays for both sides of a branch on a uniform).
+#define TOTH_KIND_IS(k, t) ((ST_LIGHT_TYPES & (1 << (t))) != 0 && (k) == (t))
+
 struct toth_eq {
     float h;   // light-ray distance, at least h_min
     float a;   // ray start relative to the foot point (-t_foot)
@@ -51,7 +56,7 @@ toth_eq toth_eq_frame(vec3 o, vec3 dir, float s, vec3 light) {
 
 // The frame of light l for the ray o + t dir, t in [0, s].
 toth_eq toth_light_frame(vec3 o, vec3 dir, float s, int l) {
-    if (st_light_type[l] != 1) {
+    if (!ST_LIGHT_IS(l, 1)) {
         toth_eq e = toth_eq_frame(o, dir, s, st_light_pos[l]);
         e.kind = st_light_type[l];
         e.axis = st_light_dir[l];
@@ -73,7 +78,7 @@ toth_eq toth_light_frame(vec3 o, vec3 dir, float s, int l) {
 // delta, d = the path through the medium): the denominator is D cos(theta)
 // > 0 for every theta in (-pi/2, pi/2).
 void toth_eq_point(toth_eq e, float delta, out float t, out float d) {
-    if (e.kind == 1) {
+    if (TOTH_KIND_IS(e.kind, 1)) {
         t = delta;
         d = max(0.0, e.path0 - e.slope * delta);
         return;
@@ -88,10 +93,10 @@ void toth_eq_point(toth_eq e, float delta, out float t, out float d) {
 vec3 toth_eq_integrand(toth_eq e, float delta, vec3 sigma_t) {
     float t, d;
     toth_eq_point(e, delta, t, d);
-    if (e.kind == 1) return st_phase(st_phase_kind, e.c, st_phase_g) * exp(-sigma_t * (t + d));
+    if (TOTH_KIND_IS(e.kind, 1)) return st_phase(st_phase_kind, e.c, st_phase_g) * exp(-sigma_t * (t + d));
     float c = -(t + e.a) / d; // toward the light, against the view ray
     float f = 1.0;
-    if (e.kind == 2) { // spot: glTF's falloff around the axis
+    if (TOTH_KIND_IS(e.kind, 2)) { // spot: glTF's falloff around the axis
         vec3 from_light = normalize(e.o + t * e.dir - e.lp);
         float a = clamp(dot(from_light, e.axis) * e.spot.x + e.spot.y, 0.0, 1.0);
         f = a * a;
@@ -123,7 +128,7 @@ vec3 toth_sun_closed(toth_eq e, vec3 sigma_t) {
 vec3 toth_eq_panels(toth_eq e, float lo, float hi, int panels, vec3 sigma_t) {
     const vec2 x = vec2(0.339981043584856, 0.861136311594053);
     const vec2 w = vec2(0.652145154862546, 0.347854845137454);
-    float pw = (hi - lo) / float(panels);
+    float pw = (hi - lo) / float(max(panels, 1)); // 0 panels: an empty interval, 0
     vec3 sum = vec3(0.0);
     for (int k = 0; k < panels; k++) {
         float mid = lo + (float(k) + 0.5) * pw;
@@ -141,17 +146,16 @@ vec3 toth_eq_panels(toth_eq e, float lo, float hi, int panels, vec3 sigma_t) {
 vec3 toth_eq_unshadowed(vec3 o, vec3 dir, float s, int l, int nodes, vec3 sigma_s, vec3 sigma_t) {
     toth_eq e = toth_light_frame(o, dir, s, l);
     if (!(e.len > 0.0)) return vec3(0.0);
-    if (e.kind == 1) return sigma_s * st_light_intensity[l] * toth_sun_closed(e, sigma_t);
+    if (TOTH_KIND_IS(e.kind, 1)) return sigma_s * st_light_intensity[l] * toth_sun_closed(e, sigma_t);
     // A spot's cone edges are kinks in the integrand: twice the panels.
-    int panels = max((nodes + 3) / 4, 1) * (e.kind == 2 ? 2 : 1);
+    int panels = max((nodes + 3) / 4, 1) * (TOTH_KIND_IS(e.kind, 2) ? 2 : 1);
     float foot = atan(-e.a, e.h);
-    vec3 sum;
-    if (panels >= 2 && foot > 0.0 && foot < e.len) {
-        int before = clamp(int(floor(float(panels) * foot / e.len + 0.5)), 1, panels - 1);
-        sum = toth_eq_panels(e, 0.0, foot, before, sigma_t) + toth_eq_panels(e, foot, e.len, panels - before, sigma_t);
-    } else {
-        sum = toth_eq_panels(e, 0.0, e.len, panels, sigma_t);
-    }
+    // One pair of calls, the first empty when the foot point is not inside
+    // (no branch with a call on each side).
+    bool split = panels >= 2 && foot > 0.0 && foot < e.len;
+    int before = split ? clamp(int(floor(float(panels) * foot / e.len + 0.5)), 1, panels - 1) : 0;
+    float mid = split ? foot : 0.0;
+    vec3 sum = toth_eq_panels(e, 0.0, mid, before, sigma_t) + toth_eq_panels(e, mid, e.len, panels - before, sigma_t);
     return sigma_s * st_light_intensity[l] / e.h * sum;
 }
 #endif

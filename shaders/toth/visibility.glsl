@@ -25,6 +25,27 @@ float toth_vis_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
     return st_visibility_point(l, o + t * dir);
 }
 
+// exact_edges: a boundary the shadow map brackets inside a step is settled
+// with exact rays against shadow_map.refine's BVH (common/bvh.glsl) instead.
+uniform int toth_exact;
+
+bool toth_exact_on() { return toth_exact != 0 && st_shadow_refine != 0; }
+
+// Exact visibility of light l from the ray point at angle delta: is the
+// segment to the light (a sun: to its entry plane) free of triangles?
+float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
+    float t, d;
+    toth_eq_point(e, delta, t, d);
+    vec3 x = o + t * dir, q;
+    if (ST_LIGHT_IS(l, 1)) {
+        vec3 L = -st_light_dir[l];
+        q = x + L * max(st_light_shape[l].z - dot(x, L), 1e-3);
+    } else {
+        q = st_light_pos[l];
+    }
+    return st_bvh_occluded_t(x, q, 1e-6) ? 0.0 : 1.0;
+}
+
 // The lit part of the step [a, b] whose ends see va and vb, weighted by
 // the integrand: where a boundary is located inside the step, the lit
 // sub-interval's own midpoint weighs it (the integrand varies across a
@@ -36,10 +57,19 @@ float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float 
     if (va == vb) return w * va;
     // Not a clean on/off boundary (PCF): the trapezoid.
     if (abs(va - vb) < 0.5 || bisect <= 0) return w * 0.5 * (va + vb);
+    bool exact = toth_exact_on();
+    if (exact) {
+        // The map's boundary is a fraction of a texel off: the exact ends
+        // say whether the step holds one at all, and where, to 2^-(bisect+4).
+        va = toth_exact_at(l, e, o, dir, a);
+        vb = toth_exact_at(l, e, o, dir, b);
+        if (va == vb) return w * va;
+    }
     float lo = a, hi = b;
-    for (int k = 0; k < bisect; k++) {
+    int n = exact ? bisect + 4 : bisect;
+    for (int k = 0; k < n; k++) {
         float m = 0.5 * (lo + hi);
-        float vm = toth_vis_at(l, e, o, dir, m);
+        float vm = exact ? toth_exact_at(l, e, o, dir, m) : toth_vis_at(l, e, o, dir, m);
         if (abs(vm - va) < abs(vm - vb)) lo = m;
         else hi = m;
     }

@@ -25,7 +25,8 @@ static void write_scene(const char *path, const double cam[3], const double tgt[
 }
 
 // Checks every pixel that sees the plane; returns the worst relative error.
-// sigma_t: the medium's extinction on the light's path (NULL: none).
+// sigma_t: the medium's extinction on the light's path and on the view ray
+// from the plane to the camera (NULL: none).
 static double check_plane(const st_image *img, const st_test_cam *c, const double *sigma_t,
                           int *count) {
     double worst = 0;
@@ -44,8 +45,8 @@ static double check_plane(const st_image *img, const st_test_cam *c, const doubl
             double cosv = l[1] / sqrt(d2);
             const float *px = st_image_px(img, i, j);
             for (int ch = 0; ch < 3; ch++) {
-                double e =
-                    RHO / M_PI * I[ch] * cosv / d2 * (sigma_t ? exp(-sigma_t[ch] * sqrt(d2)) : 1.0);
+                double e = RHO / M_PI * I[ch] * cosv / d2 *
+                           (sigma_t ? exp(-sigma_t[ch] * (sqrt(d2) + t)) : 1.0);
                 double rel = fabs(px[ch] - e) / e;
                 if (rel > worst) worst = rel;
             }
@@ -108,8 +109,8 @@ int main(void) {
         st_image_free(&img);
     }
     // 4. In a medium, light reaching the plane is attenuated by e^(-sigma_t d)
-    // per channel. No volumetric module: the view ray is not marched, so no
-    // view extinction and no in-scatter (toth adds those; tests/toth).
+    // per channel, and the view ray by e^(-sigma_t t) (the regular pass owns
+    // it). No volumetric module: no in-scatter (toth adds that; tests/toth).
     const double sigma_t[3] = {0.12, 0.3, 0.6};
     write_scene(scene, cam2, tgt2, up2, 96, 64,
                 "{\"name\": \"shadow_map\", \"params\": {\"resolution\": 512}}",

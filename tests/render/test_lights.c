@@ -27,6 +27,7 @@ static void write_scene(const char *path, const char *light, const char *medium,
 }
 
 typedef double (*expect_fn)(const double p[3], int ch);
+static double sigma_t[3]; // the medium's extinction (0: none)
 
 // Worst relative error over plane pixels where the expectation is > 0; the
 // count of pixels expected dark that are not exactly 0 goes to *dark_bad.
@@ -52,8 +53,11 @@ static double check(const st_image *img, expect_fn f, int *lit, int *dark, int *
             }
             if (e0 < 1e-3 * f((double[]){0.3, 0, -0.2}, 0)) continue; // the cone's rim, where f ~ 0
             (*lit)++;
-            for (int ch = 0; ch < 3; ch++)
-                worst = fmax(worst, fabs(px[ch] - f(p, ch)) / f(p, ch));
+            // The view ray from p to the camera is attenuated too (t: its length).
+            for (int ch = 0; ch < 3; ch++) {
+                double e = f(p, ch) * exp(-sigma_t[ch] * t);
+                worst = fmax(worst, fabs(px[ch] - e) / e);
+            }
         }
     return worst;
 }
@@ -61,8 +65,7 @@ static double check(const st_image *img, expect_fn f, int *lit, int *dark, int *
 // ---- directional --------------------------------------------------------------
 static const double E[3] = {1.0, 2.0, 3.0};
 static double sun_dir[3]; // travel direction, unit
-static double sigma_t[3];
-static double entry; // max over the plane's corners of dot(c, -dir)
+static double entry;      // max over the plane's corners of dot(c, -dir)
 
 static double expect_sun(const double p[3], int ch) {
     double c = -sun_dir[1]; // the plane's normal is +y
@@ -128,6 +131,7 @@ int main(void) {
     write_scene(scene, light, "{\"sigma_s\": [0.01, 0.02, 0.05], \"sigma_a\": [0.04, 0.08, 0.15]}",
                 "");
     run("directional in a medium", scene, out, expect_sun, 0);
+    sigma_t[0] = sigma_t[1] = sigma_t[2] = 0;
 
     const double ad[3] = {0.2, -1.0, -0.1};
     double al = sqrt(ad[0] * ad[0] + ad[1] * ad[1] + ad[2] * ad[2]);

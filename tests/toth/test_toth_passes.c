@@ -1,6 +1,7 @@
 // toth's passes in the frame graph (--stats=json): nothing runs without a
-// scattering medium (no medium, or sigma_s = 0); without lights only the
-// compose pass (surface extinction) runs; the gather exists only when
+// scattering medium (no medium, or sigma_s = 0) or without lights (the view
+// ray's extinction belongs to the regular pass, tests/toth/test_toth_absorb.c);
+// the gather exists only when
 // interleaved; shadow_map is required; a parameter that is out of range is
 // refused naming it.
 #include "toth_test.h"
@@ -76,10 +77,11 @@ int main(void) {
     t = stats("--frames 2");
     CHECK(t.runs == 0, "sigma_s = 0: %d runs", t.runs);
 
-    // No lights: nothing to march, but surfaces still fade with distance.
+    // No lights: nothing to scatter (surfaces still fade with distance, in
+    // the regular pass).
     write_room(0, med, "");
     t = stats("");
-    CHECK(t.march == 0 && t.gather == 0 && t.compose == 1,
+    CHECK(t.runs == 0 && t.march == 0 && t.gather == 0 && t.compose == 0,
           "no lights: march %d gather %d compose %d", t.march, t.gather, t.compose);
 
     // shadow_map is required; bad parameter values are refused.

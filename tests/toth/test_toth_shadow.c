@@ -12,6 +12,8 @@ static const double LIGHT[3] = {0.15, 3.2, 0.1}, INTENSITY = 20, HOLE = 0.3, Y0 
 static const double SS = 0.3, SA = 0.05;
 static const double CAM[3] = {-3.0, 1.0, 3.0}, TGT[3] = {0, 0.2, 0}, UP[3] = {0, 1, 0}, FOV = 45;
 
+static int shadow_res = 1024; // shadow_map.resolution of the scene written next
+
 static void write_scene(const char *path, const char *toth_params) {
     char json[4096];
     snprintf(json, sizeof json,
@@ -36,11 +38,12 @@ static void write_scene(const char *path, const char *toth_params) {
              "  {\"box\": {\"min\": [-4, %g, %g], \"max\": [%g, %g, %g]}, \"albedo\": [0, 0, 0]},\n"
              "  {\"box\": {\"min\": [%g, %g, %g], \"max\": [4, %g, %g]}, \"albedo\": [0, 0, 0]}],\n"
              " \"medium\": {\"sigma_s\": [%g, %g, %g], \"sigma_a\": [%g, %g, %g]},\n"
-             " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 1024}},"
+             " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": %d}},"
              " {\"name\": \"toth\", \"params\": {%s}}]}\n",
              N, N, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, LIGHT[0], LIGHT[1],
              LIGHT[2], INTENSITY, INTENSITY, INTENSITY, Y0, Y1, -HOLE, Y0, HOLE, Y1, Y0, -HOLE,
-             -HOLE, Y1, HOLE, HOLE, Y0, -HOLE, Y1, HOLE, SS, SS, SS, SA, SA, SA, toth_params);
+             -HOLE, Y1, HOLE, HOLE, Y0, -HOLE, Y1, HOLE, SS, SS, SS, SA, SA, SA, shadow_res,
+             toth_params);
     st_test_write(path, json);
 }
 
@@ -133,9 +136,21 @@ int main(void) {
          0.1, 10, 0.02},
         {"\"samples\": 16, \"bisect\": 0, \"jitter\": false, \"resolution\": \"full\"", 0.5, 1.0,
          1.0, 10, 0.02},
+        // A 64-texel cube (shadow_res below): the bisection places the
+        // boundaries where the coarse map has them (mean 0.064); exact_edges
+        // settles them with rays against the BVH (shadow_map.refine's): 0.027,
+        // near the 1024-texel map's 0.023. What remains is a boundary that
+        // the map puts in the step next to the true one (only the step the
+        // map brackets is traced) and grazing rays lit between two lookups.
+        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\"", 0.5, 0.2,
+         0.5, 10, 0.05},
+        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\", "
+         "\"exact_edges\": true",
+         0.5, 0.035, 0.1, 16, 0.02},
     };
-    double mean_rel_of[6] = {0};
-    for (int m = 0; m < 6; m++) {
+    double mean_rel_of[8] = {0};
+    for (int m = 0; m < 8; m++) {
+        shadow_res = m >= 6 ? 64 : 1024;
         write_scene(scene, settings[m].params);
         st_image img = {0};
         if (!toth_render(scene, out, NULL, &img)) continue;
@@ -183,5 +198,8 @@ int main(void) {
     CHECK(mean_rel_of[5] > 4 * mean_rel_of[4],
           "bisection: shaft error %.4f with 6 halvings, %.4f without", mean_rel_of[4],
           mean_rel_of[5]);
+    CHECK(mean_rel_of[7] < 0.5 * mean_rel_of[6],
+          "exact_edges on a 64-texel cube: shaft error %.4f, %.4f from the map alone",
+          mean_rel_of[7], mean_rel_of[6]);
     return st_test_summary("toth_shadow");
 }
