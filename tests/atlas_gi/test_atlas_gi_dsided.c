@@ -133,8 +133,8 @@ static void open_wall(void) {
         snprintf(ref, sizeof ref, "%s/wall_%s_ref.exr", ST_TEST_SCRATCH, cams[c].name);
         snprintf(img, sizeof img, "%s/wall_%s.exr", ST_TEST_SCRATCH, cams[c].name);
         snprintf(cmd, sizeof cmd,
-                 "%s reference %s -o %s --bounces 1 --spp 1024 --seed 3 >/dev/null", ST_TEST_STRAHL,
-                 scene, ref);
+                 "%s reference %s -o %s --bounces 1 --spp 1024 --seed 3 --filter point >/dev/null",
+                 ST_TEST_STRAHL, scene, ref);
         CHECK(system(cmd) == 0, "%s", cmd);
         CHECK(st_test_render(scene, img, "") == 0, "render %s", img);
         gi_refcmp m = {0};
