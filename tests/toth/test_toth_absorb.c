@@ -107,9 +107,10 @@ static result check(const st_image *img) {
 static void run(const char *what, const char *modules, bool reference) {
     write_scene(modules);
     st_image img = {0};
-    int rc = reference ? st_test_sh("%s reference %s -o %s --spp 1 --bounces 0 >/dev/null",
-                                    ST_TEST_STRAHL, scene, out)
-                       : st_test_render(scene, out, NULL);
+    int rc = reference
+                 ? st_test_sh("%s reference %s -o %s --spp 1 --bounces 0 --filter point >/dev/null",
+                              ST_TEST_STRAHL, scene, out)
+                 : st_test_render(scene, out, NULL);
     CHECK(rc == 0, "%s: exit %d", what, rc);
     if (rc != 0 || !st_test_read(out, &img)) return;
     result r = check(&img);
