@@ -99,13 +99,15 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     } else {
         glDisable(GL_DEPTH_TEST);
     }
-    st_shader *sh = p->shader ? p->shader(mi->self, s->pass) : NULL;
+    st_shader *sh = st_passes_shader(mi, s->pass);
+    st_passes_frame(mi, s->pass, f);
     if (sh) {
         st_shader_use(sh);
         st_world_apply_uniforms(w, sh, f);
         st_shader_texture(sh, "st_hdr_in", GL_TEXTURE_2D, f->hdr_in);
         st_shader_texture(sh, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
         st_shader_texture(sh, "st_albedo_tex", GL_TEXTURE_2D, f->albedo);
+        st_passes_set_params(mi, sh);
     }
     if (p->on_pass && !p->on_pass(mi->self, s->pass, f, err)) {
         st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);

@@ -50,9 +50,9 @@ static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_in
     snprintf(pname, sizeof pname, "%s", s->info.name);
     // Passes of one module sharing a name (one per light) are numbered.
     if (mi) {
-        int total = 0, ordinal = 0, n = mi->p->num_passes(mi->self);
+        int total = 0, ordinal = 0, n = st_passes_count(mi);
         for (int k = 0; k < n; k++) {
-            const st_pass_info *o = mi->p->pass_info(mi->self, k);
+            const st_pass_info *o = st_passes_info(mi, k);
             if (!o || !o->name || strcmp(o->name, s->info.name)) continue;
             if (k < pass) ordinal++;
             total++;
@@ -108,9 +108,9 @@ bool st_graph_build(st_world *w, st_err *err) {
         }
         for (int m = 0; m < w->num_mods; m++) {
             st_module_inst *mi = w->mods[m];
-            int n = mi->p->num_passes(mi->self);
+            int n = st_passes_count(mi);
             for (int k = 0; k < n; k++) {
-                const st_pass_info *info = mi->p->pass_info(mi->self, k);
+                const st_pass_info *info = st_passes_info(mi, k);
                 if (!info)
                     return st_fail(err, ST_ERR_RUNTIME, "module '%s': no info for pass %d",
                                    mi->p->name, k);
@@ -135,6 +135,7 @@ void st_graph_cull(st_world *w, st_frame *f) {
         st_slot *s = &w->slots[i];
         const st_plugin *p = s->mod ? s->mod->p : NULL;
         f->changes = s->pending;
+        st_passes_frame(s->mod, s->pass, f);
         s->needed = !p || !p->needed || p->needed(s->mod->self, s->pass, f);
         if (!s->needed) continue;
         for (int j = i + 1; j < w->num_slots; j++)

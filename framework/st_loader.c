@@ -51,10 +51,10 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
         bool grows; // may be smaller in the plugin
     } fields[] = {
 #define F(f, g) {"st_" #f, offsetof(st_abi_sizes, f), g}
-        F(plugin, false),      F(param_def, false), F(pass_info, false),  F(uniform, false),
+        F(plugin, true),       F(param_def, false), F(pass_info, false),  F(uniform, false),
         F(frame, true),        F(scene, true),      F(light_desc, false), F(mesh, false),
         F(shader, true),       F(target, false),    F(buffer, false),     F(err, false),
-        F(target_desc, false),
+        F(target_desc, false), F(pass_decl, false),
 #undef F
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
@@ -69,6 +69,15 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
             "rebuild it against this strahl's headers",
             nm, path, fields[i].name, a, b);
     }
+    return true;
+}
+
+// Declared passes (ABI 1.3): a count of rows that matches the table, each
+// row one pass or one per light.
+static bool valid_pass_table(const st_plugin *d) {
+    if (d->num_pass_decls < 0 || (d->num_pass_decls > 0 && !d->passes)) return false;
+    for (int i = 0; i < d->num_pass_decls; i++)
+        if (d->passes[i].count < ST_PER_LIGHT || d->passes[i].count > 1) return false;
     return true;
 }
 
@@ -152,16 +161,19 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     memcpy(&lib->desc, d, n);
     lib->handle = h;
     snprintf(lib->path, sizeof lib->path, "%s", path);
-    // Name every missing required field at once.
+    // Name every missing required field at once (a table of declared passes
+    // stands in for num_passes and pass_info).
     char missing[256] = "";
+    bool declared = lib->desc.passes && lib->desc.num_pass_decls > 0;
     const struct {
         const void *p;
         const char *name;
     } req[] = {{lib->desc.name, "name"},
-               {(void *)lib->desc.create, "create"},
-               {(void *)lib->desc.destroy, "destroy"},
-               {(void *)lib->desc.num_passes, "num_passes"},
-               {(void *)lib->desc.pass_info, "pass_info"}};
+               {declared ? (const void *)"" : (const void *)lib->desc.create, "create"},
+               {declared && !lib->desc.create ? (const void *)"" : (const void *)lib->desc.destroy,
+                "destroy"},
+               {declared ? (const void *)"" : (const void *)lib->desc.num_passes, "num_passes"},
+               {declared ? (const void *)"" : (const void *)lib->desc.pass_info, "pass_info"}};
     for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
         if (req[i].p) continue;
         size_t l = strlen(missing);
@@ -177,6 +189,12 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     if (lib->desc.num_params < 0 || lib->desc.num_params > ST_MAX_PARAMS ||
         (lib->desc.num_params > 0 && !lib->desc.params)) {
         st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
+        dlclose(h);
+        free(lib);
+        return NULL;
+    }
+    if (!valid_pass_table(&lib->desc)) {
+        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad pass table (ST_PASSES)", nm, path);
         dlclose(h);
         free(lib);
         return NULL;

@@ -178,7 +178,7 @@ void st_world_destroy(st_world *w) {
     if (!w) return;
     // Teardown order: instances, then each plugin's cleanup, then dlclose.
     for (int m = 0; m < w->num_mods; m++)
-        if (w->mods[m]->self) w->mods[m]->p->destroy(w->mods[m]->self), w->mods[m]->self = NULL;
+        st_world_destroy_instance(w->mods[m]);
     while (w->num_mods)
         st_world_unload(w, w->num_mods - 1);
     st_targets_free(&w->targets, NULL);

@@ -47,9 +47,15 @@ static bool init_params(st_world *w, st_module_inst *mi, st_err *err) {
     return true;
 }
 
+void st_world_destroy_instance(st_module_inst *mi) {
+    if (mi->self && mi->p->destroy) mi->p->destroy(mi->self);
+    mi->self = NULL;
+}
+
 void st_world_unload(st_world *w, int m) {
     st_module_inst *mi = w->mods[m];
-    if (mi->self) mi->p->destroy(mi->self);
+    st_world_destroy_instance(mi);
+    st_passes_destroy(mi);
     st_targets_free(&w->targets, mi->p->name);
     st_plugin_close(mi->lib);
     free(mi);
@@ -144,8 +150,14 @@ bool st_world_resolve(st_world *w, st_err *err) {
 bool st_world_instantiate(st_world *w, int m, st_err *err) {
     st_module_inst *mi = w->mods[m];
     if (mi->self) return true;
-    mi->self = mi->p->create(w, mi->params, err);
+    // A plugin with declared passes and no state of its own has no create:
+    // its instance is its parameter array (never NULL, never dereferenced).
+    mi->self = mi->p->create ? mi->p->create(w, mi->params, err) : (void *)mi->params;
     if (!mi->self) {
+        st_err_prefix(err, "module '%s': ", mi->p->name);
+        return false;
+    }
+    if (!st_passes_create(w, mi, err)) { // destroyed with the instance
         st_err_prefix(err, "module '%s': ", mi->p->name);
         return false;
     }
@@ -190,8 +202,7 @@ bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
                 if (tmp[0] && !optional && st_list_has(w->mods[m]->p->provides, tmp))
                     return st_fail(err, ST_ERR_INPUT, "module '%s' is required by '%s'", module,
                                    w->mods[j]->p->name);
-        w->mods[m]->p->destroy(w->mods[m]->self);
-        w->mods[m]->self = NULL;
+        st_world_destroy_instance(w->mods[m]);
         st_world_unload(w, m);
     }
     bool ok = st_world_resolve(w, err);
@@ -240,6 +251,7 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
     mi->params[k] = value;
     mi->params_dirty = true;
     if (mi->p->param_changed) mi->p->param_changed(mi->self, k);
+    if (!st_passes_declare_targets(w, mi, err)) return false;
     // A parameter may change a module's pass list (e.g. interleave on/off).
     return st_graph_build(w, err);
 }
@@ -289,7 +301,7 @@ bool st_world_reload_shaders(st_world *w, st_err *err) {
     if (!st_world_build_regular(w, err)) return false;
     for (int m = 0; m < w->num_mods; m++) {
         st_module_inst *mi = w->mods[m];
-        if (mi->p->reload && !mi->p->reload(mi->self, err)) {
+        if (!st_passes_reload(mi, err) || (mi->p->reload && !mi->p->reload(mi->self, err))) {
             st_err_prefix(err, "module '%s': ", mi->p->name);
             return false;
         }

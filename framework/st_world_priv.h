@@ -2,6 +2,7 @@
 // it (docs/architecture.md "Where the world lives" maps them):
 //   st_world.c          creation, destruction, camera targets, accessors
 //   st_world_modules.c  module load, `requires` ordering, switch, params, reload
+//   st_passes.c         declared passes: expansion, programs, targets
 //   st_graph.c          resource interning, the pass list (slots), culling
 //   st_frame.c          one frame: the regular pass, module passes, timing
 //   st_filter.c         the box pixel filter: jitter and accumulation
@@ -23,6 +24,14 @@ typedef struct st_resset {
     uint64_t bits[MAX_RESOURCES / 64];
 } st_resset;
 
+// A declared pass expanded for one instance (st_pass_decl, st_passes.c):
+// its names with the light index filled in.
+typedef struct st_decl_pass {
+    st_pass_info info; // reads and writes point into the buffers below
+    int row, instance;
+    char reads[256], writes[ST_NAME_MAX];
+} st_decl_pass;
+
 // A loaded module. Each instance is its own heap block, created by load() and
 // freed by unload(), so `params` (handed to the plugin's create) and `self`
 // stay at one address for the instance's whole life, whatever the module
@@ -35,7 +44,10 @@ typedef struct st_module_inst {
     const st_uniform *uniforms;
     int num_uniforms;
     bool params_dirty;
-    unsigned serial; // unique per world: identifies the instance across pass-list rebuilds
+    unsigned serial;    // unique per world: identifies the instance across pass-list rebuilds
+    st_decl_pass *decl; // declared passes, expanded (NULL for a plugin without a table)
+    int num_decl;
+    st_shader **decl_sh; // one program per table row (NULL: the row has none)
 } st_module_inst;
 
 // One pass in frame order. mod == NULL is the world's regular pass.
@@ -120,10 +132,28 @@ st_pass_stats *st_stats_entry(st_world *w, const char *module, const char *pass)
 bool st_filter_begin(st_world *w);
 bool st_filter_accumulate(st_world *w, st_err *err);
 
+// st_passes.c: a module's passes, declared (ABI 1.3) or from its hooks.
+int st_passes_count(const st_module_inst *mi);
+const st_pass_info *st_passes_info(const st_module_inst *mi, int k);
+// After create: expands the table, loads the programs, declares the targets.
+bool st_passes_create(st_world *w, st_module_inst *mi, st_err *err);
+void st_passes_destroy(st_module_inst *mi);
+bool st_passes_reload(st_module_inst *mi, st_err *err);
+// Declares the targets the passes write (again after a parameter change).
+bool st_passes_declare_targets(st_world *w, st_module_inst *mi, st_err *err);
+// The program of pass k: the declared one, else the plugin's shader hook.
+st_shader *st_passes_shader(const st_module_inst *mi, int k);
+// Fills st_frame's params, shader, row and instance for pass k (mi NULL: the world's).
+void st_passes_frame(const st_module_inst *mi, int k, st_frame *f);
+// Sets the module's parameters as uniforms on `sh` (st_plugin.param_uniforms).
+void st_passes_set_params(const st_module_inst *mi, st_shader *sh);
+
 // st_world_modules.c
 int st_world_find_module(const st_world *w, const char *name);
 bool st_world_load(st_world *w, const char *name, st_err *err);
 void st_world_unload(st_world *w, int m);
+// The plugin's destroy (if it has one) for an instance that was created.
+void st_world_destroy_instance(st_module_inst *mi);
 bool st_world_resolve(st_world *w, st_err *err);
 bool st_world_instantiate(st_world *w, int m, st_err *err);
 
