@@ -117,6 +117,35 @@ st_plugin_lib *st_plugin_open(const char *name, st_err *err) {
     return NULL;
 }
 
+// The descriptor as copied: every required hook (naming all that are
+// missing at once; a table of declared passes stands in for num_passes and
+// pass_info, and for create and destroy), the parameter and pass tables.
+static bool check_desc(const st_plugin *d, const char *nm, const char *path, st_err *err) {
+    char missing[256] = "";
+    bool declared = d->passes && d->num_pass_decls > 0;
+    const struct {
+        const void *p;
+        const char *name;
+    } req[] = {{d->name, "name"},
+               {declared ? (const void *)"" : (const void *)d->create, "create"},
+               {declared && !d->create ? (const void *)"" : (const void *)d->destroy, "destroy"},
+               {declared ? (const void *)"" : (const void *)d->num_passes, "num_passes"},
+               {declared ? (const void *)"" : (const void *)d->pass_info, "pass_info"}};
+    for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
+        if (req[i].p) continue;
+        size_t l = strlen(missing);
+        snprintf(missing + l, sizeof missing - l, "%s%s", l ? ", " : "", req[i].name);
+    }
+    if (missing[0])
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm,
+                       path, missing);
+    if (d->num_params < 0 || d->num_params > ST_MAX_PARAMS || (d->num_params > 0 && !d->params))
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
+    if (!valid_pass_table(d))
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad pass table (ST_PASSES)", nm, path);
+    return true;
+}
+
 st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     dlerror();
     void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
@@ -161,40 +190,7 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     memcpy(&lib->desc, d, n);
     lib->handle = h;
     snprintf(lib->path, sizeof lib->path, "%s", path);
-    // Name every missing required field at once (a table of declared passes
-    // stands in for num_passes and pass_info).
-    char missing[256] = "";
-    bool declared = lib->desc.passes && lib->desc.num_pass_decls > 0;
-    const struct {
-        const void *p;
-        const char *name;
-    } req[] = {{lib->desc.name, "name"},
-               {declared ? (const void *)"" : (const void *)lib->desc.create, "create"},
-               {declared && !lib->desc.create ? (const void *)"" : (const void *)lib->desc.destroy,
-                "destroy"},
-               {declared ? (const void *)"" : (const void *)lib->desc.num_passes, "num_passes"},
-               {declared ? (const void *)"" : (const void *)lib->desc.pass_info, "pass_info"}};
-    for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
-        if (req[i].p) continue;
-        size_t l = strlen(missing);
-        snprintf(missing + l, sizeof missing - l, "%s%s", l ? ", " : "", req[i].name);
-    }
-    if (missing[0]) {
-        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm, path,
-                missing);
-        dlclose(h);
-        free(lib);
-        return NULL;
-    }
-    if (lib->desc.num_params < 0 || lib->desc.num_params > ST_MAX_PARAMS ||
-        (lib->desc.num_params > 0 && !lib->desc.params)) {
-        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
-        dlclose(h);
-        free(lib);
-        return NULL;
-    }
-    if (!valid_pass_table(&lib->desc)) {
-        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad pass table (ST_PASSES)", nm, path);
+    if (!check_desc(&lib->desc, nm, path, err)) {
         dlclose(h);
         free(lib);
         return NULL;
