@@ -1,4 +1,4 @@
-#include "st_world.h"
+#include "st_camera.h"
 #include <cglm/cglm.h>
 #include <string.h>
 

@@ -125,6 +125,85 @@ static int64_t exr_pwrite(exr_const_context_t ctxt, void *user, const void *buf,
     return (int64_t)put;
 }
 
+// Defines the header of part 0 (a scanline image of FLOAT channels, ZIP,
+// the metadata as attributes) and writes it; *what says which step failed.
+static exr_result_t exr_header(exr_context_t ctx, const st_image *img, const char *const *names,
+                               const st_exr_meta *meta, const char **what) {
+    exr_result_t rc;
+    int part = 0;
+    *what = "cannot define header";
+    if ((rc = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part))) return rc;
+    if ((rc = exr_initialize_required_attr_simple(ctx, part, img->width, img->height,
+                                                  EXR_COMPRESSION_ZIP)))
+        return rc;
+    for (int c = 0; c < img->channels; c++) {
+        if (strlen(names[c]) > 31 && (rc = exr_set_longname_support(ctx, 1))) return rc;
+        rc = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
+                             1);
+        if (rc) {
+            *what = "cannot add channel";
+            return rc;
+        }
+    }
+    *what = "cannot add attribute";
+    if (meta && meta->spp > 0 && (rc = exr_attr_set_int(ctx, part, "spp", meta->spp))) return rc;
+    if (meta && meta->seeds[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.seeds", meta->seeds)))
+        return rc;
+    if (meta && meta->config[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
+        return rc;
+    if (meta && meta->filter[0] &&
+        (rc = exr_attr_set_string(ctx, part, "strahl.filter", meta->filter)))
+        return rc;
+    *what = "cannot define header";
+    return exr_write_header(ctx);
+}
+
+// Points the encoder's channels (sorted by name in the file) at their
+// interleaved positions in row y of img.
+static exr_result_t exr_bind_channels(exr_encode_pipeline_t *enc, const st_image *img,
+                                      const char *const *names, int y) {
+    const int nc = img->channels;
+    for (int k = 0; k < enc->channel_count; k++) {
+        exr_coding_channel_info_t *ch = &enc->channels[k];
+        int src = -1;
+        for (int c = 0; c < nc && src < 0; c++)
+            if (!strcmp(ch->channel_name, names[c])) src = c;
+        if (src < 0) return EXR_ERR_INVALID_ARGUMENT;
+        ch->user_data_type = EXR_PIXEL_FLOAT;
+        ch->user_bytes_per_element = 4;
+        ch->user_pixel_stride = nc * 4;
+        ch->user_line_stride = img->width * nc * 4;
+        ch->encode_from_ptr = (const uint8_t *)(st_image_px(img, 0, y) + src);
+    }
+    return EXR_ERR_SUCCESS;
+}
+
+// Encodes and writes every scanline chunk of part 0.
+static exr_result_t exr_pixels(exr_context_t ctx, const st_image *img, const char *const *names,
+                               exr_encode_pipeline_t *enc, bool *enc_ready) {
+    const int part = 0;
+    exr_result_t rc;
+    int32_t lines = 0;
+    if ((rc = exr_get_scanlines_per_chunk(ctx, part, &lines))) return rc;
+    for (int y = 0; y < img->height; y += lines) {
+        exr_chunk_info_t ci;
+        if ((rc = exr_write_scanline_chunk_info(ctx, part, y, &ci))) return rc;
+        rc = *enc_ready ? exr_encoding_update(ctx, part, &ci, enc)
+                        : exr_encoding_initialize(ctx, part, &ci, enc);
+        if (rc || (rc = exr_bind_channels(enc, img, names, y))) return rc;
+        if (!*enc_ready) {
+            if ((rc = exr_encoding_choose_default_routines(ctx, part, enc))) return rc;
+            exr_default_compress = enc->compress_fn;
+            enc->compress_fn = exr_compress_or_store;
+            *enc_ready = true;
+        }
+        if ((rc = exr_encoding_run(ctx, part, enc))) return rc;
+    }
+    return EXR_ERR_SUCCESS;
+}
+
 // Writes the whole image as FLOAT scanlines with ZIP compression to the
 // descriptor fd (the temporary file of path).
 static bool exr_write_file(int fd, const char *path, const st_image *img, const char *const *names,
@@ -140,75 +219,16 @@ static bool exr_write_file(int fd, const char *path, const st_image *img, const 
         return exr_fail(err, ST_ERR_RUNTIME, path, "cannot create", rc);
     }
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-    bool enc_ready = false, ok = false;
+    bool enc_ready = false;
     const char *what = "cannot define header";
-    int part = 0;
-    const int nc = img->channels;
-    if ((rc = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part))) goto done;
-    if ((rc = exr_initialize_required_attr_simple(ctx, part, img->width, img->height,
-                                                  EXR_COMPRESSION_ZIP)))
-        goto done;
-    for (int c = 0; c < nc; c++) {
-        if (strlen(names[c]) > 31 && (rc = exr_set_longname_support(ctx, 1))) goto done;
-        rc = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
-                             1);
-        if (rc) {
-            what = "cannot add channel";
-            goto done;
-        }
+    rc = exr_header(ctx, img, names, meta, &what);
+    if (!rc) {
+        what = "cannot write pixels";
+        rc = exr_pixels(ctx, img, names, &enc, &enc_ready);
     }
-    what = "cannot add attribute";
-    if (meta && meta->spp > 0 && (rc = exr_attr_set_int(ctx, part, "spp", meta->spp))) goto done;
-    if (meta && meta->seeds[0] &&
-        (rc = exr_attr_set_string(ctx, part, "strahl.seeds", meta->seeds)))
-        goto done;
-    if (meta && meta->config[0] &&
-        (rc = exr_attr_set_string(ctx, part, "strahl.config", meta->config)))
-        goto done;
-    if (meta && meta->filter[0] &&
-        (rc = exr_attr_set_string(ctx, part, "strahl.filter", meta->filter)))
-        goto done;
-    what = "cannot define header";
-    if ((rc = exr_write_header(ctx))) goto done;
-    int32_t lines = 0;
-    if ((rc = exr_get_scanlines_per_chunk(ctx, part, &lines))) goto done;
-    what = "cannot write pixels";
-    for (int y = 0; y < img->height; y += lines) {
-        exr_chunk_info_t ci;
-        if ((rc = exr_write_scanline_chunk_info(ctx, part, y, &ci))) goto done;
-        rc = enc_ready ? exr_encoding_update(ctx, part, &ci, &enc)
-                       : exr_encoding_initialize(ctx, part, &ci, &enc);
-        if (rc) goto done;
-        // The file's channel list is sorted by name; map each back to its
-        // interleaved position in img.
-        for (int k = 0; k < enc.channel_count; k++) {
-            exr_coding_channel_info_t *ch = &enc.channels[k];
-            int src = -1;
-            for (int c = 0; c < nc && src < 0; c++)
-                if (!strcmp(ch->channel_name, names[c])) src = c;
-            if (src < 0) {
-                rc = EXR_ERR_INVALID_ARGUMENT;
-                goto done;
-            }
-            ch->user_data_type = EXR_PIXEL_FLOAT;
-            ch->user_bytes_per_element = 4;
-            ch->user_pixel_stride = nc * 4;
-            ch->user_line_stride = img->width * nc * 4;
-            ch->encode_from_ptr = (const uint8_t *)(st_image_px(img, 0, y) + src);
-        }
-        if (!enc_ready) {
-            if ((rc = exr_encoding_choose_default_routines(ctx, part, &enc))) goto done;
-            exr_default_compress = enc.compress_fn;
-            enc.compress_fn = exr_compress_or_store;
-            enc_ready = true;
-        }
-        if ((rc = exr_encoding_run(ctx, part, &enc))) goto done;
-    }
-    ok = true;
-done:
     if (enc_ready || enc.channels) exr_encoding_destroy(ctx, &enc);
     exr_result_t frc = exr_finish(&ctx);
-    if (!ok) return exr_fail(err, ST_ERR_RUNTIME, path, what, rc);
+    if (rc) return exr_fail(err, ST_ERR_RUNTIME, path, what, rc);
     if (frc) return exr_fail(err, ST_ERR_RUNTIME, path, "cannot finish file", frc);
     return true;
 }

@@ -51,10 +51,10 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
         bool grows; // may be smaller in the plugin
     } fields[] = {
 #define F(f, g) {"st_" #f, offsetof(st_abi_sizes, f), g}
-        F(plugin, false),      F(param_def, false), F(pass_info, false),  F(uniform, false),
+        F(plugin, true),       F(param_def, false), F(pass_info, false),  F(uniform, false),
         F(frame, true),        F(scene, true),      F(light_desc, false), F(mesh, false),
         F(shader, true),       F(target, false),    F(buffer, false),     F(err, false),
-        F(target_desc, false),
+        F(target_desc, false), F(pass_decl, false),
 #undef F
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
@@ -69,6 +69,15 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
             "rebuild it against this strahl's headers",
             nm, path, fields[i].name, a, b);
     }
+    return true;
+}
+
+// Declared passes (ABI 1.3): a count of rows that matches the table, each
+// row one pass or one per light.
+static bool valid_pass_table(const st_plugin *d) {
+    if (d->num_pass_decls < 0 || (d->num_pass_decls > 0 && !d->passes)) return false;
+    for (int i = 0; i < d->num_pass_decls; i++)
+        if (d->passes[i].count < ST_PER_LIGHT || d->passes[i].count > 1) return false;
     return true;
 }
 
@@ -106,6 +115,35 @@ st_plugin_lib *st_plugin_open(const char *name, st_err *err) {
     st_plugin_dirs(dirs, sizeof dirs);
     st_fail(err, ST_ERR_INPUT, "unknown module '%s' (searched %s)", name, dirs);
     return NULL;
+}
+
+// The descriptor as copied: every required hook (naming all that are
+// missing at once; a table of declared passes stands in for num_passes and
+// pass_info, and for create and destroy), the parameter and pass tables.
+static bool check_desc(const st_plugin *d, const char *nm, const char *path, st_err *err) {
+    char missing[256] = "";
+    bool declared = d->passes && d->num_pass_decls > 0;
+    const struct {
+        const void *p;
+        const char *name;
+    } req[] = {{d->name, "name"},
+               {declared ? (const void *)"" : (const void *)d->create, "create"},
+               {declared && !d->create ? (const void *)"" : (const void *)d->destroy, "destroy"},
+               {declared ? (const void *)"" : (const void *)d->num_passes, "num_passes"},
+               {declared ? (const void *)"" : (const void *)d->pass_info, "pass_info"}};
+    for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
+        if (req[i].p) continue;
+        size_t l = strlen(missing);
+        snprintf(missing + l, sizeof missing - l, "%s%s", l ? ", " : "", req[i].name);
+    }
+    if (missing[0])
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm,
+                       path, missing);
+    if (d->num_params < 0 || d->num_params > ST_MAX_PARAMS || (d->num_params > 0 && !d->params))
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
+    if (!valid_pass_table(d))
+        return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad pass table (ST_PASSES)", nm, path);
+    return true;
 }
 
 st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
@@ -152,31 +190,7 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     memcpy(&lib->desc, d, n);
     lib->handle = h;
     snprintf(lib->path, sizeof lib->path, "%s", path);
-    // Name every missing required field at once.
-    char missing[256] = "";
-    const struct {
-        const void *p;
-        const char *name;
-    } req[] = {{lib->desc.name, "name"},
-               {(void *)lib->desc.create, "create"},
-               {(void *)lib->desc.destroy, "destroy"},
-               {(void *)lib->desc.num_passes, "num_passes"},
-               {(void *)lib->desc.pass_info, "pass_info"}};
-    for (size_t i = 0; i < sizeof req / sizeof req[0]; i++) {
-        if (req[i].p) continue;
-        size_t l = strlen(missing);
-        snprintf(missing + l, sizeof missing - l, "%s%s", l ? ", " : "", req[i].name);
-    }
-    if (missing[0]) {
-        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): missing required hook(s): %s", nm, path,
-                missing);
-        dlclose(h);
-        free(lib);
-        return NULL;
-    }
-    if (lib->desc.num_params < 0 || lib->desc.num_params > ST_MAX_PARAMS ||
-        (lib->desc.num_params > 0 && !lib->desc.params)) {
-        st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
+    if (!check_desc(&lib->desc, nm, path, err)) {
         dlclose(h);
         free(lib);
         return NULL;

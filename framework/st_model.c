@@ -1,6 +1,6 @@
 // ModelType/Model: one interleaved vertex buffer and one index buffer per
 // type, uploaded once; models are ranges drawn with a base vertex.
-#include "st_world.h"
+#include "st_model.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

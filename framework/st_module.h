@@ -10,46 +10,38 @@
 // <module dir>/shaders/dim/ beside dim.so out of it; examples/plugin builds
 // one against an installed strahl with find_package(strahl)):
 //
-//   #include <st_module.h>
+//   #include <st_world_api.h>
 //   #include <stdlib.h>
 //   static const st_param_def params[] = {{"gain", ST_PARAM_FLOAT, 0.5, 0, 1, NULL, "scale"}};
-//   typedef struct dim { const double *p; st_shader *sh; } dim;
-//   static const st_pass_info pass = {"dim", ST_STAGE_POST, "hdr", "hdr", ST_PASS_FULLSCREEN};
-//   static void *create(st_world *w, const double *p, st_err *err) {
-//       dim *d = st_calloc(sizeof *d, err);
-//       if (!d) return NULL;
-//       d->p = p; // this instance's parameters, current until destroy
-//       d->sh = st_shader_load("common/fullscreen.vert", "dim/dim.frag", NULL, err);
-//       if (!d->sh) free(d), d = NULL;
-//       return d;
-//   }
-//   static void destroy(void *s) { st_shader_destroy(((dim *)s)->sh); free(s); }
-//   static int num_passes(void *s) { return 1; }
-//   static const st_pass_info *pass_info(void *s, int i) { return &pass; }
-//   static st_shader *shader(void *s, int i) { return ((dim *)s)->sh; }
-//   static bool on_pass(void *s, int i, const st_frame *f, st_err *err) {
-//       st_shader_set_float(((dim *)s)->sh, "u_gain", (float)((dim *)s)->p[0]);
-//       return true; // the world then draws the full-screen triangle
-//   }
+//   // The world loads, reloads and deletes the program, binds it with every
+//   // uniform, sets the parameter as the uniform u_gain and draws a triangle.
+//   static const st_pass_decl passes[] = {
+//       {{"dim", ST_STAGE_POST, "hdr", "hdr", ST_PASS_FULLSCREEN}, .frag = "dim/dim.frag"}};
 //   ST_PLUGIN(.name = "dim", .description = "scales the image", ST_PARAMS(params),
-//             .create = create, .destroy = destroy, .num_passes = num_passes,
-//             .pass_info = pass_info, .shader = shader, .on_pass = on_pass)
+//             ST_PASSES(passes), .param_uniforms = "u_")
+//
+// A plugin whose passes change with its parameters answers num_passes and
+// pass_info (and loads its programs) itself, as before ABI 1.3; on_pass(k, f)
+// sets what the parameters do not say, on f->shader for a declared pass.
 //
 // with dim.frag reading `uniform sampler2D st_hdr_in;` (bound by the world).
 //
 // Order of the hooks:
 //   load:     parameters = defaults, then the scene's values
 //   create(w, params), then uniforms() once              (in dependency order)
+//   declared passes: the table expanded, programs loaded, targets declared
 //   num_passes(), pass_info(k) for every k               (again after every switch
-//                                                         and every parameter change)
+//                                                         and every parameter change;
+//                                                         not with declared passes)
 //   per frame, per pass in frame order: needed(k, f)     (all passes first)
 //   per live, needed pass: the world binds rendertarget(k) (or the next post
 //     target for a post pass writing "hdr", or else the world-owned target
 //     the pass writes, allocated at its size); shader(k) is bound with every
 //     uniform set; on_pass(k, f); the world draws (ST_PASS_SCENE: every model,
 //     ST_PASS_FULLSCREEN: one triangle); after_pass(k, f)
-//   st_world_set_param: the value lands in params[], then param_changed(i)
-//   st_world_reload_shaders: reload()
+//   st_world_set_param: the value lands in params[], then param_changed(i), then
+//     the declared targets are declared again (a scale parameter may have changed)
+//   st_world_reload_shaders: the declared programs, then reload()
 //   destroy(self); after the last instance of the .so: cleanup(), dlclose
 #ifndef ST_MODULE_H
 #define ST_MODULE_H
@@ -62,7 +54,7 @@ extern "C" {
 #endif
 
 #define ST_ABI_MAJOR 1
-#define ST_ABI_MINOR 2
+#define ST_ABI_MINOR 3
 #define ST_PLUGIN_SYMBOL "strahl_plugin"
 #define ST_MAX_PARAMS 32
 #define ST_MAX_LIGHTS 8
@@ -110,6 +102,26 @@ typedef struct st_pass_info {
 
 // st_target_desc (what a target looks like): st_gpu.h.
 
+// A declared pass (ABI 1.3): what st_pass_info says, plus the program the
+// world loads, hot-reloads and destroys for it, and the target it writes,
+// which the world declares, allocates, resizes and frees. A plugin lists
+// them in a static table (ST_PASSES) instead of num_passes/pass_info code.
+// With count ST_PER_LIGHT the row is one pass per light of the scene, and
+// "%d" in its name lists (reads, writes) is the light's index. Rows expand in
+// table order: pass k of row r is hook index (passes of earlier rows) + k;
+// st_frame's row and instance say which.
+#define ST_PER_LIGHT (-1)
+typedef struct st_pass_decl {
+    st_pass_info info;
+    const char *vert, *frag; // program files; vert NULL: "common/fullscreen.vert"; frag NULL:
+                             // no program (the plugin draws with its own, or the shader hook)
+    const char *defines;     // compile defines ("NAME VALUE" lines), NULL for none
+    int count;               // 0 or 1: one pass; ST_PER_LIGHT: one per light
+    st_target_desc target;   // format != 0: the target `writes` names (one "<module>.<x>")
+    const char *scale_param; // a FLOAT parameter whose value is target.scale (re-declared when
+                             // it changes); NULL: target.scale as given
+} st_pass_decl;
+
 // What changed since a pass last ran (accumulated while it was skipped or culled).
 enum {
     ST_CHANGE_FIRST = 1u << 0, // never ran
@@ -135,6 +147,13 @@ typedef struct st_frame {
     float fov_y, near_z, far_z;
     GLuint hdr_in;                 // post passes: the current radiance image
     GLuint gbuffer, albedo, depth; // camera targets (valid after the regular pass)
+    // ABI 1.3: the module's parameters (the array create received); for a
+    // declared pass (needed, on_pass, after_pass) the program the world
+    // loaded and bound for it (NULL without one), its table row and its
+    // instance (the light of an ST_PER_LIGHT row, else 0).
+    const double *params;
+    st_shader *shader;
+    int row, instance;
 } st_frame;
 
 // A uniform: a name and a callback that sets it on every shader that uses it
@@ -168,7 +187,7 @@ typedef struct st_plugin {
     // st_indirect(vec3 p, vec3 n, vec2 uv1)) or ST_HAS_COMPOSE.
     const char *regular_include;
 
-    // Required hooks.
+    // Required hooks (create and destroy optional with declared passes).
     void *(*create)(st_world *w, const double *params, st_err *err);
     void (*destroy)(void *self);
     int (*num_passes)(void *self);
@@ -194,6 +213,18 @@ typedef struct st_plugin {
     // ABI 1.1: the light types the technique handles (ST_LIGHT_BIT mask);
     // 0 = point lights only. The world refuses a scene with any other type.
     unsigned light_types;
+
+    // ABI 1.3: declared passes (ST_PASSES(table)); with them num_passes and
+    // pass_info are not needed (and not called), and neither are create and
+    // destroy for a plugin without state of its own (st_frame has the world
+    // and the parameters). A plugin built against an older minor version has
+    // none and keeps the hooks.
+    const st_pass_decl *passes;
+    int num_pass_decls;
+    // ABI 1.3: a prefix ("u_"): before on_pass the world sets each parameter
+    // on a declared pass's program as the uniform prefix + name, if the
+    // program has it (float uniforms as float, int and bool as int).
+    const char *param_uniforms;
 } st_plugin;
 
 typedef const st_plugin *(*st_plugin_fn)(void);
@@ -212,7 +243,7 @@ typedef const st_plugin *(*st_plugin_fn)(void);
 //   destroy; the world copies st_pass_info when it rebuilds the pass list
 //   (after create, after a switch, after every set_param) and keeps the
 //   strings it points to until the next rebuild.
-// - Targets (st_world_declare_target, st_world.h): a plugin creates no
+// - Targets (st_world_declare_target, st_world_api.h): a plugin creates no
 //   textures; it declares each by name (format, size or screen scale or
 //   divisor, type and layers, mip levels, filter, wrap, depth: st_target_desc
 //   in st_gpu.h) from create, param_changed or needed (needed runs before
@@ -243,6 +274,7 @@ typedef struct st_abi_sizes {
     uint32_t struct_size; // sizeof(st_abi_sizes): fields past it are unknown to the plugin
     uint32_t plugin, param_def, pass_info, uniform, frame, scene, light_desc, mesh, shader, target,
         buffer, err, target_desc;
+    uint32_t pass_decl; // ABI 1.3
 } st_abi_sizes;
 
 #define ST_ABI_SIZES                                                                               \
@@ -250,7 +282,7 @@ typedef struct st_abi_sizes {
         sizeof(st_abi_sizes), sizeof(st_plugin), sizeof(st_param_def), sizeof(st_pass_info),       \
             sizeof(st_uniform), sizeof(st_frame), sizeof(st_scene), sizeof(st_light_desc),         \
             sizeof(st_mesh), sizeof(st_shader), sizeof(st_target), sizeof(st_buffer),              \
-            sizeof(st_err), sizeof(st_target_desc)                                                 \
+            sizeof(st_err), sizeof(st_target_desc), sizeof(st_pass_decl)                           \
     }
 typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
 
@@ -259,6 +291,9 @@ typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
 // the ABI version and size filled in, and exports both symbols the loader
 // looks for. ST_PARAMS(table) sets .params and .num_params from a static array.
 #define ST_PARAMS(table) .params = (table), .num_params = (int)(sizeof(table) / sizeof((table)[0]))
+// ST_PASSES(table) sets .passes and .num_pass_decls from a static array of st_pass_decl.
+#define ST_PASSES(table)                                                                           \
+    .passes = (table), .num_pass_decls = (int)(sizeof(table) / sizeof((table)[0]))
 #define ST_PLUGIN(...)                                                                             \
     static const st_plugin st_plugin_descriptor_ = {.abi_major = ST_ABI_MAJOR,                     \
                                                     .abi_minor = ST_ABI_MINOR,                     \

@@ -4,7 +4,8 @@
 // labelled for debuggers and listed by st_world_memory.
 #ifndef ST_TARGETS_H
 #define ST_TARGETS_H
-#include "st_world.h"
+#include "st_gpu.h"
+#include "st_stats.h"
 
 #define ST_MAX_TARGETS 128
 #define ST_MAX_TRACKED 128

@@ -44,17 +44,20 @@ bool invert_affine(const double m[12], double out[12]) {
     return true;
 }
 
-bool load(const char *path, const char *name, const double translate[3], const double scale[3],
-          st_density_grid *out, st_err *err) {
+// Opens `path` (a regular file of a sane size) and reads float grid `name`.
+static openvdb::FloatGrid::Ptr read_grid(const char *path, const char *name, st_err *err) {
     // OpenVDB opens the file itself: refuse what is not a regular file of a
     // sane size before it does.
     struct stat st;
     if (stat(path, &st) != 0)
-        return st_fail(err, ST_ERR_INPUT, "%s: cannot open: %s", path, std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) return st_fail(err, ST_ERR_INPUT, "%s: not a regular file", path);
+        return st_fail(err, ST_ERR_INPUT, "%s: cannot open: %s", path, std::strerror(errno)),
+               nullptr;
+    if (!S_ISREG(st.st_mode))
+        return st_fail(err, ST_ERR_INPUT, "%s: not a regular file", path), nullptr;
     if ((unsigned long long)st.st_size > ST_VDB_MAX_FILE_BYTES)
         return st_fail(err, ST_ERR_INPUT, "%s: %lld bytes, larger than the limit of %llu", path,
-                       (long long)st.st_size, (unsigned long long)ST_VDB_MAX_FILE_BYTES);
+                       (long long)st.st_size, (unsigned long long)ST_VDB_MAX_FILE_BYTES),
+               nullptr;
     openvdb::initialize();
     openvdb::io::File file(path);
     file.open(false); // no delayed loading: the file may change after this call
@@ -67,34 +70,44 @@ bool load(const char *path, const char *name, const double translate[3], const d
     if (!found) {
         file.close();
         return st_fail(err, ST_ERR_INPUT, "%s: no grid named '%s' (the file has: %s)", path, name,
-                       names.empty() ? "no grids" : names.c_str());
+                       names.empty() ? "no grids" : names.c_str()),
+               nullptr;
     }
     openvdb::GridBase::Ptr base = file.readGridMetadata(name);
     if (!base->isType<openvdb::FloatGrid>()) {
         file.close();
         return st_fail(err, ST_ERR_INPUT, "%s: grid '%s' holds %s values, expected float", path,
-                       name, base->valueType().c_str());
+                       name, base->valueType().c_str()),
+               nullptr;
     }
     openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
     file.close();
-    if (!grid) return st_fail(err, ST_ERR_INPUT, "%s: grid '%s' could not be read", path, name);
-    const float bg = grid->background();
+    if (!grid) st_fail(err, ST_ERR_INPUT, "%s: grid '%s' could not be read", path, name);
+    return grid;
+}
+
+// The block the grid's active voxels need, with a ring of zero voxels
+// around them: its size in n and voxel count in *total.
+static bool grid_block(const openvdb::FloatGrid &grid, const char *path, const char *name,
+                       openvdb::Coord *lo_out, unsigned long long n[3],
+                       unsigned long long *total_out, st_err *err) {
+    const float bg = grid.background();
     if (bg != 0.0f)
         return st_fail(err, ST_ERR_INPUT,
                        "%s: grid '%s' has background value %g, expected 0 (density outside "
                        "its voxels)",
                        path, name, (double)bg);
-    const openvdb::math::Transform &xf = grid->transform();
+    const openvdb::math::Transform &xf = grid.transform();
     if (!xf.isLinear())
         return st_fail(err, ST_ERR_INPUT,
                        "%s: grid '%s' has a non-affine (frustum) transform, expected an affine one",
                        path, name);
-    openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+    openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
     if (box.empty())
         return st_fail(err, ST_ERR_INPUT, "%s: grid '%s' has no active voxels", path, name);
     // The block: the active bounding box and a ring of zero voxels around it.
     const openvdb::Coord lo = box.min(), hi = box.max();
-    unsigned long long n[3], total = 1;
+    unsigned long long total = 1;
     for (int k = 0; k < 3; k++) {
         n[k] = (unsigned long long)((long long)hi[k] - lo[k] + 3);
         total = n[k] > ST_VDB_MAX_VOXELS ? ST_VDB_MAX_VOXELS + 1 : total * n[k];
@@ -105,13 +118,15 @@ bool load(const char *path, const char *name, const double translate[3], const d
                        "%s: grid '%s' spans %lld x %lld x %lld voxels, more than the limit of %llu",
                        path, name, (long long)hi[0] - lo[0] + 1, (long long)hi[1] - lo[1] + 1,
                        (long long)hi[2] - lo[2] + 1, (unsigned long long)ST_VDB_MAX_VOXELS);
+    *lo_out = lo;
+    *total_out = total;
+    return true;
+}
 
-    st_density_grid g;
-    std::memset(&g, 0, sizeof g);
-    for (int k = 0; k < 3; k++) {
-        g.n[k] = (int)n[k];
-        g.lo[k] = lo[k] - 1;
-    }
+// The grid's index-to-world map and its inverse, with the scene's transform.
+static bool grid_map(const openvdb::math::Transform &xf, const double translate[3],
+                     const double scale[3], const char *path, const char *name, st_density_grid &g,
+                     st_err *err) {
     // The grid's own index-to-world map from the images of the basis, then
     // the scene's scale and translation.
     const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
@@ -128,9 +143,15 @@ bool load(const char *path, const char *name, const double translate[3], const d
                        "%s: grid '%s': its index-to-world map (with the scene's transform) is "
                        "singular or not finite",
                        path, name);
+    return true;
+}
+
+// Copies the block's voxels (checked: finite, >= 0) and its world bounds.
+static bool grid_values(const openvdb::FloatGrid &grid, unsigned long long total, const char *path,
+                        const char *name, st_density_grid &g, st_err *err) {
     g.values = (float *)std::calloc(total, sizeof(float));
     if (!g.values) return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
-    openvdb::FloatGrid::ConstAccessor acc = grid->getConstAccessor();
+    openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
     double vmax = 0;
     for (int k = 1; k + 1 < g.n[2]; k++)
         for (int j = 1; j + 1 < g.n[1]; j++)
@@ -162,6 +183,25 @@ bool load(const char *path, const char *name, const double translate[3], const d
             g.bmax[r] = std::fmax(g.bmax[r], w);
         }
     }
+    return true;
+}
+
+bool load(const char *path, const char *name, const double translate[3], const double scale[3],
+          st_density_grid *out, st_err *err) {
+    openvdb::FloatGrid::Ptr grid = read_grid(path, name, err);
+    if (!grid) return false;
+    openvdb::Coord lo;
+    unsigned long long n[3], total;
+    if (!grid_block(*grid, path, name, &lo, n, &total, err)) return false;
+    st_density_grid g;
+    std::memset(&g, 0, sizeof g);
+    for (int k = 0; k < 3; k++) {
+        g.n[k] = (int)n[k];
+        g.lo[k] = lo[k] - 1;
+    }
+    if (!grid_map(grid->transform(), translate, scale, path, name, g, err) ||
+        !grid_values(*grid, total, path, name, g, err))
+        return false;
     *out = g;
     return true;
 }

@@ -8,7 +8,6 @@
 // tau has a closed form (see shaders/height_fog/fog.frag), so the result is
 // exact per pixel; pixels without a surface are left as they are.
 #include <st_module.h>
-#include <stdlib.h>
 
 enum { P_DENSITY, P_FALLOFF, P_HEIGHT, P_RADIANCE, P_COUNT };
 
@@ -21,60 +20,16 @@ static const st_param_def params[P_COUNT] = {
      "radiance of the fog itself (grey, W/(sr m^2))"},
 };
 
-typedef struct fog {
-    const double *p; // this instance's parameters, kept up to date by strahl
-    st_shader *sh;
-    st_pass_info info;
-} fog;
-
-static void *create(st_world *w, const double *p, st_err *err) {
-    fog *f = st_calloc(sizeof *f, err);
-    if (!f) return NULL;
-    f->p = p;
-    // "height_fog/..." is read from the shaders/height_fog folder beside
-    // this .so; "common/..." from strahl's own shaders.
-    f->sh = st_shader_load("common/fullscreen.vert", "height_fog/fog.frag", NULL, err);
-    if (!f->sh) {
-        free(f);
-        return NULL;
-    }
-    // Reads the image and the G-buffer, writes the next image.
-    f->info = (st_pass_info){"fog", ST_STAGE_POST, "hdr,gbuffer", "hdr", ST_PASS_FULLSCREEN};
-    return f;
-}
-
-static void destroy(void *self) {
-    fog *f = self;
-    st_shader_destroy(f->sh);
-    free(f);
-}
-
-static int num_passes(void *self) {
-    return 1;
-}
-static const st_pass_info *pass_info(void *self, int pass) {
-    return &((fog *)self)->info;
-}
-static st_shader *shader(void *self, int pass) {
-    return ((fog *)self)->sh;
-}
-
-// The world has bound the shader, the camera uniforms, st_hdr_in and
-// st_gbuffer; the plugin adds its own and the world draws the triangle.
-static bool on_pass(void *self, int pass, const st_frame *frame, st_err *err) {
-    fog *f = self;
-    st_shader_set_float(f->sh, "u_density", (float)f->p[P_DENSITY]);
-    st_shader_set_float(f->sh, "u_falloff", (float)f->p[P_FALLOFF]);
-    st_shader_set_float(f->sh, "u_height", (float)f->p[P_HEIGHT]);
-    st_shader_set_float(f->sh, "u_radiance", (float)f->p[P_RADIANCE]);
-    return st_gl_check("height_fog", err);
-}
-
-static bool reload(void *self, st_err *err) {
-    return st_shader_reload(((fog *)self)->sh, err);
-}
+// One post pass that reads the image and the G-buffer and writes the next
+// image. strahl loads its program ("height_fog/..." from the shaders/height_fog
+// folder beside this .so, "common/..." from strahl's own), binds it with the
+// camera uniforms, st_hdr_in and st_gbuffer, sets the parameters as the
+// uniforms u_density, u_falloff, u_height, u_radiance and draws the triangle.
+static const st_pass_decl passes[] = {
+    {{"fog", ST_STAGE_POST, "hdr,gbuffer", "hdr", ST_PASS_FULLSCREEN},
+     .frag = "height_fog/fog.frag"},
+};
 
 ST_PLUGIN(.name = "height_fog",
           .description = "exponential height fog (post-process, closed-form optical depth)",
-          ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
-          .pass_info = pass_info, .shader = shader, .on_pass = on_pass, .reload = reload)
+          ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_")

@@ -10,11 +10,10 @@
 // when a light's fade (godray_screen.h) is 0, its blur pass is not needed and
 // the world culls its occlusion pass; a static view reuses the occlusion image.
 #include "godray_screen.h"
-#include "st_world.h"
+#include "st_world_api.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 enum {
     P_N,
@@ -59,38 +58,36 @@ static const st_param_def params[P_COUNT] = {
 
 static const float SKY_COLOR[3] = {0.2f, 0.3f, 0.6f}; // thesis figure 3.6(a)
 
+enum { OCCLUSION, BLUR }; // table rows
+
+// Per light an occlusion image, owned by the world: `resolution` of the
+// screen, with depth for the scene pass, taps outside reading no emitter (no
+// clamped edge streaks); then its blur onto the image. The world sets the
+// parameters as uniforms u_density, u_decay, u_weight, u_exposure.
+static const st_pass_decl passes[] = {
+    {{"occlusion", ST_STAGE_PRE, "", "mitchell.occlusion%d", ST_PASS_SCENE},
+     .vert = "mitchell/occlusion.vert",
+     .frag = "mitchell/occlusion.frag",
+     .count = ST_PER_LIGHT,
+     .target = {GL_RGBA32F, 1, true, true},
+     .scale_param = "resolution"},
+    {{"blur", ST_STAGE_POST, "hdr,mitchell.occlusion%d", "hdr", ST_PASS_FULLSCREEN},
+     .frag = "mitchell/blur.frag",
+     .count = ST_PER_LIGHT},
+};
+
 typedef struct mitchell {
     st_world *w;
     const double *p;
-    int num_lights;
-    st_shader *occ_sh, *disc_sh, *blur_sh;
+    st_shader *disc_sh; // the light's disc, drawn after the scene (a custom program)
     GLuint empty_vao;
-    st_pass_info info[2 * ST_MAX_LIGHTS];
-    char occ_name[ST_MAX_LIGHTS][40], blur_reads[ST_MAX_LIGHTS][48];
 } mitchell;
 
 static void destroy(void *self) {
     mitchell *m = self;
     if (m->empty_vao) glDeleteVertexArrays(1, &m->empty_vao);
-    st_shader_destroy(m->occ_sh);
     st_shader_destroy(m->disc_sh);
-    st_shader_destroy(m->blur_sh);
     free(m);
-}
-
-// The occlusion images, owned by the world: `resolution` of the screen, with
-// depth for the scene pass, taps outside reading no emitter (no clamped edge
-// streaks).
-static bool declare_targets(mitchell *m, st_err *err) {
-    const st_target_desc d = {GL_RGBA32F, m->p[P_RESOLUTION], true, true};
-    for (int k = 0; k < m->num_lights; k++)
-        if (!st_world_declare_target(m->w, m->occ_name[k], &d, err)) return false;
-    return true;
-}
-
-static void param_changed(void *self, int index) {
-    st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_RESOLUTION) declare_targets(self, &ignore);
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
@@ -98,45 +95,19 @@ static void *create(st_world *w, const double *p, st_err *err) {
     if (!m) return NULL;
     m->w = w;
     m->p = p;
-    m->num_lights = st_world_scene(w)->num_lights;
-    if (m->num_lights > ST_MAX_LIGHTS) m->num_lights = ST_MAX_LIGHTS;
-    m->occ_sh = st_shader_load("mitchell/occlusion.vert", "mitchell/occlusion.frag", NULL, err);
-    if (m->occ_sh)
-        m->disc_sh = st_shader_load("mitchell/disc.vert", "mitchell/disc.frag", NULL, err);
-    if (m->disc_sh)
-        m->blur_sh = st_shader_load("common/fullscreen.vert", "mitchell/blur.frag", NULL, err);
-    if (!m->blur_sh) {
+    m->disc_sh = st_shader_load("mitchell/disc.vert", "mitchell/disc.frag", NULL, err);
+    if (!m->disc_sh) {
         destroy(m);
         return NULL;
     }
     glCreateVertexArrays(1, &m->empty_vao);
-    for (int k = 0; k < m->num_lights; k++) {
-        snprintf(m->occ_name[k], sizeof m->occ_name[k], "mitchell.occlusion%d", k);
-        snprintf(m->blur_reads[k], sizeof m->blur_reads[k], "hdr,%s", m->occ_name[k]);
-        m->info[k] = (st_pass_info){"occlusion", ST_STAGE_PRE, "", m->occ_name[k], 0};
-        m->info[m->num_lights + k] =
-            (st_pass_info){"blur", ST_STAGE_POST, m->blur_reads[k], "hdr", ST_PASS_FULLSCREEN};
-    }
-    if (!declare_targets(m, err)) {
-        destroy(m);
-        return NULL;
-    }
     return m;
-}
-
-// Passes 0..L-1: occlusion pre-pass of light k; L..2L-1: its blur.
-static int num_passes(void *self) {
-    return 2 * ((mitchell *)self)->num_lights;
-}
-static const st_pass_info *pass_info(void *self, int pass) {
-    return &((mitchell *)self)->info[pass];
 }
 
 static bool needed(void *self, int pass, const st_frame *f) {
     mitchell *m = self;
-    if (pass >= m->num_lights)
-        return m->p[P_EXPOSURE] > 0 &&
-               godray_light_active(f, pass - m->num_lights, m->p[P_FADE_MARGIN]);
+    if (f->row == BLUR)
+        return m->p[P_EXPOSURE] > 0 && godray_light_active(f, f->instance, m->p[P_FADE_MARGIN]);
     // The occlusion image depends on the view, the scene and our parameters;
     // it is only drawn when its blur is live (the world culls it otherwise).
     return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
@@ -201,86 +172,79 @@ static bool disc_geometry(const mitchell *m, const st_frame *f, const st_light_d
     return true;
 }
 
-static bool occlusion_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
-    const st_target *t = st_world_target(m->w, m->occ_name[k]); // bound by the world
-    if (!t) return st_fail(err, ST_ERR_RUNTIME, "no target %s", m->occ_name[k]);
-    // The sky: the scene's background radiance, plus the thesis' sky colour
-    // when the `sky` parameter asks for it.
+// Before the world draws the scene into the occlusion image: the sky. The
+// scene's background radiance, plus the thesis' sky colour when the `sky`
+// parameter asks for it.
+static void occlusion_clear(mitchell *m, const st_frame *f) {
     float sky = (float)m->p[P_SKY];
     const float *bg = f->scene->background;
     const float clear[4] = {bg[0] + sky * SKY_COLOR[0], bg[1] + sky * SKY_COLOR[1],
                             bg[2] + sky * SKY_COLOR[2], 1};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    st_shader_use(m->occ_sh);
-    st_world_apply_uniforms(m->w, m->occ_sh, f);
-    st_world_draw(m->w, m->occ_sh);
-    disc_geom d;
-    if (disc_geometry(m, f, &f->scene->lights[k], t->width, t->height, &d)) {
-        float tint[3];
-        godray_tint(f->scene->lights, f->scene->num_lights, k, m->p[P_LIGHT_RADIUS], tint);
-        for (int c = 0; c < 3; c++)
-            tint[c] *= d.scale;
-        st_shader *sh = m->disc_sh;
-        st_shader_use(sh);
-        st_shader_set_vec2(sh, "u_disc_center", d.center[0], d.center[1]);
-        st_shader_set_vec2(sh, "u_disc_extent", d.extent[0], d.extent[1]);
-        st_shader_set_float(sh, "u_disc_depth", d.depth);
-        st_shader_set_vec2(sh, "u_disc_center_px", d.center_px[0], d.center_px[1]);
-        st_shader_set_float(sh, "u_disc_radius_px", d.radius_px);
-        st_shader_set_vec3(sh, "u_disc_radiance", tint);
-        glDepthMask(GL_FALSE);
-        glEnable(GL_BLEND);
-        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-        glBindVertexArray(m->empty_vao);
-        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-        glDisable(GL_BLEND);
-        glDepthMask(GL_TRUE);
-    }
-    glDisable(GL_DEPTH_TEST);
-    return st_gl_check("mitchell occlusion", err);
 }
 
-static bool blur_pass(mitchell *m, int k, const st_frame *f, st_err *err) {
+// After the scene: the light's disc, depth-tested against it.
+static void after_pass(void *self, int pass, const st_frame *f) {
+    mitchell *m = self;
+    int k = f->instance;
+    char name[ST_NAME_MAX];
+    snprintf(name, sizeof name, "mitchell.occlusion%d", k);
+    const st_target *t = st_world_target(m->w, name); // bound by the world
+    disc_geom d;
+    if (f->row != OCCLUSION || !t ||
+        !disc_geometry(m, f, &f->scene->lights[k], t->width, t->height, &d))
+        return;
     float tint[3];
-    godray_light l = godray_light_state(f, k, m->p[P_FADE_MARGIN], m->p[P_LIGHT_RADIUS], tint);
-    st_shader *sh = m->blur_sh; // bound by the world, builtin uniforms set
-    const st_target *occ = st_world_target(m->w, m->occ_name[k]);
-    if (!occ) return st_fail(err, ST_ERR_RUNTIME, "no target %s", m->occ_name[k]);
-    st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, occ->color[0]);
-    st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
-    st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
-    st_shader_set_int(sh, "u_samples", (int)m->p[P_N]);
-    st_shader_set_float(sh, "u_density", (float)m->p[P_DENSITY]);
-    st_shader_set_float(sh, "u_decay", (float)m->p[P_DECAY]);
-    st_shader_set_float(sh, "u_weight", (float)m->p[P_WEIGHT]);
-    st_shader_set_float(sh, "u_exposure", (float)m->p[P_EXPOSURE]);
-    st_shader_set_float(sh, "u_fade", l.fade);
-    return st_gl_check("mitchell blur", err);
+    godray_tint(f->scene->lights, f->scene->num_lights, k, m->p[P_LIGHT_RADIUS], tint);
+    for (int c = 0; c < 3; c++)
+        tint[c] *= d.scale;
+    st_shader *sh = m->disc_sh;
+    st_shader_use(sh);
+    st_shader_set_vec2(sh, "u_disc_center", d.center[0], d.center[1]);
+    st_shader_set_vec2(sh, "u_disc_extent", d.extent[0], d.extent[1]);
+    st_shader_set_float(sh, "u_disc_depth", d.depth);
+    st_shader_set_vec2(sh, "u_disc_center_px", d.center_px[0], d.center_px[1]);
+    st_shader_set_float(sh, "u_disc_radius_px", d.radius_px);
+    st_shader_set_vec3(sh, "u_disc_radiance", tint);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    glBindVertexArray(m->empty_vao);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
 }
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     mitchell *m = self;
-    return pass < m->num_lights ? occlusion_pass(m, pass, f, err)
-                                : blur_pass(m, pass - m->num_lights, f, err);
-}
-
-static st_shader *shader(void *self, int pass) {
-    mitchell *m = self;
-    return pass < m->num_lights ? NULL : m->blur_sh; // the occlusion pass binds its own
+    if (f->row == OCCLUSION) {
+        occlusion_clear(m, f);
+        return st_gl_check("mitchell occlusion", err);
+    }
+    float tint[3];
+    godray_light l =
+        godray_light_state(f, f->instance, m->p[P_FADE_MARGIN], m->p[P_LIGHT_RADIUS], tint);
+    char name[ST_NAME_MAX];
+    snprintf(name, sizeof name, "mitchell.occlusion%d", f->instance);
+    const st_target *occ = st_world_target(m->w, name);
+    if (!occ) return st_fail(err, ST_ERR_RUNTIME, "no target %s", name);
+    st_shader *sh = f->shader; // bound by the world, builtin uniforms and parameters set
+    st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, occ->color[0]);
+    st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
+    st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
+    st_shader_set_int(sh, "u_samples", (int)m->p[P_N]);
+    st_shader_set_float(sh, "u_fade", l.fade);
+    return st_gl_check("mitchell blur", err);
 }
 
 static bool reload(void *self, st_err *err) {
-    mitchell *m = self;
-    return st_shader_reload(m->occ_sh, err) && st_shader_reload(m->disc_sh, err) &&
-           st_shader_reload(m->blur_sh, err);
+    return st_shader_reload(((mitchell *)self)->disc_sh, err);
 }
 
 ST_PLUGIN(.name = "mitchell",
           .description = "volumetric light scattering as a post-process (Mitchell, GPU Gems 3): "
                          "radial blur of an occlusion image toward each light",
-          ST_PARAMS(params), .create = create, .destroy = destroy, .num_passes = num_passes,
-          .pass_info = pass_info, .needed = needed, .on_pass = on_pass, .shader = shader,
-          .param_changed = param_changed, .reload = reload, .light_types = GODRAY_LIGHT_TYPES)
+          ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_", .create = create,
+          .destroy = destroy, .needed = needed, .on_pass = on_pass, .after_pass = after_pass,
+          .reload = reload, .light_types = GODRAY_LIGHT_TYPES)

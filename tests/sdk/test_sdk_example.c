@@ -78,6 +78,26 @@ int main(void) {
     int rc = st_test_sh("%s --install %s --prefix %s >/dev/null", ST_TEST_CMAKE, ST_TEST_BINARY_DIR,
                         prefix);
     CHECK(rc == 0, "cmake --install (rc %d)", rc);
+    // The SDK's headers are what a plugin needs, each one compiling on its own;
+    // the host's side of the world, statistics, images, files and physics are
+    // not installed.
+    static const char *const sdk[] = {"st_base.h",   "st_gl.h",    "st_gpu.h",    "st_model.h",
+                                      "st_module.h", "st_scene.h", "st_shader.h", "st_world_api.h"};
+    char listing[1024] = "";
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "LC_ALL=C ls %s/include/strahl | tr '\\n' ' '", prefix);
+    st_test_capture(listing, sizeof listing, cmd);
+    char want[1024] = "";
+    for (size_t i = 0; i < sizeof sdk / sizeof sdk[0]; i++) {
+        size_t l = strlen(want);
+        snprintf(want + l, sizeof want - l, "%s ", sdk[i]);
+        rc = st_test_sh("printf '#include <%s>\\nint main(void) { return 0; }\\n' | %s -std=c11 "
+                        "-fsyntax-only -x c - $(PKG_CONFIG_PATH=%s/lib/pkgconfig pkg-config "
+                        "--cflags strahl)",
+                        sdk[i], ST_TEST_CC, prefix);
+        CHECK(rc == 0, "installed %s compiles on its own (rc %d)", sdk[i], rc);
+    }
+    CHECK(!strcmp(listing, want), "installed headers: '%s', expected '%s'", listing, want);
     // find_package(strahl) and strahl_add_plugin.
     rc = st_test_sh(
         "%s -S %s/examples/plugin -B %s -G '%s' -DCMAKE_PREFIX_PATH=%s >/dev/null && %s --build %s",

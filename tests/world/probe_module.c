@@ -2,7 +2,10 @@
 // probe_c): one post pass adds its parameter "value" to one channel of the
 // image, read through the pointer create() received. probe_seen() reports
 // that value to the test, which dlopens the same file (same handle) to ask.
+// Built a fourth time as probe_old with PROBE_OLD_ABI: a descriptor as ABI
+// 1.2 had it (test_declared_passes loads it into this 1.3 strahl).
 #include "st_module.h"
+#include <stddef.h>
 #include <stdlib.h>
 
 static const st_param_def params[] = {
@@ -65,9 +68,42 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     return st_gl_check(PROBE_NAME, err);
 }
 
+#ifndef PROBE_OLD_ABI
 ST_PLUGIN(.name = PROBE_NAME, .description = "test plugin: adds its parameter to one channel",
           ST_PARAMS(params), .requires = PROBE_REQUIRES, .provides = PROBE_NAME, .create = create,
           .destroy = destroy, .num_passes = num_passes, .pass_info = pass_info, .on_pass = on_pass)
+#else
+// As a plugin built against ABI 1.2 would be: minor 2, st_plugin, st_frame
+// and the size table as long as they were before 1.3 appended to them. The
+// 1.3 fields hold garbage, which the loader must never read (it copies
+// struct_size bytes).
+static const st_plugin old_desc = {.abi_major = ST_ABI_MAJOR,
+                                   .abi_minor = 2,
+                                   .struct_size = offsetof(st_plugin, passes),
+                                   .name = PROBE_NAME,
+                                   .description = "test plugin built as ABI 1.2",
+                                   ST_PARAMS(params),
+                                   .requires = PROBE_REQUIRES,
+                                   .provides = PROBE_NAME,
+                                   .create = create,
+                                   .destroy = destroy,
+                                   .num_passes = num_passes,
+                                   .pass_info = pass_info,
+                                   .on_pass = on_pass,
+                                   .passes = (const st_pass_decl *)16,
+                                   .num_pass_decls = 1000,
+                                   .param_uniforms = (const char *)8};
+ST_EXPORT const st_plugin *strahl_plugin(void) {
+    return &old_desc;
+}
+ST_EXPORT const st_abi_sizes *strahl_plugin_sizes(void) {
+    static st_abi_sizes s = ST_ABI_SIZES;
+    s.struct_size = offsetof(st_abi_sizes, pass_decl);
+    s.plugin = offsetof(st_plugin, passes);
+    s.frame = offsetof(st_frame, shader);
+    return &s;
+}
+#endif
 
 // What the live instance reads through its parameter pointer; false if none.
 ST_EXPORT bool probe_seen(double out[2]) {

@@ -1,0 +1,108 @@
+// The built-in uniforms (thesis: Camera and Light are uniform providers):
+// a name and a setter each, applied with the modules' own to every shader
+// the world binds.
+#include "st_world_priv.h"
+#include <cglm/cglm.h>
+
+#define W(self) ((st_world *)(self))
+static void u_view(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->view);
+}
+static void u_proj(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->proj);
+}
+static void u_vp(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->view_proj);
+}
+static void u_ivp(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniformMatrix4fv(l, 1, 0, f->inv_view_proj);
+}
+static void u_cam(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform3fv(l, 1, f->cam_pos);
+}
+static void u_near(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, f->near_z);
+}
+static void u_far(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, f->far_z);
+}
+static void u_fov(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, glm_rad(f->fov_y));
+}
+static void u_res(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform2f(l, (float)f->width, (float)f->height);
+}
+static void u_frame(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, (int)(f->index & 0x7fffffff));
+}
+static void u_nl(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, W(s)->num_lights);
+}
+static void u_lp(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_pos[0][0]);
+}
+static void u_li(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_int[0][0]);
+}
+static void u_lt(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform1iv(l, W(s)->num_lights, W(s)->light_type);
+}
+static void u_ld(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_dir[0][0]);
+}
+static void u_lshape(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    if (W(s)->num_lights) glUniform3fv(l, W(s)->num_lights, &W(s)->light_shape[0][0]);
+}
+static void u_hasmed(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, f->scene->medium.present);
+}
+static void u_ss(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform3fv(l, 1, f->scene->medium.sigma_s);
+}
+static void u_sa(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform3fv(l, 1, f->scene->medium.sigma_a);
+}
+static void u_pk(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, (int)f->scene->medium.phase);
+}
+static void u_pg(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1f(l, f->scene->medium.g);
+}
+
+static const st_uniform builtin_uniforms[] = {
+    {"st_view", u_view},
+    {"st_proj", u_proj},
+    {"st_view_proj", u_vp},
+    {"st_inv_view_proj", u_ivp},
+    {"st_cam_pos", u_cam},
+    {"st_near", u_near},
+    {"st_far", u_far},
+    {"st_fov_y", u_fov},
+    {"st_resolution", u_res},
+    {"st_frame_index", u_frame},
+    {"st_num_lights", u_nl},
+    {"st_light_pos", u_lp},
+    {"st_light_intensity", u_li},
+    {"st_has_medium", u_hasmed},
+    {"st_sigma_s", u_ss},
+    {"st_sigma_a", u_sa},
+    {"st_phase_kind", u_pk},
+    {"st_phase_g", u_pg},
+    {"st_light_type", u_lt},
+    {"st_light_dir", u_ld},
+    {"st_light_shape", u_lshape},
+};
+
+void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
+    for (size_t i = 0; i < sizeof builtin_uniforms / sizeof builtin_uniforms[0]; i++) {
+        GLint l = st_shader_loc(sh, builtin_uniforms[i].name);
+        if (l >= 0) builtin_uniforms[i].set(w, sh, l, f);
+    }
+    for (int m = 0; m < w->num_mods; m++) {
+        for (int i = 0; i < w->mods[m]->num_uniforms; i++) {
+            const st_uniform *u = &w->mods[m]->uniforms[i];
+            GLint l = st_shader_loc(sh, u->name);
+            if (l >= 0) u->set(w->mods[m]->self, sh, l, f);
+        }
+    }
+}
