@@ -67,7 +67,7 @@ static float stats_box(view *v, float x, float y, bool bottom) {
     uint32_t acc = st_world_accumulated(v->world, &acc_done);
     char accs[48] = "";
     if (acc) snprintf(accs, sizeof accs, "  %u frame(s)%s", acc, acc_done ? ", still" : "");
-    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV%s", view_godrays[v->godray],
+    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV%s", v->godrays[v->godray],
              view_gi_modes[v->gi], v->cam.fly ? "fly" : "orbit", v->exposure, accs);
     // Columns as wide as their widest entry.
     float cw[2] = {view_ui_text_width(g, "module"), view_ui_text_width(g, "pass")};
@@ -341,7 +341,7 @@ static float messages(view *v, float panel_x, float panel_bottom) {
 static void help_box(view *v) {
     view_gl *g = &v->gl;
     const float k = g->scale, pad = 10 * k, line = view_ui_line(g) + 1 * k;
-    const char *text = view_help_text();
+    const char *text = view_help_text(v);
     float kw = 0, dw = 0;
     int lines = 0;
     char buf[256];
