@@ -486,13 +486,93 @@ void view_char(view *v, unsigned c) {
     }
 }
 
+// The panel's keys: pick, nudge, toggle, type or reset the focused
+// parameter. *done: the key is one of them.
+static bool param_key(view *v, int key, bool shift, bool *done, st_err *err) {
+    double val;
+    const st_param_def *d;
+    *done = true;
+    switch (key) {
+    case GLFW_KEY_UP:
+        focus_step(v, -1);
+        return true;
+    case GLFW_KEY_DOWN:
+        focus_step(v, 1);
+        return true;
+    case GLFW_KEY_LEFT:
+        return nudge(v, -1, shift, err);
+    case GLFW_KEY_RIGHT:
+        return nudge(v, 1, shift, err);
+    case GLFW_KEY_SPACE:
+        if ((d = focused(v, &val)) && (d->type == ST_PARAM_BOOL || d->type == ST_PARAM_ENUM))
+            return nudge(v, 1, false, err);
+        return true;
+    case GLFW_KEY_ENTER:
+    case GLFW_KEY_KP_ENTER:
+        if ((d = focused(v, &val)) || (focus_step(v, 1) && (d = focused(v, &val)))) {
+            v->editing = v->edit_fresh = true;
+            if (d->type == ST_PARAM_ENUM || d->type == ST_PARAM_BOOL)
+                st_param_format(d, val, v->edit, sizeof v->edit);
+            else
+                snprintf(v->edit, sizeof v->edit, "%.6g", val);
+        }
+        return true;
+    case GLFW_KEY_DELETE:
+        if ((d = focused(v, &val))) return view_set_param(v, v->sel_mod, d->name, d->def, err);
+        return true;
+    default:
+        *done = false;
+        return true;
+    }
+}
+
+// The camera, render size and exposure keys. *done: the key is one of them.
+static void camera_key(view *v, int key, bool *done) {
+    *done = true;
+    switch (key) {
+    case GLFW_KEY_K:
+        v->fixed_size = !v->fixed_size;
+        if (v->fixed_size)
+            view_message(v,
+                         "rendering at the scene's size %dx%d (scaled to the window; screenshots "
+                         "at that size)",
+                         v->render_w, v->render_h);
+        else
+            view_message(v, "rendering at the window's size");
+        return;
+    case GLFW_KEY_C:
+        v->cam.fly = !v->cam.fly;
+        view_message(v, "camera: %s", v->cam.fly ? "fly (drag to look, WASD QE to move)" : "orbit");
+        return;
+    case GLFW_KEY_R:
+        v->cam = v->cam_home;
+        v->cam_dirty = true;
+        view_message(v, "camera reset to the scene's");
+        return;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+        v->exposure += 0.5f;
+        view_message(v, "exposure %+.1f EV", v->exposure);
+        return;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT:
+        v->exposure -= 0.5f;
+        view_message(v, "exposure %+.1f EV", v->exposure);
+        return;
+    default:
+        *done = false;
+    }
+}
+
 bool view_key(view *v, int key, int mods, st_err *err) {
-    bool shift = mods & GLFW_MOD_SHIFT;
+    bool shift = mods & GLFW_MOD_SHIFT, done;
     if (v->editing) return edit_key(v, key, err);
     if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) return view_toggle_module(v, key - GLFW_KEY_1, err);
     if (key == GLFW_KEY_0) return view_toggle_module(v, 9, err);
-    double val;
-    const st_param_def *d;
+    bool ok = param_key(v, key, shift, &done, err);
+    if (done) return ok;
+    camera_key(v, key, &done);
+    if (done) return true;
     switch (key) {
     case GLFW_KEY_G:
         return view_cycle_godrays(v, err);
@@ -520,62 +600,6 @@ bool view_key(view *v, int key, int mods, st_err *err) {
     case GLFW_KEY_H:
     case GLFW_KEY_F1:
         v->show_help = !v->show_help;
-        return true;
-    case GLFW_KEY_K:
-        v->fixed_size = !v->fixed_size;
-        if (v->fixed_size)
-            view_message(v,
-                         "rendering at the scene's size %dx%d (scaled to the window; screenshots "
-                         "at that size)",
-                         v->render_w, v->render_h);
-        else
-            view_message(v, "rendering at the window's size");
-        return true;
-    case GLFW_KEY_C:
-        v->cam.fly = !v->cam.fly;
-        view_message(v, "camera: %s", v->cam.fly ? "fly (drag to look, WASD QE to move)" : "orbit");
-        return true;
-    case GLFW_KEY_R:
-        v->cam = v->cam_home;
-        v->cam_dirty = true;
-        view_message(v, "camera reset to the scene's");
-        return true;
-    case GLFW_KEY_EQUAL:
-    case GLFW_KEY_KP_ADD:
-        v->exposure += 0.5f;
-        view_message(v, "exposure %+.1f EV", v->exposure);
-        return true;
-    case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT:
-        v->exposure -= 0.5f;
-        view_message(v, "exposure %+.1f EV", v->exposure);
-        return true;
-    case GLFW_KEY_UP:
-        focus_step(v, -1);
-        return true;
-    case GLFW_KEY_DOWN:
-        focus_step(v, 1);
-        return true;
-    case GLFW_KEY_LEFT:
-        return nudge(v, -1, shift, err);
-    case GLFW_KEY_RIGHT:
-        return nudge(v, 1, shift, err);
-    case GLFW_KEY_SPACE:
-        if ((d = focused(v, &val)) && (d->type == ST_PARAM_BOOL || d->type == ST_PARAM_ENUM))
-            return nudge(v, 1, false, err);
-        return true;
-    case GLFW_KEY_ENTER:
-    case GLFW_KEY_KP_ENTER:
-        if ((d = focused(v, &val)) || (focus_step(v, 1) && (d = focused(v, &val)))) {
-            v->editing = v->edit_fresh = true;
-            if (d->type == ST_PARAM_ENUM || d->type == ST_PARAM_BOOL)
-                st_param_format(d, val, v->edit, sizeof v->edit);
-            else
-                snprintf(v->edit, sizeof v->edit, "%.6g", val);
-        }
-        return true;
-    case GLFW_KEY_DELETE:
-        if ((d = focused(v, &val))) return view_set_param(v, v->sel_mod, d->name, d->def, err);
         return true;
     case GLFW_KEY_ESCAPE:
         if (v->show_help)
