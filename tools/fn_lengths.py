@@ -1,78 +1,72 @@
 #!/usr/bin/env python3
-"""Lists C function definitions by length (lines from the signature's first
-line to the closing brace), longest first.
+"""Lengths of C/C++ function bodies in clang-formatted sources.
 
-    tools/fn_lengths.py [--max N] [--fail] PATH...
+    tools/fn_lengths.py [--max N] PATH...   (files or folders; default: framework)
 
-PATH is a .c file or a folder (searched for *.c and *.cpp). A definition is a
-top-level line (column 0, not a declaration, macro or comment) whose
-parenthesised signature is followed by '{'; it ends at the first '}' in
-column 0. That is how clang-format lays out this repository's code, which
-is all the script has to read. --max N lists only functions over N lines;
---fail exits 1 if any is listed (for a check in CI or by hand).
+Prints every function longer than N lines (default 80), longest first, as
+"lines file:line name", and exits 1 if there is one. A function is a line at
+column 0 that is not a comment, preprocessor line or declaration of a type and
+that ends with '{', up to the next '}' at column 0 (the layout clang-format
+gives this repository's code); its length counts the lines from the header's
+first line to the closing brace.
 """
-import argparse
 import os
 import re
 import sys
 
-SKIP_START = re.compile(r"^(#|//|/\*|\*|typedef\b|struct\s+\w+\s*\{|enum\b|union\b|static\s+const\b[^(]*=|}|\s)")
+SKIP = re.compile(r"^(#|//|/\*|\*|typedef|struct\s+\w+\s*\{|enum|union|static const|const|extern \"C\")")
 
 
 def functions(path):
     with open(path, encoding="utf-8", errors="replace") as f:
         lines = f.read().split("\n")
-    out = []
     i = 0
     while i < len(lines):
         line = lines[i]
-        if not line or SKIP_START.match(line) or "(" not in line:
+        if line[:1] in ("", " ", "\t", "}") or SKIP.match(line) or "(" not in line \
+                or "=" in line.split("(")[0]:
             i += 1
             continue
-        # The signature may continue on the next lines until '{' or ';'.
-        j = i
-        sig = line
-        while not sig.rstrip().endswith(("{", ";", ")")) and j + 1 < len(lines) and j - i < 8:
-            j += 1
-            sig += " " + lines[j].strip()
-        if sig.rstrip().endswith(")") and j + 1 < len(lines) and lines[j + 1].startswith("{"):
-            j += 1
-            sig += " {"
-        if not sig.rstrip().endswith("{") or "=" in sig.split("(")[0]:
-            i = j + 1
-            continue
-        m = re.search(r"(\w+)\s*\(", sig)
-        name = m.group(1) if m else "?"
-        k = j + 1
-        while k < len(lines) and not lines[k].startswith("}"):
+        # The header runs to the first line ending with '{' (a definition) or ';'.
+        k = i
+        while k < len(lines) and not lines[k].rstrip().endswith(("{", ";")):
             k += 1
-        out.append((k - i + 1, name, path, i + 1))
-        i = k + 1
-    return out
+        if k == len(lines) or lines[k].rstrip().endswith(";"):
+            i = k + 1
+            continue
+        j = k + 1
+        while j < len(lines) and not lines[j].startswith("}"):
+            j += 1
+        m = re.search(r"(\w+)\s*\(", line)
+        yield i + 1, j - i + 1, m.group(1) if m else line.strip()
+        i = j + 1
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("paths", nargs="+")
-    ap.add_argument("--max", type=int, default=0, help="list only functions longer than this")
-    ap.add_argument("--fail", action="store_true", help="exit 1 if any function is listed")
-    a = ap.parse_args()
+def main(argv):
+    limit = 80
+    paths = []
+    it = iter(argv)
+    for a in it:
+        if a == "--max":
+            limit = int(next(it))
+        else:
+            paths.append(a)
     files = []
-    for p in a.paths:
+    for p in paths or ["framework"]:
         if os.path.isdir(p):
             for root, _, names in os.walk(p):
-                files += [os.path.join(root, n) for n in names if n.endswith((".c", ".cpp"))]
+                files += [os.path.join(root, n) for n in names if n.endswith((".c", ".cpp", ".h"))]
         else:
             files.append(p)
-    found = []
+    long = []
     for f in sorted(files):
-        found += functions(f)
-    found = [x for x in found if x[0] > a.max]
-    found.sort(key=lambda x: (-x[0], x[2], x[3]))
-    for n, name, path, line in found:
-        print(f"{n:5d}  {name}  {path}:{line}")
-    return 1 if a.fail and found else 0
+        for line, n, name in functions(f):
+            if n > limit:
+                long.append((n, f, line, name))
+    for n, f, line, name in sorted(long, reverse=True):
+        print("%4d %s:%d %s" % (n, f, line, name))
+    return 1 if long else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))
