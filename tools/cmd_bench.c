@@ -184,316 +184,374 @@ static int cmp_time(const void *a, const void *b) {
     return (x->frame_ms > y->frame_ms) - (x->frame_ms < y->frame_ms);
 }
 
-int st_cmd_bench(int argc, char **argv) {
-    const char *scene_path = NULL, *ref_path = NULL, *csv = NULL, *plot = NULL, *metric = "rmse",
-               *baseline = NULL;
+// The command line.
+typedef struct bench_args {
+    const char *scene_path, *ref_path, *csv, *plot, *metric, *baseline, *filter_arg;
     char *sets[MAX_SETS];
     sweep sweeps[MAX_SWEEPS];
-    int nsets = 0, nsweeps = 0, width = 0, height = 0;
-    long frames = 10, warmup = 2;
-    double budget = -1;
-    long shard_i = 0, shard_n = 0;
-    bool append = false, recompute = true;
-    const char *filter_arg = NULL;
-    st_err err = {0};
+    int nsets, nsweeps, width, height;
+    long frames, warmup, shard_i, shard_n;
+    double budget;
+    bool append, recompute;
+} bench_args;
+
+// Options that take a value checked as a number or a word: argv[*i] is the
+// option, v its value. Returns false with err set; *known says whether the
+// option is one of these.
+static bool parse_checked(bench_args *b, const char *a, const char *v, bool *known, st_err *err) {
+    *known = true;
+    if (!strcmp(a, "--mode")) {
+        if (strcmp(v, "recompute") && strcmp(v, "steady"))
+            return st_fail(err, ST_ERR_INPUT, "--mode %s: expected recompute or steady", v);
+        b->recompute = !strcmp(v, "recompute");
+    } else if (!strcmp(a, "--metric")) {
+        b->metric = v;
+        if (strcmp(v, "rmse") && strcmp(v, "relmse") && strcmp(v, "scaled_rmse") &&
+            strcmp(v, "max_abs"))
+            return st_fail(err, ST_ERR_INPUT,
+                           "--metric %s: expected rmse, relmse, scaled_rmse or max_abs", v);
+    } else if (!strcmp(a, "--filter")) {
+        st_pixel_filter f;
+        if (!st_filter_parse(v, &f))
+            return st_fail(err, ST_ERR_INPUT, "--filter %s: expected box or point", v);
+        b->filter_arg = v;
+    } else if (!strcmp(a, "--size")) {
+        if (!st_parse_size(v, &b->width, &b->height))
+            return st_fail(err, ST_ERR_INPUT, "--size %s: expected WxH", v);
+    } else if (!strcmp(a, "--frames")) {
+        if (!st_parse_int(v, 1, 10000, &b->frames))
+            return st_fail(err, ST_ERR_INPUT, "--frames %s: expected 1..10000", v);
+    } else if (!strcmp(a, "--warmup")) {
+        if (!st_parse_int(v, 0, 10000, &b->warmup))
+            return st_fail(err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", v);
+    } else if (!strcmp(a, "--shard")) {
+        const char *slash = strchr(v, '/');
+        char num[32];
+        snprintf(num, sizeof num, "%.*s", slash ? (int)(slash - v) : 0, v);
+        if (!slash || !st_parse_int(slash + 1, 1, 100000, &b->shard_n) ||
+            !st_parse_int(num, 1, b->shard_n, &b->shard_i))
+            return st_fail(err, ST_ERR_INPUT, "--shard %s: expected I/N with 1 <= I <= N", v);
+    } else if (!strcmp(a, "--budget-error")) {
+        char *e;
+        b->budget = strtod(v, &e);
+        if (*e || !isfinite(b->budget) || b->budget < 0)
+            return st_fail(err, ST_ERR_INPUT, "--budget-error %s: expected a non-negative number",
+                           v);
+    } else {
+        *known = false;
+    }
+    return true;
+}
+
+// --sweep and --set (repeatable).
+static bool parse_repeated(bench_args *b, const char *a, const char *v, bool *known, st_err *err) {
+    *known = true;
+    if (!strcmp(a, "--sweep")) {
+        if (b->nsweeps == MAX_SWEEPS)
+            return st_fail(err, ST_ERR_INPUT, "at most %d --sweep", MAX_SWEEPS);
+        if (!parse_sweep(v, &b->sweeps[b->nsweeps++], err)) return false;
+        const sweep *last = &b->sweeps[b->nsweeps - 1];
+        for (int k = 0; k < b->nsweeps - 1; k++)
+            if (!strcmp(b->sweeps[k].module, last->module) &&
+                !strcmp(b->sweeps[k].param, last->param))
+                return st_fail(err, ST_ERR_INPUT, "--sweep %s: %s.%s is swept twice", v,
+                               b->sweeps[k].module, b->sweeps[k].param);
+    } else if (!strcmp(a, "--set")) {
+        if (b->nsets == MAX_SETS) return st_fail(err, ST_ERR_INPUT, "too many --set");
+        b->sets[b->nsets++] = (char *)v;
+    } else {
+        *known = false;
+    }
+    return true;
+}
+
+// Fills b from argv; *help: -h was given (the text is printed).
+static bool parse_args(bench_args *b, int argc, char **argv, bool *help, st_err *err) {
+    *help = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        bool nx = i + 1 < argc;
+        bool nx = i + 1 < argc, known = false;
+        const char **path = !strcmp(a, "--reference")  ? &b->ref_path
+                            : !strcmp(a, "--csv")      ? &b->csv
+                            : !strcmp(a, "--plot")     ? &b->plot
+                            : !strcmp(a, "--baseline") ? &b->baseline
+                                                       : NULL;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(help_text, stdout);
-            return ST_EXIT_OK;
-        } else if (!strcmp(a, "--reference") && nx)
-            ref_path = argv[++i];
-        else if (!strcmp(a, "--csv") && nx)
-            csv = argv[++i];
-        else if (!strcmp(a, "--plot") && nx)
-            plot = argv[++i];
-        else if (!strcmp(a, "--baseline") && nx)
-            baseline = argv[++i];
-        else if (!strcmp(a, "--append"))
-            append = true;
-        else if (!strcmp(a, "--mode") && nx) {
-            const char *m = argv[++i];
-            if (strcmp(m, "recompute") && strcmp(m, "steady"))
-                return st_fail(&err, ST_ERR_INPUT, "--mode %s: expected recompute or steady", m),
-                       st_report("bench", &err);
-            recompute = !strcmp(m, "recompute");
-        } else if (!strcmp(a, "--metric") && nx) {
-            metric = argv[++i];
-            if (strcmp(metric, "rmse") && strcmp(metric, "relmse") &&
-                strcmp(metric, "scaled_rmse") && strcmp(metric, "max_abs"))
-                return st_fail(&err, ST_ERR_INPUT,
-                               "--metric %s: expected rmse, relmse, scaled_rmse or max_abs",
-                               metric),
-                       st_report("bench", &err);
-        } else if (!strcmp(a, "--sweep") && nx) {
-            if (nsweeps == MAX_SWEEPS)
-                return st_fail(&err, ST_ERR_INPUT, "at most %d --sweep", MAX_SWEEPS),
-                       st_report("bench", &err);
-            if (!parse_sweep(argv[++i], &sweeps[nsweeps++], &err)) return st_report("bench", &err);
-            for (int k = 0; k < nsweeps - 1; k++)
-                if (!strcmp(sweeps[k].module, sweeps[nsweeps - 1].module) &&
-                    !strcmp(sweeps[k].param, sweeps[nsweeps - 1].param))
-                    return st_fail(&err, ST_ERR_INPUT, "--sweep %s: %s.%s is swept twice", argv[i],
-                                   sweeps[k].module, sweeps[k].param),
-                           st_report("bench", &err);
-        } else if (!strcmp(a, "--set") && nx) {
-            if (nsets == MAX_SETS)
-                return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("bench", &err);
-            sets[nsets++] = argv[++i];
-        } else if (!strcmp(a, "--filter") && nx) {
-            st_pixel_filter f;
-            if (!st_filter_parse(argv[++i], &f))
-                return st_fail(&err, ST_ERR_INPUT, "--filter %s: expected box or point", argv[i]),
-                       st_report("bench", &err);
-            filter_arg = argv[i];
-        } else if (!strcmp(a, "--size") && nx) {
-            if (!st_parse_size(argv[++i], &width, &height))
-                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH", argv[i]),
-                       st_report("bench", &err);
-        } else if (!strcmp(a, "--frames") && nx) {
-            if (!st_parse_int(argv[++i], 1, 10000, &frames))
-                return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..10000", argv[i]),
-                       st_report("bench", &err);
-        } else if (!strcmp(a, "--warmup") && nx) {
-            if (!st_parse_int(argv[++i], 0, 10000, &warmup))
-                return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..10000", argv[i]),
-                       st_report("bench", &err);
-        } else if (!strcmp(a, "--shard") && nx) {
-            const char *v = argv[++i], *slash = strchr(v, '/');
-            char num[32];
-            snprintf(num, sizeof num, "%.*s", slash ? (int)(slash - v) : 0, v);
-            if (!slash || !st_parse_int(slash + 1, 1, 100000, &shard_n) ||
-                !st_parse_int(num, 1, shard_n, &shard_i))
-                return st_fail(&err, ST_ERR_INPUT, "--shard %s: expected I/N with 1 <= I <= N", v),
-                       st_report("bench", &err);
-        } else if (!strcmp(a, "--budget-error") && nx) {
-            char *e;
-            budget = strtod(argv[++i], &e);
-            if (*e || !isfinite(budget) || budget < 0)
-                return st_fail(&err, ST_ERR_INPUT,
-                               "--budget-error %s: expected a non-negative number", argv[i]),
-                       st_report("bench", &err);
+            *help = true;
+            return true;
+        } else if (path && nx) {
+            *path = argv[++i];
+        } else if (!strcmp(a, "--append")) {
+            b->append = true;
+        } else if (nx && (!parse_checked(b, a, argv[i + 1], &known, err) ||
+                          (!known && !parse_repeated(b, a, argv[i + 1], &known, err)))) {
+            return false;
+        } else if (known) {
+            i++;
         } else if (st_cmd_scene_option(a)) {
-        } else if (a[0] == '-' || scene_path) {
-            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a),
-                   st_report("bench", &err);
+        } else if (a[0] == '-' || b->scene_path) {
+            return st_fail(err, ST_ERR_INPUT, "unexpected argument '%s'", a);
         } else {
-            scene_path = a;
+            b->scene_path = a;
         }
     }
-    if (!scene_path || !ref_path || !csv || !nsweeps)
-        return st_fail(&err, ST_ERR_INPUT,
+    return true;
+}
+
+// What the arguments must satisfy before any work: the required ones, no
+// parameter both set and swept, outputs that are not inputs.
+static bool check_args(const bench_args *b, st_err *err) {
+    if (!b->scene_path || !b->ref_path || !b->csv || !b->nsweeps)
+        return st_fail(err, ST_ERR_INPUT,
                        "usage: strahl bench SCENE.json --reference REF.exr --sweep "
                        "MODULE.PARAM=v1,v2,... "
                        "--csv OUT.csv [--plot OUT.png|svg] [--frames F] [--warmup W] [--metric M] "
-                       "[--budget-error X] [--append] [--mode recompute|steady]"),
-               st_report("bench", &err);
-    for (int i = 0; i < nsets; i++)
-        for (int k = 0; k < nsweeps; k++) {
+                       "[--budget-error X] [--append] [--mode recompute|steady]");
+    for (int i = 0; i < b->nsets; i++)
+        for (int k = 0; k < b->nsweeps; k++) {
             char mp[2 * ST_NAME_MAX + 2];
-            snprintf(mp, sizeof mp, "%s.%s=", sweeps[k].module, sweeps[k].param);
-            if (!strncmp(sets[i], mp, strlen(mp)))
-                return st_fail(&err, ST_ERR_INPUT, "--set %s: %s.%s is also swept", sets[i],
-                               sweeps[k].module, sweeps[k].param),
-                       st_report("bench", &err);
+            snprintf(mp, sizeof mp, "%s.%s=", b->sweeps[k].module, b->sweeps[k].param);
+            if (!strncmp(b->sets[i], mp, strlen(mp)))
+                return st_fail(err, ST_ERR_INPUT, "--set %s: %s.%s is also swept", b->sets[i],
+                               b->sweeps[k].module, b->sweeps[k].param);
         }
-    // Outputs are checked before any work, and never one of the inputs.
     static const char *const csv_ext[] = {"csv", NULL}, *const plot_ext[] = {"png", "svg", NULL};
-    const char *inputs[] = {scene_path, ref_path, NULL, NULL};
-    if (!st_check_output("--csv", csv, csv_ext, inputs, &err) ||
-        (plot && (inputs[2] = csv, !st_check_output("--plot", plot, plot_ext, inputs, &err))) ||
-        !st_plot_check_baseline(baseline, &err))
-        return st_report("bench", &err);
+    const char *inputs[] = {b->scene_path, b->ref_path, NULL, NULL};
+    return st_check_output("--csv", b->csv, csv_ext, inputs, err) &&
+           (!b->plot ||
+            (inputs[2] = b->csv, st_check_output("--plot", b->plot, plot_ext, inputs, err))) &&
+           st_plot_check_baseline(b->baseline, err);
+}
+
+// --append: the rows so far (NULL without a file), their header checked.
+static bool read_old_csv(const bench_args *b, const char *header, char **old, size_t *len,
+                         st_err *err) {
+    *old = NULL;
+    *len = 0;
+    if (!b->append || access(b->csv, F_OK) != 0) return true;
+    *old = st_read_input(b->csv, ST_CAP_TEXT, "CSV file", len, err);
+    if (!*old) return false;
+    size_t l1 = strcspn(*old, "\r\n");
+    if (!strncmp(*old, "scene,", 6) && (l1 != strlen(header) || strncmp(*old, header, l1))) {
+        st_fail(err, ST_ERR_INPUT,
+                "--append %s: its header differs from this run's (%.*s); append to a CSV of "
+                "the same --metric and strahl version",
+                b->csv, (int)(l1 < 200 ? l1 : 200), *old);
+        free(*old);
+        *old = NULL;
+        return false;
+    }
+    return true;
+}
+
+// The reference, its standard error and metadata; the pixel filter to
+// render with (the reference's unless told otherwise, with a warning).
+static bool read_reference(const bench_args *b, st_image *ref, st_image *ref_se, st_exr_meta *meta,
+                           st_pixel_filter *filter, st_err *err) {
+    if (!st_image_read_exr(b->ref_path, ref, err) ||
+        !st_image_read_exr_stderr(b->ref_path, ref_se, err) ||
+        !st_image_read_exr_meta(b->ref_path, meta, err)) {
+        err->kind = ST_ERR_INPUT;
+        return false;
+    }
+    *filter = ST_FILTER_POINT;
+    st_filter_parse(st_exr_filter(meta), filter);
+    if (b->filter_arg && strcmp(b->filter_arg, st_exr_filter(meta)))
+        fprintf(stderr,
+                "strahl bench: warning: --filter %s, but %s was made with the %s filter%s: the "
+                "error includes the filters' difference at edges\n",
+                b->filter_arg, b->ref_path, st_exr_filter(meta),
+                meta->filter[0] ? "" : " (no strahl.filter attribute)");
+    if (b->filter_arg) st_filter_parse(b->filter_arg, filter);
+    return true;
+}
+
+// Setting idx of the sweep: its assignments (after the --set ones) in all,
+// and r's setting, curve and x.
+static int setting_of(const bench_args *b, int idx, char assign[][256], char **all, row *r) {
+    int n = 0, rest = idx;
+    for (int s = 0; s < b->nsets; s++)
+        all[n++] = b->sets[s];
+    for (int k = 0; k < b->nsweeps; k++) {
+        const sweep *sw = &b->sweeps[k];
+        int v = rest % sw->num_values;
+        rest /= sw->num_values;
+        snprintf(assign[k], 256, "%.63s.%.63s=%.63s", sw->module, sw->param, sw->values[v]);
+        all[n++] = assign[k];
+        size_t l = strlen(r->setting);
+        snprintf(r->setting + l, sizeof r->setting - l, "%s%s", l ? " " : "", assign[k]);
+        if (k == 0) {
+            char *e;
+            r->x = strtod(sw->values[v], &e);
+            if (*e) r->x = v;
+        } else {
+            l = strlen(r->curve);
+            snprintf(r->curve + l, sizeof r->curve - l, " %s", assign[k]);
+        }
+    }
+    char curve[sizeof r->curve];
+    snprintf(curve, sizeof curve, "%.63s%.190s", b->sweeps[0].module, r->curve);
+    memcpy(r->curve, curve, sizeof curve);
+    return n;
+}
+
+// Renders every setting of this shard into rows[0, *done).
+static bool run_settings(const bench_args *b, const st_image *ref, const st_image *ref_se,
+                         const st_exr_meta *meta, st_pixel_filter filter, row *rows, int total,
+                         int *done, st_progress_bar *bar, st_err *err) {
+    st_context *ctx = NULL;
+    bool ok = true;
+    for (int idx = 0; idx < total && ok; idx++) {
+        // --shard I/N: settings I-1, I-1+N, ... (round robin, so shards of a
+        // sweep ordered by cost get similar work).
+        if (b->shard_n > 1 && idx % b->shard_n != b->shard_i - 1) continue;
+        st_scene scene = {0};
+        char *all[MAX_SETS + MAX_SWEEPS];
+        char assign[MAX_SWEEPS][256];
+        row *r = &rows[*done];
+        int n = setting_of(b, idx, assign, all, r);
+        if (!st_load_scene_with(b->scene_path, all, n, b->width, b->height, &scene, err)) {
+            ok = false;
+            break;
+        }
+        scene.filter = filter;
+        if (scene.width != ref->width || scene.height != ref->height)
+            ok = st_fail(err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)",
+                         b->ref_path, ref->width, ref->height, scene.width, scene.height);
+        else if (!ctx && !(ctx = st_context_create_headless(err)))
+            ok = false;
+        if (ok) {
+            st_progress_update(bar, *done, r->setting);
+            ok = run_one(&scene, ref, ref_se, (int)b->frames, (int)b->warmup, b->recompute,
+                         b->metric, b->sweeps, b->nsweeps, r, err);
+        }
+        st_scene_free(&scene);
+        if (!ok) break;
+        r->noisy_ref = st_warn_reference_noise("bench", b->ref_path, &r->m, meta->spp);
+        (*done)++;
+    }
+    st_context_destroy(ctx);
+    return ok;
+}
+
+// The CSV, atomically; --append adds rows to an existing file.
+static bool write_csv(const bench_args *b, const char *header, const char *old, size_t old_len,
+                      const row *rows, int done, st_err *err) {
+    st_outfile o;
+    FILE *f = st_out_begin(&o, b->csv, err) ? st_out_stream(&o, err) : NULL;
+    if (!f) {
+        st_out_abort(&o);
+        return false;
+    }
+    if (old) {
+        fwrite(old, 1, old_len, f);
+        if (old_len && old[old_len - 1] != '\n') fputc('\n', f);
+    } else if (b->shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
+        fprintf(f, "%s\n", header);
+    }
+    for (int i = 0; i < done; i++) {
+        const row *r = &rows[i];
+        fprintf(f,
+                "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%"
+                ".9g,%.9g,%d\n",
+                b->scene_path, r->setting, r->curve, r->x, b->frames, r->frame_ms, r->module_gpu_ms,
+                r->module_cpu_ms, r->error, r->m.rmse[3], r->m.relmse[3],
+                isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3], r->m.scale,
+                r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
+                r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
+    }
+    return st_out_commit(&o, err);
+}
+
+// Every setting by time, the Pareto front (settings no faster setting beats
+// in error) and, with --budget-error, the cheapest setting within it.
+static void print_front(const bench_args *b, row *rows, int done) {
+    const char *metric = b->metric;
+    row *sorted[MAX_ROWS];
+    for (int i = 0; i < done; i++)
+        sorted[i] = &rows[i];
+    qsort(sorted, (size_t)done, sizeof sorted[0], cmp_time);
+    printf("%-48s %12s %14s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric, "raw");
+    for (int i = 0; i < done; i++)
+        printf("%-48s %12.3f %14.3f %14.6g %14.6g%s\n", sorted[i]->setting, sorted[i]->frame_ms,
+               sorted[i]->module_gpu_ms, sorted[i]->error, sorted[i]->error_raw,
+               sorted[i]->noisy_ref ? "  (reference too noisy)" : "");
+    printf("Pareto front (faster settings with a lower %s):\n", metric);
+    double best = INFINITY;
+    for (int i = 0; i < done; i++) {
+        if (sorted[i]->error >= best) continue;
+        best = sorted[i]->error;
+        printf("  %s: %.3f ms, %s %.6g\n", sorted[i]->setting, sorted[i]->frame_ms, metric,
+               sorted[i]->error);
+    }
+    if (b->budget < 0) return;
+    const row *pick = NULL;
+    for (int i = 0; i < done && !pick; i++)
+        if (sorted[i]->error <= b->budget) pick = sorted[i];
+    if (pick)
+        printf("cheapest setting with %s <= %g: %s (%.3f ms, %s %.6g)\n", metric, b->budget,
+               pick->setting, pick->frame_ms, metric, pick->error);
+    else
+        printf("no setting reaches %s <= %g\n", metric, b->budget);
+}
+
+// Everything after the arguments: render, write, report.
+static bool bench(const bench_args *b, const char *header, st_progress_bar *bar, st_err *err) {
+    char *old = NULL;
+    size_t old_len = 0;
+    if (!read_old_csv(b, header, &old, &old_len, err)) return false;
+    st_image ref = {0}, ref_se = {0};
+    st_exr_meta ref_meta = {0};
+    st_pixel_filter filter;
+    row *rows = NULL;
+    int total = 1, done = 0;
+    for (int k = 0; k < b->nsweeps; k++)
+        total *= b->sweeps[k].num_values;
+    bool ok = read_reference(b, &ref, &ref_se, &ref_meta, &filter, err);
+    if (ok && total > MAX_ROWS)
+        ok = st_fail(err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS);
+    if (ok) {
+        rows = calloc((size_t)total, sizeof *rows);
+        // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
+        st_progress_begin(bar, "bench", "settings",
+                          b->shard_n > 1 ? (int)((total - b->shard_i + b->shard_n) / b->shard_n)
+                                         : total);
+        if (!rows) ok = st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    }
+    ok = ok && run_settings(b, &ref, &ref_se, &ref_meta, filter, rows, total, &done, bar, err);
+    if (ok) {
+        // Before anything goes to stdout, so the table does not run into the bar.
+        char extra[64] = "";
+        if (b->shard_n > 1) snprintf(extra, sizeof extra, "shard %ld/%ld", b->shard_i, b->shard_n);
+        st_progress_end(bar, done, extra);
+        bar->drawn = false;
+        ok = write_csv(b, header, old, old_len, rows, done, err);
+    }
+    if (ok) print_front(b, rows, done);
+    ok = ok && (!b->plot || st_plot_csv(&b->csv, 1, b->plot, b->metric, b->baseline, NULL, err));
+    st_image_free(&ref);
+    st_image_free(&ref_se);
+    free(rows);
+    free(old);
+    return ok;
+}
+
+int st_cmd_bench(int argc, char **argv) {
+    bench_args b = {.metric = "rmse", .frames = 10, .warmup = 2, .budget = -1, .recompute = true};
+    st_err err = {0};
+    bool help;
+    if (!parse_args(&b, argc, argv, &help, &err)) return st_report("bench", &err);
+    if (help) return ST_EXIT_OK;
+    if (!check_args(&b, &err)) return st_report("bench", &err);
     char header[1024];
     snprintf(header, sizeof header,
              "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_"
              "ms_median,error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,"
              "pass_gpu_ms,error_raw,ref_noise_rms,ref_noise_warning",
-             metric);
-    // --append: the rows so far, read (and their header checked) now.
-    char *old = NULL;
-    size_t old_len = 0;
-    if (append && access(csv, F_OK) == 0) {
-        old = st_read_input(csv, ST_CAP_TEXT, "CSV file", &old_len, &err);
-        if (!old) return st_report("bench", &err);
-        size_t l1 = strcspn(old, "\r\n");
-        if (!strncmp(old, "scene,", 6) && (l1 != strlen(header) || strncmp(old, header, l1))) {
-            st_fail(&err, ST_ERR_INPUT,
-                    "--append %s: its header differs from this run's (%.*s); append to a CSV of "
-                    "the same --metric and strahl version",
-                    csv, (int)(l1 < 200 ? l1 : 200), old);
-            free(old);
-            return st_report("bench", &err);
-        }
-    }
-    st_image ref = {0}, ref_se = {0};
-    st_exr_meta ref_meta = {0};
-    if (!st_image_read_exr(ref_path, &ref, &err) ||
-        !st_image_read_exr_stderr(ref_path, &ref_se, &err) ||
-        !st_image_read_exr_meta(ref_path, &ref_meta, &err)) {
-        err.kind = ST_ERR_INPUT;
-        st_image_free(&ref);
-        free(old);
-        return st_report("bench", &err);
-    }
-    // Render with the reference's pixel filter unless told otherwise.
-    st_pixel_filter filter = ST_FILTER_POINT;
-    st_filter_parse(st_exr_filter(&ref_meta), &filter);
-    if (filter_arg && strcmp(filter_arg, st_exr_filter(&ref_meta)))
-        fprintf(stderr,
-                "strahl bench: warning: --filter %s, but %s was made with the %s filter%s: the "
-                "error includes the filters' difference at edges\n",
-                filter_arg, ref_path, st_exr_filter(&ref_meta),
-                ref_meta.filter[0] ? "" : " (no strahl.filter attribute)");
-    if (filter_arg) st_filter_parse(filter_arg, &filter);
-    // Validate the scene and every swept value before any rendering.
-    int total = 1;
-    for (int k = 0; k < nsweeps; k++)
-        total *= sweeps[k].num_values;
-    if (total > MAX_ROWS) {
-        st_image_free(&ref);
-        free(old);
-        return st_fail(&err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS),
-               st_report("bench", &err);
-    }
-    row *rows = calloc((size_t)total, sizeof *rows);
-    st_context *ctx = NULL;
-    int rc = 0, done = 0;
-    st_progress_bar bar;
-    // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
-    st_progress_begin(&bar, "bench", "settings",
-                      shard_n > 1 ? (int)((total - shard_i + shard_n) / shard_n) : total);
-    if (!rows) {
-        st_fail(&err, ST_ERR_RUNTIME, "out of memory");
-        goto fail;
-    }
-    for (int idx = 0; idx < total; idx++) {
-        st_scene scene = {0};
-        char *all[MAX_SETS + MAX_SWEEPS];
-        char assign[MAX_SWEEPS][256];
-        int n = 0, rest = idx;
-        for (int s = 0; s < nsets; s++)
-            all[n++] = sets[s];
-        // --shard I/N: settings I-1, I-1+N, ... (round robin, so shards of a
-        // sweep ordered by cost get similar work).
-        if (shard_n > 1 && idx % shard_n != shard_i - 1) continue;
-        row *r = &rows[done];
-        for (int k = 0; k < nsweeps; k++) {
-            int v = rest % sweeps[k].num_values;
-            rest /= sweeps[k].num_values;
-            snprintf(assign[k], sizeof assign[k], "%.63s.%.63s=%.63s", sweeps[k].module,
-                     sweeps[k].param, sweeps[k].values[v]);
-            all[n++] = assign[k];
-            size_t l = strlen(r->setting);
-            snprintf(r->setting + l, sizeof r->setting - l, "%s%s", l ? " " : "", assign[k]);
-            if (k == 0) {
-                char *e;
-                r->x = strtod(sweeps[k].values[v], &e);
-                if (*e) r->x = v;
-            } else {
-                l = strlen(r->curve);
-                snprintf(r->curve + l, sizeof r->curve - l, " %s", assign[k]);
-            }
-        }
-        char curve[sizeof r->curve];
-        snprintf(curve, sizeof curve, "%.63s%.190s", sweeps[0].module, r->curve);
-        memcpy(r->curve, curve, sizeof curve);
-        if (!st_load_scene_with(scene_path, all, n, width, height, &scene, &err)) goto fail;
-        scene.filter = filter;
-        if (scene.width != ref.width || scene.height != ref.height) {
-            st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)", ref_path,
-                    ref.width, ref.height, scene.width, scene.height);
-            st_scene_free(&scene);
-            goto fail;
-        }
-        if (!ctx && !(ctx = st_context_create_headless(&err))) {
-            st_scene_free(&scene);
-            goto fail;
-        }
-        st_progress_update(&bar, done, r->setting);
-        bool ok = run_one(&scene, &ref, &ref_se, (int)frames, (int)warmup, recompute, metric,
-                          sweeps, nsweeps, r, &err);
-        st_scene_free(&scene);
-        if (!ok) goto fail;
-        r->noisy_ref = st_warn_reference_noise("bench", ref_path, &r->m, ref_meta.spp);
-        done++;
-    }
-    {
-        // Before anything goes to stdout, so the table does not run into the bar.
-        char extra[64] = "";
-        if (shard_n > 1) snprintf(extra, sizeof extra, "shard %ld/%ld", shard_i, shard_n);
-        st_progress_end(&bar, done, extra);
-        bar.drawn = false;
-    }
-    {
-        // CSV (atomically; --append adds rows to an existing file).
-        st_outfile o;
-        FILE *f = st_out_begin(&o, csv, &err) ? st_out_stream(&o, &err) : NULL;
-        if (!f) {
-            st_out_abort(&o);
-            goto fail;
-        }
-        if (old) {
-            fwrite(old, 1, old_len, f);
-            if (old_len && old[old_len - 1] != '\n') fputc('\n', f);
-        } else if (shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
-            fprintf(f, "%s\n", header);
-        }
-        for (int i = 0; i < done; i++) {
-            row *r = &rows[i];
-            fprintf(f,
-                    "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%"
-                    ".9g,%.9g,%d\n",
-                    scene_path, r->setting, r->curve, r->x, frames, r->frame_ms, r->module_gpu_ms,
-                    r->module_cpu_ms, r->error, r->m.rmse[3], r->m.relmse[3],
-                    isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3], r->m.scale,
-                    r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
-                    r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
-        }
-        if (!st_out_commit(&o, &err)) goto fail;
-    }
-    {
-        // Pareto front: settings no faster setting beats in error.
-        row *sorted[MAX_ROWS];
-        for (int i = 0; i < done; i++)
-            sorted[i] = &rows[i];
-        qsort(sorted, (size_t)done, sizeof sorted[0], cmp_time);
-        printf("%-48s %12s %14s %14s %14s\n", "setting", "frame ms", "module gpu ms", metric,
-               "raw");
-        for (int i = 0; i < done; i++)
-            printf("%-48s %12.3f %14.3f %14.6g %14.6g%s\n", sorted[i]->setting, sorted[i]->frame_ms,
-                   sorted[i]->module_gpu_ms, sorted[i]->error, sorted[i]->error_raw,
-                   sorted[i]->noisy_ref ? "  (reference too noisy)" : "");
-        printf("Pareto front (faster settings with a lower %s):\n", metric);
-        double best = INFINITY;
-        for (int i = 0; i < done; i++) {
-            if (sorted[i]->error >= best) continue;
-            best = sorted[i]->error;
-            printf("  %s: %.3f ms, %s %.6g\n", sorted[i]->setting, sorted[i]->frame_ms, metric,
-                   sorted[i]->error);
-        }
-        if (budget >= 0) {
-            const row *pick = NULL;
-            for (int i = 0; i < done && !pick; i++)
-                if (sorted[i]->error <= budget) pick = sorted[i];
-            if (pick)
-                printf("cheapest setting with %s <= %g: %s (%.3f ms, %s %.6g)\n", metric, budget,
-                       pick->setting, pick->frame_ms, metric, pick->error);
-            else
-                printf("no setting reaches %s <= %g\n", metric, budget);
-        }
-    }
-    if (plot && !st_plot_csv(&csv, 1, plot, metric, baseline, NULL, &err)) goto fail;
-    goto out;
-fail:
+             b.metric);
+    st_progress_bar bar = {0};
+    if (bench(&b, header, &bar, &err)) return ST_EXIT_OK;
     if (bar.drawn) fputc('\n', stderr); // end the bar's line before the message
-    rc = st_report("bench", &err);
-out:
-    st_context_destroy(ctx);
-    st_image_free(&ref);
-    st_image_free(&ref_se);
-    free(rows);
-    free(old);
-    return rc;
+    return st_report("bench", &err);
 }

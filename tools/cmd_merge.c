@@ -99,6 +99,85 @@ static bool check_shard(const char *shard, const st_image *img, const st_image *
     return true;
 }
 
+// The running merge: sums over the shards read so far.
+typedef struct merge {
+    st_image sum;     // the output: R, G, B, stderr.R/G/B
+    double *acc;      // per value: sum n_i m_i, then sum n_i^2 s_i^2
+    st_exr_meta *all; // the first shard's header, spp and seeds made the merged ones
+    unsigned long long *seeds;
+    int nseeds;
+    long long total; // spp
+} merge;
+
+// Checks shard k (its channels, header, seeds, size and config against the
+// first) and adds it to the sums.
+static bool add_shard(merge *g, int k, const char *path, const char *first, st_err *err) {
+    static const char *const rgb[] = {"R", "G", "B"};
+    st_image img = {0}, se = {0};
+    st_exr_meta *m = calloc(1, sizeof *m);
+    bool ok = m && st_image_read_exr_channels(path, rgb, 3, &img, err) &&
+              st_image_read_exr_stderr(path, &se, err) && st_image_read_exr_meta(path, m, err);
+    if (!m) st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    if (ok && !se.data)
+        ok = st_fail(err, ST_ERR_INPUT,
+                     "%s: no stderr.R/G/B channels (not written by strahl reference)", path);
+    if (ok && (m->spp <= 0 || !m->seeds[0]))
+        ok = st_fail(err, ST_ERR_INPUT,
+                     "%s: no spp/strahl.seeds header attributes (not written by strahl reference)",
+                     path);
+    ok = ok && check_shard(path, &img, &se, err) &&
+         parse_seeds(path, m->seeds, g->seeds, &g->nseeds, g->nseeds, err);
+    const size_t count = (size_t)img.width * img.height * 3;
+    if (ok && k == 0) {
+        *g->all = *m;
+        g->acc = calloc(2 * count, sizeof *g->acc);
+        if (!g->acc || !st_image_alloc(&g->sum, img.width, img.height, 6, err))
+            ok = st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    } else if (ok && (img.width != g->sum.width || img.height != g->sum.height)) {
+        ok = st_fail(err, ST_ERR_INPUT, "%s is %dx%d, %s is %dx%d", path, img.width, img.height,
+                     first, g->sum.width, g->sum.height);
+    } else if (ok && strcmp(m->config, g->all->config)) {
+        ok = st_fail(err, ST_ERR_INPUT,
+                     "%s was rendered as '%s', %s as '%s': not shards of one render", path,
+                     m->config, first, g->all->config);
+    }
+    if (ok) g->total += m->spp;
+    if (ok && g->total > 2147483647LL)
+        ok = st_fail(err, ST_ERR_INPUT, "%s: more than 2^31 - 1 spp in total", path);
+    const double w = ok ? m->spp : 0;
+    for (size_t i = 0; ok && i < count; i++) {
+        g->acc[i] += w * img.data[i];
+        g->acc[count + i] += w * w * (double)se.data[i] * se.data[i];
+    }
+    st_image_free(&img);
+    st_image_free(&se);
+    free(m);
+    return ok;
+}
+
+// The merged mean and standard error, spp and seeds (canonical: "01" ->
+// "1"), written to out.
+static bool write_merged(merge *g, const char *out, st_err *err) {
+    const size_t px = (size_t)g->sum.width * g->sum.height;
+    for (size_t i = 0; i < px; i++)
+        for (int c = 0; c < 3; c++) {
+            g->sum.data[6 * i + c] = (float)(g->acc[3 * i + c] / g->total);
+            g->sum.data[6 * i + 3 + c] = (float)(sqrt(g->acc[3 * px + 3 * i + c]) / g->total);
+        }
+    g->all->spp = (int)g->total;
+    size_t l = 0;
+    char *seeds = g->all->seeds;
+    seeds[0] = 0;
+    for (int i = 0; i < g->nseeds; i++) {
+        int w = snprintf(seeds + l, sizeof g->all->seeds - l, "%s%llu", i ? "," : "", g->seeds[i]);
+        if (w < 0 || (size_t)w >= sizeof g->all->seeds - l)
+            return st_fail(err, ST_ERR_INPUT, "too many seeds to record in the header of %s", out);
+        l += (size_t)w;
+    }
+    static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
+    return st_image_write_exr_meta(out, &g->sum, names, g->all, err);
+}
+
 int st_cmd_merge(int argc, char **argv) {
     const char *in[MAX_SHARDS], *out = NULL;
     int n = 0;
@@ -120,108 +199,22 @@ int st_cmd_merge(int argc, char **argv) {
     if (!out) return bad("missing -o OUT.exr%s%s", "", "");
     if (n < 1) return bad("no shards to merge%s%s", "", "");
     static const char *const exts[] = {"exr", NULL};
-    st_err cerr = {0};
+    st_err err = {0};
     // The output may be one of the shards (merging into a reference): it is
     // written, atomically, only after every shard has been read.
-    if (!st_check_output("-o", out, exts, NULL, &cerr)) return st_report("merge", &cerr);
-
-    static const char *const rgb[] = {"R", "G", "B"};
-    st_err err = {0};
-    st_image sum = {0}, img = {0}, se = {0};
-    st_exr_meta *all = calloc(1, sizeof *all), *m = calloc(1, sizeof *m);
-    double *acc = NULL; // per value: sum n_i m_i, then sum n_i^2 s_i^2
-    unsigned long long *seeds = calloc(MAX_SEEDS, sizeof *seeds);
-    int nseeds = 0;
-    long long total = 0;
-    int rc = ST_EXIT_OK;
-    if (!all || !m || !seeds) {
-        st_fail(&err, ST_ERR_RUNTIME, "out of memory");
-        goto fail;
-    }
-    for (int k = 0; k < n; k++) {
-        if (!st_image_read_exr_channels(in[k], rgb, 3, &img, &err) ||
-            !st_image_read_exr_stderr(in[k], &se, &err) || !st_image_read_exr_meta(in[k], m, &err))
-            goto fail;
-        if (!se.data) {
-            st_fail(&err, ST_ERR_INPUT,
-                    "%s: no stderr.R/G/B channels (not written by strahl reference)", in[k]);
-            goto fail;
-        }
-        if (m->spp <= 0 || !m->seeds[0]) {
-            st_fail(&err, ST_ERR_INPUT,
-                    "%s: no spp/strahl.seeds header attributes (not written by strahl reference)",
-                    in[k]);
-            goto fail;
-        }
-        if (!check_shard(in[k], &img, &se, &err) ||
-            !parse_seeds(in[k], m->seeds, seeds, &nseeds, nseeds, &err))
-            goto fail;
-        const size_t count = (size_t)img.width * img.height * 3;
-        if (k == 0) {
-            *all = *m;
-            acc = calloc(2 * count, sizeof *acc);
-            if (!acc || !st_image_alloc(&sum, img.width, img.height, 6, &err)) {
-                st_fail(&err, ST_ERR_RUNTIME, "out of memory");
-                goto fail;
-            }
-        } else {
-            if (img.width != sum.width || img.height != sum.height) {
-                st_fail(&err, ST_ERR_INPUT, "%s is %dx%d, %s is %dx%d", in[k], img.width,
-                        img.height, in[0], sum.width, sum.height);
-                goto fail;
-            }
-            if (strcmp(m->config, all->config)) {
-                st_fail(&err, ST_ERR_INPUT,
-                        "%s was rendered as '%s', %s as '%s': not shards of one render", in[k],
-                        m->config, in[0], all->config);
-                goto fail;
-            }
-        }
-        total += m->spp;
-        if (total > 2147483647LL) {
-            st_fail(&err, ST_ERR_INPUT, "%s: more than 2^31 - 1 spp in total", in[k]);
-            goto fail;
-        }
-        const double w = m->spp;
-        for (size_t i = 0; i < count; i++) {
-            acc[i] += w * img.data[i];
-            acc[count + i] += w * w * (double)se.data[i] * se.data[i];
-        }
-        st_image_free(&img);
-        st_image_free(&se);
-    }
-    const size_t px = (size_t)sum.width * sum.height;
-    for (size_t i = 0; i < px; i++)
-        for (int c = 0; c < 3; c++) {
-            sum.data[6 * i + c] = (float)(acc[3 * i + c] / total);
-            sum.data[6 * i + 3 + c] = (float)(sqrt(acc[3 * px + 3 * i + c]) / total);
-        }
-    all->spp = (int)total;
-    // The seeds in their canonical form ("01" -> "1").
-    size_t l = 0;
-    all->seeds[0] = 0;
-    for (int i = 0; i < nseeds; i++) {
-        int w = snprintf(all->seeds + l, sizeof all->seeds - l, "%s%llu", i ? "," : "", seeds[i]);
-        if (w < 0 || (size_t)w >= sizeof all->seeds - l) {
-            st_fail(&err, ST_ERR_INPUT, "too many seeds to record in the header of %s", out);
-            goto fail;
-        }
-        l += (size_t)w;
-    }
-    static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
-    if (!st_image_write_exr_meta(out, &sum, names, all, &err)) goto fail;
-    printf("strahl merge: %s (%dx%d, %lld spp from %d shard(s))\n", out, sum.width, sum.height,
-           total, n);
-    goto done;
-fail:
-    rc = st_report("merge", &err);
-done:
-    st_image_free(&img);
-    st_image_free(&se);
-    st_image_free(&sum);
-    free(acc);
-    free(all);
-    free(m);
-    free(seeds);
-    return rc;
+    if (!st_check_output("-o", out, exts, NULL, &err)) return st_report("merge", &err);
+    merge g = {.all = calloc(1, sizeof *g.all), .seeds = calloc(MAX_SEEDS, sizeof *g.seeds)};
+    bool ok = g.all && g.seeds;
+    if (!ok) st_fail(&err, ST_ERR_RUNTIME, "out of memory");
+    for (int k = 0; ok && k < n; k++)
+        ok = add_shard(&g, k, in[k], in[0], &err);
+    ok = ok && write_merged(&g, out, &err);
+    if (ok)
+        printf("strahl merge: %s (%dx%d, %lld spp from %d shard(s))\n", out, g.sum.width,
+               g.sum.height, g.total, n);
+    st_image_free(&g.sum);
+    free(g.acc);
+    free(g.all);
+    free(g.seeds);
+    return ok ? ST_EXIT_OK : st_report("merge", &err);
 }

@@ -46,6 +46,73 @@ static unsigned light_types(const st_plugin *p) {
     return p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT);
 }
 
+// One parameter as a JSON object.
+static void print_param_json(const st_param_def *d, bool first) {
+    char def[64];
+    st_param_format(d, d->def, def, sizeof def);
+    printf("%s\n   {\"name\": ", first ? "" : ",");
+    json_str(d->name);
+    printf(", \"type\": \"%s\", \"default\": ", type_name(d->type));
+    if (d->type == ST_PARAM_ENUM)
+        json_str(def);
+    else if (d->type == ST_PARAM_BOOL)
+        printf("%s", def);
+    else
+        printf("%.9g", d->def);
+    if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
+        printf(", \"min\": %.9g, \"max\": %.9g", d->min, d->max);
+    if (d->type == ST_PARAM_ENUM) {
+        printf(", \"choices\": ");
+        json_str(d->choices);
+    }
+    printf(", \"help\": ");
+    json_str(d->help);
+    printf("}");
+}
+
+// One plugin as a JSON object (after a comma unless it is the first).
+static void print_json(const st_plugin *p, bool first) {
+    printf("%s\n {\"name\": ", first ? "" : ",");
+    json_str(p->name);
+    printf(", \"description\": ");
+    json_str(p->description);
+    printf(", \"abi\": \"%u.%u\", \"requires\": ", p->abi_major, p->abi_minor);
+    json_str(p->requires);
+    printf(", \"provides\": ");
+    json_str(p->provides);
+    printf(", \"lights\": [");
+    for (int t = 0, n = 0; t < ST_LIGHT_TYPE_COUNT; t++)
+        if (light_types(p) & ST_LIGHT_BIT(t))
+            printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
+    printf("]");
+    printf(", \"params\": [");
+    for (int k = 0; k < p->num_params; k++)
+        print_param_json(&p->params[k], k == 0);
+    printf("]}");
+}
+
+// One plugin as text: name, description, requires/provides, lights, one
+// line per parameter.
+static void print_text(const st_plugin *p) {
+    printf("%s - %s\n", p->name, p->description ? p->description : "");
+    if (p->requires && p->requires[0]) printf("  requires: %s\n", p->requires);
+    if (p->provides && p->provides[0]) printf("  provides: %s\n", p->provides);
+    printf("  lights:");
+    for (int t = 0; t < ST_LIGHT_TYPE_COUNT; t++)
+        if (light_types(p) & ST_LIGHT_BIT(t)) printf(" %s", st_light_type_name(t));
+    printf("\n");
+    for (int k = 0; k < p->num_params; k++) {
+        const st_param_def *d = &p->params[k];
+        char def[64];
+        st_param_format(d, d->def, def, sizeof def);
+        printf("  %-16s %-5s default %-8s", d->name, type_name(d->type), def);
+        if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
+            printf(" [%g, %g]", d->min, d->max);
+        if (d->type == ST_PARAM_ENUM) printf(" {%s}", d->choices);
+        printf("  %s\n", d->help ? d->help : "");
+    }
+}
+
 int st_cmd_modules(int argc, char **argv) {
     bool json = false;
     for (int i = 1; i < argc; i++) {
@@ -72,65 +139,10 @@ int st_cmd_modules(int argc, char **argv) {
             rc = 1;
             continue;
         }
-        const st_plugin *p = st_plugin_desc(lib);
-        if (json) {
-            printf("%s\n {\"name\": ", shown ? "," : "");
-            json_str(p->name);
-            printf(", \"description\": ");
-            json_str(p->description);
-            printf(", \"abi\": \"%u.%u\", \"requires\": ", p->abi_major, p->abi_minor);
-            json_str(p->requires);
-            printf(", \"provides\": ");
-            json_str(p->provides);
-            printf(", \"lights\": [");
-            for (int t = 0, n = 0; t < ST_LIGHT_TYPE_COUNT; t++)
-                if (light_types(p) & ST_LIGHT_BIT(t))
-                    printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
-            printf("]");
-            printf(", \"params\": [");
-            for (int k = 0; k < p->num_params; k++) {
-                const st_param_def *d = &p->params[k];
-                char def[64];
-                st_param_format(d, d->def, def, sizeof def);
-                printf("%s\n   {\"name\": ", k ? "," : "");
-                json_str(d->name);
-                printf(", \"type\": \"%s\", \"default\": ", type_name(d->type));
-                if (d->type == ST_PARAM_ENUM)
-                    json_str(def);
-                else if (d->type == ST_PARAM_BOOL)
-                    printf("%s", def);
-                else
-                    printf("%.9g", d->def);
-                if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
-                    printf(", \"min\": %.9g, \"max\": %.9g", d->min, d->max);
-                if (d->type == ST_PARAM_ENUM) {
-                    printf(", \"choices\": ");
-                    json_str(d->choices);
-                }
-                printf(", \"help\": ");
-                json_str(d->help);
-                printf("}");
-            }
-            printf("]}");
-        } else {
-            printf("%s - %s\n", p->name, p->description ? p->description : "");
-            if (p->requires && p->requires[0]) printf("  requires: %s\n", p->requires);
-            if (p->provides && p->provides[0]) printf("  provides: %s\n", p->provides);
-            printf("  lights:");
-            for (int t = 0; t < ST_LIGHT_TYPE_COUNT; t++)
-                if (light_types(p) & ST_LIGHT_BIT(t)) printf(" %s", st_light_type_name(t));
-            printf("\n");
-            for (int k = 0; k < p->num_params; k++) {
-                const st_param_def *d = &p->params[k];
-                char def[64];
-                st_param_format(d, d->def, def, sizeof def);
-                printf("  %-16s %-5s default %-8s", d->name, type_name(d->type), def);
-                if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
-                    printf(" [%g, %g]", d->min, d->max);
-                if (d->type == ST_PARAM_ENUM) printf(" {%s}", d->choices);
-                printf("  %s\n", d->help ? d->help : "");
-            }
-        }
+        if (json)
+            print_json(st_plugin_desc(lib), shown == 0);
+        else
+            print_text(st_plugin_desc(lib));
         shown++;
         st_plugin_close(lib);
     }

@@ -165,54 +165,55 @@ static bool run_gnuplot(const char *script, size_t len, int out_fd, int log_fd, 
     return true;
 }
 
-static bool draw(ptable *t, const char *out, const char *baseline, const char *title, st_err *err) {
-    bool multi_scene = false;
-    for (int i = 1; i < t->n; i++)
-        multi_scene |= strcmp(t->rows[i].scene, t->rows[0].scene) != 0;
-    char labels[MAX_CURVES][256];
-    int nc = 0;
+// Every "M.P=V" of the baseline is one of the row's assignments.
+static bool is_baseline(const prow *r, const char *baseline) {
+    char copy[512];
+    snprintf(copy, sizeof copy, "%s", baseline);
+    bool all = true;
+    for (char *tok = strtok(copy, ","); tok && all; tok = strtok(NULL, ",")) {
+        bool found = false;
+        for (int k = 0; k < r->np && !found; k++) {
+            char a[130];
+            snprintf(a, sizeof a, "%s=%s", r->name[k], r->value[k]);
+            found = !strcmp(a, tok);
+        }
+        all = found;
+    }
+    return all;
+}
+
+// Each row's curve (one per label), and whether it is the plugin defaults or
+// the baseline.
+static bool assign_curves(ptable *t, const char *out, const char *baseline, bool multi_scene,
+                          char (*labels)[256], int *nc, st_err *err) {
+    *nc = 0;
     for (int i = 0; i < t->n; i++) {
         prow *r = &t->rows[i];
         char l[256];
         curve_label(t, r, multi_scene, l, sizeof l);
         int c = 0;
-        while (c < nc && strcmp(labels[c], l))
+        while (c < *nc && strcmp(labels[c], l))
             c++;
-        if (c == nc) {
-            if (nc == MAX_CURVES)
+        if (c == *nc) {
+            if (*nc == MAX_CURVES)
                 return st_fail(err, ST_ERR_INPUT, "%s: more than %d curves", out, MAX_CURVES);
-            snprintf(labels[nc++], sizeof labels[0], "%s", l);
+            snprintf(labels[(*nc)++], 256, "%s", l);
         }
         r->curve = c;
         r->is_default = true;
         for (int k = 0; k < r->np && r->is_default; k++)
             r->is_default = equals_default(r->name[k], r->value[k]);
-        if (baseline && baseline[0]) {
-            // Every "M.P=V" of the baseline is one of the row's assignments.
-            char copy[512];
-            snprintf(copy, sizeof copy, "%s", baseline);
-            r->is_baseline = true;
-            for (char *tok = strtok(copy, ","); tok && r->is_baseline; tok = strtok(NULL, ",")) {
-                bool found = false;
-                for (int k = 0; k < r->np && !found; k++) {
-                    char a[130];
-                    snprintf(a, sizeof a, "%s=%s", r->name[k], r->value[k]);
-                    found = !strcmp(a, tok);
-                }
-                r->is_baseline = found;
-            }
-        }
+        if (baseline && baseline[0]) r->is_baseline = is_baseline(r, baseline);
     }
+    return true;
+}
+
+// The data as a gnuplot datablock: one block (gnuplot `index`) per curve,
+// then the front, the baseline, the defaults (*nb, *nd: their points).
+static void write_data(FILE *d, ptable *t, int nc, int *nb, int *nd) {
     prow *sorted[MAX_ROWS];
     for (int i = 0; i < t->n; i++)
         sorted[i] = &t->rows[i];
-    // The script goes to gnuplot's stdin with the data inline (a datablock)
-    // and the image comes back on its stdout: no path reaches gnuplot.
-    char *script = NULL;
-    size_t script_len = 0;
-    FILE *d = open_memstream(&script, &script_len);
-    if (!d) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
-    // Blocks (gnuplot `index`): one per curve, then the front, the baseline, the defaults.
     fprintf(d, "$data << EOD\n");
     qsort(sorted, (size_t)t->n, sizeof sorted[0], cmp_x);
     for (int c = 0, i = 0; c < nc; c++) {
@@ -237,26 +238,23 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
         fputc('\n', d); // a blank line breaks the line between scenes
     }
     // gnuplot skips empty blocks in its index count: write only those with points.
-    int nb = 0, nd = 0;
+    *nb = *nd = 0;
     for (int i = 0; i < t->n; i++) {
-        nb += t->rows[i].is_baseline;
-        nd += t->rows[i].is_default;
+        *nb += t->rows[i].is_baseline;
+        *nd += t->rows[i].is_default;
     }
-    if (baseline && baseline[0] && !nb) {
-        fclose(d);
-        free(script);
-        return st_fail(err, ST_ERR_INPUT, "--baseline %s: no row of the CSV has this setting",
-                       baseline);
-    }
-    if (nb) fprintf(d, "\n\n");
+    if (*nb) fprintf(d, "\n\n");
     for (int i = 0; i < t->n; i++)
         if (t->rows[i].is_baseline) fprintf(d, "%.9g %.9g\n", t->rows[i].ms, t->rows[i].err);
-    if (nd) fprintf(d, "\n\n");
+    if (*nd) fprintf(d, "\n\n");
     for (int i = 0; i < t->n; i++)
         if (t->rows[i].is_default) fprintf(d, "%.9g %.9g\n", t->rows[i].ms, t->rows[i].err);
     fprintf(d, "EOD\n");
+}
 
-    FILE *f = d;
+// The terminal, axes and title.
+static void write_setup(FILE *f, const ptable *t, const char *out, const char *title,
+                        bool multi_scene) {
     const char *dot = strrchr(out, '.');
     bool svg = dot && !strcasecmp(dot, ".svg");
     const char *m = t->metric[0] ? t->metric : "error";
@@ -279,7 +277,12 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     gp_str(f, title && title[0] ? title : def_title);
     fprintf(f, " noenhanced\nset key outside below center horizontal Left reverse width 1 "
                "noenhanced\nset offsets graph 0.05, graph "
-               "0.05, graph 0.1, graph 0.1\nplot ");
+               "0.05, graph 0.1, graph 0.1\n");
+}
+
+// The plot command: the curves, the front, the baseline and the defaults.
+static void write_plot(FILE *f, char (*labels)[256], int nc, int nb, int nd, const char *baseline) {
+    fprintf(f, "plot ");
     for (int c = 0; c < nc; c++) {
         fprintf(f, "$data index %d using 1:2 with linespoints lw 1.5 pt 7 ps 0.7 title ", c);
         gp_str(f, labels[c]);
@@ -304,22 +307,20 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
             nc + 1 + (nb > 0));
     }
     fputc('\n', f);
-    if (fclose(f) != 0) {
-        free(script);
-        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
-    }
-    // gnuplot's chatter (e.g. "empty x range" for a single point) goes to an
-    // anonymous temporary file that is shown only when it fails.
+}
+
+// Runs gnuplot on the script into `out` (atomically). gnuplot's chatter
+// (e.g. "empty x range" for a single point) goes to an anonymous temporary
+// file that is shown only when it fails.
+static bool plot_to(const char *script, size_t script_len, const char *out, st_err *err) {
     st_outfile o;
     FILE *log = tmpfile();
     if (!log || !st_out_begin(&o, out, err)) {
         if (log) fclose(log);
-        free(script);
         if (!log) return st_fail(err, ST_ERR_RUNTIME, "cannot create a temporary file");
         return false;
     }
     bool ok = run_gnuplot(script, script_len, o.fd, fileno(log), err);
-    free(script);
     if (!ok) {
         char msg[512] = "";
         rewind(log);
@@ -333,6 +334,37 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     }
     fclose(log);
     return st_out_commit(&o, err);
+}
+
+static bool draw(ptable *t, const char *out, const char *baseline, const char *title, st_err *err) {
+    bool multi_scene = false;
+    for (int i = 1; i < t->n; i++)
+        multi_scene |= strcmp(t->rows[i].scene, t->rows[0].scene) != 0;
+    char labels[MAX_CURVES][256];
+    int nc = 0, nb = 0, nd = 0;
+    if (!assign_curves(t, out, baseline, multi_scene, labels, &nc, err)) return false;
+    // The script goes to gnuplot's stdin with the data inline (a datablock)
+    // and the image comes back on its stdout: no path reaches gnuplot.
+    char *script = NULL;
+    size_t script_len = 0;
+    FILE *f = open_memstream(&script, &script_len);
+    if (!f) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    write_data(f, t, nc, &nb, &nd);
+    if (baseline && baseline[0] && !nb) {
+        fclose(f);
+        free(script);
+        return st_fail(err, ST_ERR_INPUT, "--baseline %s: no row of the CSV has this setting",
+                       baseline);
+    }
+    write_setup(f, t, out, title, multi_scene);
+    write_plot(f, labels, nc, nb, nd, baseline);
+    if (fclose(f) != 0) {
+        free(script);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    }
+    bool ok = plot_to(script, script_len, out, err);
+    free(script);
+    return ok;
 }
 
 bool st_plot_check_baseline(const char *baseline, st_err *err) {

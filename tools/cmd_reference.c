@@ -68,110 +68,157 @@ static void on_rows(void *user, int done, int rows) {
     st_progress_update(user, done, NULL);
 }
 
-static int bad(st_err *err, const char *fmt, const char *arg) {
-    st_fail(err, ST_ERR_INPUT, fmt, arg);
-    return st_report("reference", err);
+static bool bad(st_err *err, const char *fmt, const char *arg) {
+    return st_fail(err, ST_ERR_INPUT, fmt, arg);
 }
 
-int st_cmd_reference(int argc, char **argv) {
-    const char *scene_path = NULL, *out_path = NULL;
+typedef struct ref_args {
+    const char *scene_path, *out_path;
     char *sets[MAX_SETS];
-    int num_sets = 0, width = 0, height = 0;
-    st_ref_options o = {.spp = 64, .bounces = 1};
-    int filter = -1; // -1: the scene's
-    st_err err = {0};
+    int num_sets, width, height;
+    int filter; // -1: the scene's
+    st_ref_options o;
+} ref_args;
+
+// The choice options (--aov, --bounce-visibility, --estimator, --filter);
+// *known says whether `a` is one of them.
+static bool parse_choice_option(ref_args *r, const char *a, const char *v, bool *known,
+                                st_err *err) {
+    int choice;
+    *known = true;
+    if (!strcmp(a, "--aov")) {
+        static const char *const names[] = {"combined", "direct", "indirect", "inscatter"};
+        if (!parse_choice(v, names, 4, &choice))
+            return bad(err, "--aov %s: expected combined, direct, indirect or inscatter", v);
+        r->o.aov = (st_ref_aov)choice;
+    } else if (!strcmp(a, "--bounce-visibility")) {
+        static const char *const names[] = {"on", "off"};
+        if (!parse_choice(v, names, 2, &choice))
+            return bad(err, "--bounce-visibility %s: expected on or off", v);
+        r->o.no_visibility = choice == 1;
+    } else if (!strcmp(a, "--estimator")) {
+        static const char *const names[] = {"area", "thesis"};
+        if (!parse_choice(v, names, 2, &choice))
+            return bad(err, "--estimator %s: expected area or thesis", v);
+        r->o.estimator = (st_ref_estimator)choice;
+    } else if (!strcmp(a, "--filter")) {
+        static const char *const names[] = {"point", "box"};
+        if (!parse_choice(v, names, 2, &choice))
+            return bad(err, "--filter %s: expected box or point", v);
+        r->filter = choice;
+    } else {
+        *known = false;
+    }
+    return true;
+}
+
+// Option a with its value v (every option takes one).
+static bool parse_option(ref_args *r, const char *a, const char *v, st_err *err) {
+    long n;
+    bool known;
+    if (!parse_choice_option(r, a, v, &known, err)) return false;
+    if (known) return true;
+    if (!strcmp(a, "-o")) {
+        r->out_path = v;
+    } else if (!strcmp(a, "--spp")) {
+        if (!st_parse_int(v, 1, 10000000, &n)) return bad(err, "--spp %s: expected 1..10000000", v);
+        r->o.spp = (int)n;
+    } else if (!strcmp(a, "--seed")) {
+        if (!parse_u64(v, &r->o.seed))
+            return bad(err, "--seed %s: expected an unsigned integer", v);
+    } else if (!strcmp(a, "--size")) {
+        if (!st_parse_size(v, &r->width, &r->height))
+            return bad(err, "--size %s: expected WxH, 1..16384 each", v);
+    } else if (!strcmp(a, "--bounces")) {
+        if (!st_parse_int(v, 0, 16, &n)) return bad(err, "--bounces %s: expected 0..16", v);
+        r->o.bounces = (int)n;
+    } else if (!strcmp(a, "--steps")) {
+        if (!st_parse_int(v, 1, 1000000, &n)) return bad(err, "--steps %s: expected 1..1000000", v);
+        r->o.march_steps = (int)n;
+    } else if (!strcmp(a, "--threads")) {
+        if (!st_parse_int(v, 1, 256, &n)) return bad(err, "--threads %s: expected 1..256", v);
+        r->o.threads = (int)n;
+    } else if (!strcmp(a, "--set")) {
+        if (r->num_sets == MAX_SETS) return bad(err, "%s: too many --set options", a);
+        r->sets[r->num_sets++] = (char *)v;
+    } else {
+        return bad(err, "%s: unknown option", a);
+    }
+    return true;
+}
+
+// Fills r from argv; *help: -h was given (the text is printed).
+static bool parse_args(ref_args *r, int argc, char **argv, bool *help, st_err *err) {
+    *help = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        int choice;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(usage_text, stdout);
-            return ST_EXIT_OK;
+            *help = true;
+            return true;
         } else if (st_cmd_scene_option(a)) {
             continue;
         } else if (a[0] != '-') {
-            if (scene_path) return bad(&err, "unexpected argument '%s' (one scene only)", a);
-            scene_path = a;
+            if (r->scene_path) return bad(err, "unexpected argument '%s' (one scene only)", a);
+            r->scene_path = a;
             continue;
         } else if (!v) {
-            return bad(&err, "%s: unknown option or missing value", a);
+            return bad(err, "%s: unknown option or missing value", a);
         }
-        i++; // every option below takes a value
-        if (!strcmp(a, "-o")) {
-            out_path = v;
-        } else if (!strcmp(a, "--spp")) {
-            if (!st_parse_int(v, 1, 10000000, &n))
-                return bad(&err, "--spp %s: expected 1..10000000", v);
-            o.spp = (int)n;
-        } else if (!strcmp(a, "--aov")) {
-            static const char *const names[] = {"combined", "direct", "indirect", "inscatter"};
-            if (!parse_choice(v, names, 4, &choice))
-                return bad(&err, "--aov %s: expected combined, direct, indirect or inscatter", v);
-            o.aov = (st_ref_aov)choice;
-        } else if (!strcmp(a, "--seed")) {
-            if (!parse_u64(v, &o.seed))
-                return bad(&err, "--seed %s: expected an unsigned integer", v);
-        } else if (!strcmp(a, "--size")) {
-            if (!st_parse_size(v, &width, &height))
-                return bad(&err, "--size %s: expected WxH, 1..16384 each", v);
-        } else if (!strcmp(a, "--bounces")) {
-            if (!st_parse_int(v, 0, 16, &n)) return bad(&err, "--bounces %s: expected 0..16", v);
-            o.bounces = (int)n;
-        } else if (!strcmp(a, "--bounce-visibility")) {
-            static const char *const names[] = {"on", "off"};
-            if (!parse_choice(v, names, 2, &choice))
-                return bad(&err, "--bounce-visibility %s: expected on or off", v);
-            o.no_visibility = choice == 1;
-        } else if (!strcmp(a, "--estimator")) {
-            static const char *const names[] = {"area", "thesis"};
-            if (!parse_choice(v, names, 2, &choice))
-                return bad(&err, "--estimator %s: expected area or thesis", v);
-            o.estimator = (st_ref_estimator)choice;
-        } else if (!strcmp(a, "--steps")) {
-            if (!st_parse_int(v, 1, 1000000, &n))
-                return bad(&err, "--steps %s: expected 1..1000000", v);
-            o.march_steps = (int)n;
-        } else if (!strcmp(a, "--filter")) {
-            static const char *const names[] = {"point", "box"};
-            if (!parse_choice(v, names, 2, &choice))
-                return bad(&err, "--filter %s: expected box or point", v);
-            filter = choice;
-        } else if (!strcmp(a, "--threads")) {
-            if (!st_parse_int(v, 1, 256, &n)) return bad(&err, "--threads %s: expected 1..256", v);
-            o.threads = (int)n;
-        } else if (!strcmp(a, "--set")) {
-            if (num_sets == MAX_SETS) return bad(&err, "%s: too many --set options", a);
-            sets[num_sets++] = argv[i];
-        } else {
-            return bad(&err, "%s: unknown option", a);
-        }
+        i++; // every option takes a value
+        if (!parse_option(r, a, v, err)) return false;
     }
-    if (!scene_path) return bad(&err, "%s", "missing SCENE.json");
-    if (!out_path) return bad(&err, "%s", "missing -o OUT.exr");
+    if (!r->scene_path) return bad(err, "%s", "missing SCENE.json");
+    if (!r->out_path) return bad(err, "%s", "missing -o OUT.exr");
     static const char *const exts[] = {"exr", NULL};
-    const char *inputs[] = {scene_path, NULL};
-    if (!st_check_output("-o", out_path, exts, inputs, &err)) return st_report("reference", &err);
+    const char *inputs[] = {r->scene_path, NULL};
+    return st_check_output("-o", r->out_path, exts, inputs, err);
+}
 
+// The EXR with its header: spp, filter, seed and the config that shards
+// must share to merge. w0 x h0 is the scene's image size.
+static bool write_reference(const ref_args *r, const st_image *img, int w0, int h0, st_err *err) {
+    static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
+    const st_ref_options *o = &r->o;
+    st_exr_meta meta = {.spp = o->spp};
+    snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(o->filter));
+    snprintf(meta.seeds, sizeof meta.seeds, "%llu", (unsigned long long)o->seed);
+    // What the pixels depend on besides spp and seed (--set is not: the
+    // reference reads no module): shards merge only if this matches.
+    static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
+    snprintf(meta.config, sizeof meta.config,
+             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d filter=%s",
+             r->scene_path, w0, h0, aovs[o->aov], o->bounces, o->no_visibility ? "off" : "on",
+             o->estimator == ST_REF_EST_THESIS ? "thesis" : "area",
+             o->march_steps > 0 ? o->march_steps : 256, meta.filter);
+    return st_image_write_exr_meta(r->out_path, img, names, &meta, err);
+}
+
+int st_cmd_reference(int argc, char **argv) {
+    ref_args r = {.filter = -1, .o = {.spp = 64, .bounces = 1}};
+    st_err err = {0};
+    bool help;
+    if (!parse_args(&r, argc, argv, &help, &err)) return st_report("reference", &err);
+    if (help) return ST_EXIT_OK;
     st_scene scene;
     // --set is checked against the scene's modules like `render` does, so the
     // same command line serves both; the reference itself reads no module.
-    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
+    if (!st_load_scene_with(r.scene_path, r.sets, r.num_sets, r.width, r.height, &scene, &err))
         return st_report("reference", &err);
-    o.filter = filter >= 0 ? (st_pixel_filter)filter : scene.filter;
+    r.o.filter = r.filter >= 0 ? (st_pixel_filter)r.filter : scene.filter;
     st_image img;
     const int w0 = scene.width, h0 = scene.height;
     double t0 = st_now_ms();
     st_progress_bar bar;
     st_progress_begin(&bar, "reference", "rows", h0);
-    o.progress = on_rows;
-    o.progress_user = &bar;
-    bool ok = st_ref_render(&scene, &o, &img, &err);
+    r.o.progress = on_rows;
+    r.o.progress_user = &bar;
+    bool ok = st_ref_render(&scene, &r.o, &img, &err);
     double secs = (st_now_ms() - t0) / 1000.0;
     // On a terminal the bar ends here; otherwise the stdout line below is the summary.
     if (bar.tty) st_progress_end(&bar, ok ? h0 : 0, NULL);
     st_scene_free(&scene);
     if (!ok) return st_report("reference", &err);
-    static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
     size_t bad_px = st_image_count_nonfinite(&img);
     if (bad_px) {
         st_image_free(&img);
@@ -179,21 +226,10 @@ int st_cmd_reference(int argc, char **argv) {
                 bad_px);
         return st_report("reference", &err);
     }
-    st_exr_meta meta = {.spp = o.spp};
-    snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(o.filter));
-    snprintf(meta.seeds, sizeof meta.seeds, "%llu", (unsigned long long)o.seed);
-    // What the pixels depend on besides spp and seed (--set is not: the
-    // reference reads no module): shards merge only if this matches.
-    static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
-    snprintf(meta.config, sizeof meta.config,
-             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d filter=%s", scene_path,
-             w0, h0, aovs[o.aov], o.bounces, o.no_visibility ? "off" : "on",
-             o.estimator == ST_REF_EST_THESIS ? "thesis" : "area",
-             o.march_steps > 0 ? o.march_steps : 256, meta.filter);
-    ok = st_image_write_exr_meta(out_path, &img, names, &meta, &err);
+    ok = write_reference(&r, &img, w0, h0, &err);
     int w = img.width, h = img.height;
     st_image_free(&img);
     if (!ok) return st_report("reference", &err);
-    printf("strahl reference: %s (%dx%d, %d spp, %.2f s)\n", out_path, w, h, o.spp, secs);
+    printf("strahl reference: %s (%dx%d, %d spp, %.2f s)\n", r.out_path, w, h, r.o.spp, secs);
     return ST_EXIT_OK;
 }

@@ -139,153 +139,181 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
     print_memory(w, false);
 }
 
-int st_cmd_render(int argc, char **argv) {
-    const char *scene_path = NULL, *out = NULL;
+typedef struct render_args {
+    const char *scene_path, *out, *filter_arg;
     char *sets[MAX_SETS];
-    int num_sets = 0, width = 0, height = 0, stats = 0;
-    long frames = 1, warmup = -1, max_frames = 2000;
-    double max_seconds = 600;
-    bool frames_given = false;
-    const char *filter_arg = NULL;
-    double exposure = 0;
-    st_err err = {0};
+    int num_sets, width, height, stats; // stats: 0 off, 1 text, 2 JSON
+    long frames, warmup, max_frames;
+    double max_seconds, exposure;
+    bool frames_given;
+} render_args;
+
+// Options with a checked value; *known says whether `a` is one of them.
+static bool parse_value(render_args *r, const char *a, const char *v, bool *known, st_err *err) {
+    char *e;
+    *known = true;
+    if (!strcmp(a, "-o")) {
+        r->out = v;
+    } else if (!strcmp(a, "--set")) {
+        if (r->num_sets == MAX_SETS) return st_fail(err, ST_ERR_INPUT, "too many --set");
+        r->sets[r->num_sets++] = (char *)v;
+    } else if (!strcmp(a, "--size")) {
+        if (!st_parse_size(v, &r->width, &r->height))
+            return st_fail(err, ST_ERR_INPUT, "--size %s: expected WxH, 1..16384 each", v);
+    } else if (!strcmp(a, "--frames")) {
+        if (!st_parse_int(v, 1, 100000, &r->frames))
+            return st_fail(err, ST_ERR_INPUT, "--frames %s: expected 1..100000", v);
+        r->frames_given = true;
+    } else if (!strcmp(a, "--filter")) {
+        st_pixel_filter f;
+        if (!st_filter_parse(v, &f))
+            return st_fail(err, ST_ERR_INPUT, "--filter %s: expected box or point", v);
+        r->filter_arg = v;
+    } else if (!strcmp(a, "--max-frames")) {
+        if (!st_parse_int(v, 1, 100000, &r->max_frames))
+            return st_fail(err, ST_ERR_INPUT, "--max-frames %s: expected 1..100000", v);
+    } else if (!strcmp(a, "--max-seconds")) {
+        r->max_seconds = strtod(v, &e);
+        if (*e || !isfinite(r->max_seconds) || r->max_seconds <= 0 || r->max_seconds > 1e6)
+            return st_fail(err, ST_ERR_INPUT, "--max-seconds %s: expected a number in (0, 1e6]", v);
+    } else if (!strcmp(a, "--warmup")) {
+        if (!st_parse_int(v, 0, 100000, &r->warmup))
+            return st_fail(err, ST_ERR_INPUT, "--warmup %s: expected 0..100000", v);
+    } else if (!strcmp(a, "--exposure")) {
+        r->exposure = strtod(v, &e);
+        if (*e || !isfinite(r->exposure) || fabs(r->exposure) > 64)
+            return st_fail(err, ST_ERR_INPUT,
+                           "--exposure %s: expected a number of stops in [-64, 64]", v);
+    } else {
+        *known = false;
+    }
+    return true;
+}
+
+// Fills r from argv and settles frames and warm-up; *help: -h was given
+// (the text is printed).
+static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err *err) {
+    *help = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        bool has_next = i + 1 < argc;
+        bool known = false;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             fputs(help_text, stdout);
-            return ST_EXIT_OK;
-        } else if (!strcmp(a, "-o") && has_next) {
-            out = argv[++i];
-        } else if (!strcmp(a, "--set") && has_next) {
-            if (num_sets == MAX_SETS)
-                return st_fail(&err, ST_ERR_INPUT, "too many --set"), st_report("render", &err);
-            sets[num_sets++] = argv[++i];
-        } else if (!strcmp(a, "--size") && has_next) {
-            if (!st_parse_size(argv[++i], &width, &height))
-                return st_fail(&err, ST_ERR_INPUT, "--size %s: expected WxH, 1..16384 each",
-                               argv[i]),
-                       st_report("render", &err);
-        } else if (!strcmp(a, "--frames") && has_next) {
-            if (!st_parse_int(argv[++i], 1, 100000, &frames))
-                return st_fail(&err, ST_ERR_INPUT, "--frames %s: expected 1..100000", argv[i]),
-                       st_report("render", &err);
-            frames_given = true;
-        } else if (!strcmp(a, "--filter") && has_next) {
-            st_pixel_filter f;
-            if (!st_filter_parse(argv[++i], &f))
-                return st_fail(&err, ST_ERR_INPUT, "--filter %s: expected box or point", argv[i]),
-                       st_report("render", &err);
-            filter_arg = argv[i];
-        } else if (!strcmp(a, "--max-frames") && has_next) {
-            if (!st_parse_int(argv[++i], 1, 100000, &max_frames))
-                return st_fail(&err, ST_ERR_INPUT, "--max-frames %s: expected 1..100000", argv[i]),
-                       st_report("render", &err);
-        } else if (!strcmp(a, "--max-seconds") && has_next) {
-            char *e;
-            max_seconds = strtod(argv[++i], &e);
-            if (*e || !isfinite(max_seconds) || max_seconds <= 0 || max_seconds > 1e6)
-                return st_fail(&err, ST_ERR_INPUT,
-                               "--max-seconds %s: expected a number in (0, 1e6]", argv[i]),
-                       st_report("render", &err);
-        } else if (!strcmp(a, "--warmup") && has_next) {
-            if (!st_parse_int(argv[++i], 0, 100000, &warmup))
-                return st_fail(&err, ST_ERR_INPUT, "--warmup %s: expected 0..100000", argv[i]),
-                       st_report("render", &err);
-        } else if (!strcmp(a, "--exposure") && has_next) {
-            char *e;
-            exposure = strtod(argv[++i], &e);
-            if (*e || !isfinite(exposure) || fabs(exposure) > 64)
-                return st_fail(&err, ST_ERR_INPUT,
-                               "--exposure %s: expected a number of stops in [-64, 64]", argv[i]),
-                       st_report("render", &err);
+            *help = true;
+            return true;
+        } else if (i + 1 < argc && !parse_value(r, a, argv[i + 1], &known, err)) {
+            return false;
+        } else if (known) {
+            i++;
         } else if (!strcmp(a, "--stats")) {
-            stats = 1;
+            r->stats = 1;
         } else if (!strcmp(a, "--stats=json")) {
-            stats = 2;
+            r->stats = 2;
         } else if (st_cmd_scene_option(a)) {
-        } else if (a[0] == '-' || scene_path) {
-            return st_fail(&err, ST_ERR_INPUT, "unexpected argument '%s'", a),
-                   st_report("render", &err);
+        } else if (a[0] == '-' || r->scene_path) {
+            return st_fail(err, ST_ERR_INPUT, "unexpected argument '%s'", a);
         } else {
-            scene_path = a;
+            r->scene_path = a;
         }
     }
-    if (!scene_path || !out)
-        return st_fail(&err, ST_ERR_INPUT,
-                       "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)"),
-               st_report("render", &err);
+    if (!r->scene_path || !r->out)
+        return st_fail(err, ST_ERR_INPUT,
+                       "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)");
     static const char *const exts[] = {"exr", "png", NULL};
-    const char *inputs[] = {scene_path, NULL};
-    if (!st_check_output("-o", out, exts, inputs, &err)) return st_report("render", &err);
+    const char *inputs[] = {r->scene_path, NULL};
+    if (!st_check_output("-o", r->out, exts, inputs, err)) return false;
     // Without --frames a still image is a converged one: frames run until
     // every progressive module reports convergence (or a cap is reached).
-    bool until_converged = !frames_given;
-    if (until_converged) frames = max_frames;
-    if (warmup < 0) warmup = frames > 1 && !until_converged ? 1 : 0;
-    if (warmup >= frames) warmup = frames - 1;
+    if (!r->frames_given) r->frames = r->max_frames;
+    if (r->warmup < 0) r->warmup = r->frames > 1 && r->frames_given ? 1 : 0;
+    if (r->warmup >= r->frames) r->warmup = r->frames - 1;
+    return true;
+}
 
-    st_scene scene = {0};
-    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err))
-        return st_report("render", &err);
-    if (filter_arg) st_filter_parse(filter_arg, &scene.filter);
-    int rc = ST_EXIT_OK;
-    st_context *ctx = st_context_create_headless(&err);
-    st_world *w = NULL;
-    float *frame_ms = calloc((size_t)frames, sizeof *frame_ms);
-    st_image img = {0};
-    if (!ctx || !frame_ms) goto fail;
-    st_world_opts opts = {.timing = stats != 0, .filter = scene.filter};
-    // --frames N: the box filter's mean of exactly N frames.
-    if (frames_given) opts.filter_max_frames = (int)frames, opts.filter_tolerance = -1;
-    w = st_world_create(&scene, &opts, &err);
-    if (!w) goto fail;
-    int timed = 0;
-    long ran = 0;
+// What the frames did: their times after the warm-up, how many ran, the
+// last progress report.
+typedef struct run_result {
+    float *frame_ms;
+    int timed;
+    long ran;
+    double total_ms;
+    st_progress prog;
+    bool has_prog;
+} run_result;
+
+// Runs the frames (until converged without --frames).
+static bool run_frames(const render_args *r, st_world *w, run_result *o, st_err *err) {
+    bool until_converged = !r->frames_given;
     double start = st_now_ms();
-    st_progress prog = {.converged = true};
-    bool has_prog = false;
-    for (long f = 0; f < frames; f++) {
-        if (f == warmup) st_world_reset_samples(w);
+    o->prog = (st_progress){.converged = true};
+    for (long f = 0; f < r->frames; f++) {
+        if (f == r->warmup) st_world_reset_samples(w);
         double t0 = st_now_ms();
-        if (!st_world_frame(w, &err)) goto fail;
+        if (!st_world_frame(w, err)) return false;
         glFinish();
-        if (f >= warmup) frame_ms[timed++] = (float)(st_now_ms() - t0);
-        ran++;
-        has_prog = st_world_progress(w, &prog);
+        if (f >= r->warmup) o->frame_ms[o->timed++] = (float)(st_now_ms() - t0);
+        o->ran++;
+        o->has_prog = st_world_progress(w, &o->prog);
         if (until_converged &&
-            (!has_prog || prog.converged || st_now_ms() - start > 1000 * max_seconds))
+            (!o->has_prog || o->prog.converged || st_now_ms() - start > 1000 * r->max_seconds))
             break;
     }
-    double total_ms = st_now_ms() - start;
-    if (!st_world_read(w, &img, &err)) goto fail;
-    size_t bad = st_image_count_nonfinite(&img);
-    if (bad) {
-        st_fail(&err, ST_ERR_RUNTIME,
-                "%zu non-finite values in the rendered image; nothing written", bad);
-        goto fail;
-    }
-    const char *dot = strrchr(out, '.');
+    o->total_ms = st_now_ms() - start;
+    return true;
+}
+
+// The image (EXR with the filter in its header, or PNG with the exposure);
+// nothing is written if a value is not finite.
+static bool write_image(const render_args *r, const st_image *img, st_pixel_filter filter,
+                        st_err *err) {
+    size_t bad = st_image_count_nonfinite(img);
+    if (bad)
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "%zu non-finite values in the rendered image; nothing written", bad);
+    const char *dot = strrchr(r->out, '.');
     static const char *const rgb[] = {"R", "G", "B"};
     st_exr_meta meta = {0}; // the EXR header records the pixel filter
-    snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(scene.filter));
-    if (!(strcasecmp(dot, ".exr") ? st_image_write(out, &img, (float)exposure, &err)
-                                  : st_image_write_exr_meta(out, &img, rgb, &meta, &err)))
-        goto fail;
-    if (stats)
-        print_stats(w, frame_ms, timed, stats == 2, has_prog ? &prog : NULL, ran, total_ms);
-    else if (has_prog)
+    snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(filter));
+    return strcasecmp(dot, ".exr") ? st_image_write(r->out, img, (float)r->exposure, err)
+                                   : st_image_write_exr_meta(r->out, img, rgb, &meta, err);
+}
+
+int st_cmd_render(int argc, char **argv) {
+    render_args r = {.frames = 1, .warmup = -1, .max_frames = 2000, .max_seconds = 600};
+    st_err err = {0};
+    bool help;
+    if (!parse_args(&r, argc, argv, &help, &err)) return st_report("render", &err);
+    if (help) return ST_EXIT_OK;
+    st_scene scene = {0};
+    if (!st_load_scene_with(r.scene_path, r.sets, r.num_sets, r.width, r.height, &scene, &err))
+        return st_report("render", &err);
+    if (r.filter_arg) st_filter_parse(r.filter_arg, &scene.filter);
+    st_context *ctx = st_context_create_headless(&err);
+    st_world *w = NULL;
+    run_result res = {.frame_ms = calloc((size_t)r.frames, sizeof *res.frame_ms)};
+    st_image img = {0};
+    bool ok = ctx && res.frame_ms;
+    if (ok) {
+        st_world_opts opts = {.timing = r.stats != 0, .filter = scene.filter};
+        // --frames N: the box filter's mean of exactly N frames.
+        if (r.frames_given) opts.filter_max_frames = (int)r.frames, opts.filter_tolerance = -1;
+        w = st_world_create(&scene, &opts, &err);
+    }
+    ok = ok && w && run_frames(&r, w, &res, &err) && st_world_read(w, &img, &err) &&
+         write_image(&r, &img, scene.filter, &err);
+    if (ok && r.stats)
+        print_stats(w, res.frame_ms, res.timed, r.stats == 2, res.has_prog ? &res.prog : NULL,
+                    res.ran, res.total_ms);
+    else if (ok && res.has_prog)
         printf("strahl render: %s after %ld frame(s), %.0f ms, estimated remaining relative error "
                "%.4g\n",
-               prog.converged ? "converged" : "not converged", ran, total_ms, prog.error);
-    goto done;
-fail:
-    rc = st_report("render", &err);
-done:
+               res.prog.converged ? "converged" : "not converged", res.ran, res.total_ms,
+               res.prog.error);
+    int rc = ok ? ST_EXIT_OK : st_report("render", &err);
     st_image_free(&img);
     st_world_destroy(w);
     st_context_destroy(ctx);
     st_scene_free(&scene);
-    free(frame_ms);
+    free(res.frame_ms);
     return rc;
 }

@@ -54,75 +54,143 @@ static void usable_window(int sw, int sh, int *ww, int *wh) {
     *wh = (int)fmax(1.0, sh * s + 0.5);
 }
 
-static int usage_error(const char *fmt, const char *arg) {
-    st_err err = {0};
-    st_fail(&err, ST_ERR_INPUT, fmt, arg);
-    return st_report("view", &err);
+typedef struct view_args {
+    const char *scene_path, *script, *shots;
+    char *sets[MAX_SETS];
+    int num_sets, width, height, win_w, win_h;
+    double exposure, ui_scale;
+    st_pixel_filter filter;
+    bool filter_given, hide_panel;
+} view_args;
+
+// Options with a checked value; *known says whether `a` is one of them.
+static bool parse_value(view_args *o, const char *a, const char *v, bool *known, st_err *err) {
+    char *e;
+    *known = true;
+    if (!strcmp(a, "--size")) {
+        if (!st_parse_size(v, &o->width, &o->height))
+            return st_fail(err, ST_ERR_INPUT, "--size %s: expected WxH, 1..16384 each", v);
+    } else if (!strcmp(a, "--window")) {
+        if (!st_parse_size(v, &o->win_w, &o->win_h))
+            return st_fail(err, ST_ERR_INPUT, "--window %s: expected WxH, 1..16384 each", v);
+    } else if (!strcmp(a, "--filter")) {
+        if (!st_filter_parse(v, &o->filter))
+            return st_fail(err, ST_ERR_INPUT, "--filter %s: expected box or point", v);
+        o->filter_given = true;
+    } else if (!strcmp(a, "--exposure")) {
+        o->exposure = strtod(v, &e);
+        if (*e || !isfinite(o->exposure) || fabs(o->exposure) > 64)
+            return st_fail(err, ST_ERR_INPUT,
+                           "--exposure %s: expected a number of stops in [-64, 64]", v);
+    } else if (!strcmp(a, "--ui-scale")) {
+        o->ui_scale = strtod(v, &e);
+        if (*e || !(o->ui_scale >= 0.5 && o->ui_scale <= 8))
+            return st_fail(err, ST_ERR_INPUT, "--ui-scale %s: expected 0.5..8", v);
+    } else if (!strcmp(a, "--script")) {
+        o->script = v;
+    } else if (!strcmp(a, "--shots")) {
+        o->shots = v;
+    } else if (!strcmp(a, "--set")) {
+        if (o->num_sets == MAX_SETS) return st_fail(err, ST_ERR_INPUT, "too many --set (max 64)");
+        o->sets[o->num_sets++] = (char *)v;
+    } else {
+        *known = false;
+    }
+    return true;
+}
+
+// Fills o from argv; *help: -h was given (the text is printed).
+static bool parse_args(view_args *o, int argc, char **argv, bool *help, st_err *err) {
+    *help = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool known = false;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(help_text, stdout);
+            *help = true;
+            return true;
+        } else if (i + 1 < argc && !parse_value(o, a, argv[i + 1], &known, err)) {
+            return false;
+        } else if (known) {
+            i++;
+        } else if (!strcmp(a, "--hide-panel")) {
+            o->hide_panel = true;
+        } else if (st_cmd_scene_option(a)) {
+        } else if (a[0] == '-' || o->scene_path) {
+            return st_fail(err, ST_ERR_INPUT,
+                           "unexpected argument '%s' (usage: strahl view SCENE.json [--script "
+                           "FILE] [--size WxH] "
+                           "[--window WxH] [--set MODULE.PARAM=VALUE]... [--exposure EV] "
+                           "[--ui-scale S] [--shots DIR] [--hide-panel])",
+                           a);
+        } else {
+            o->scene_path = a;
+        }
+    }
+    if (!o->scene_path)
+        return st_fail(err, ST_ERR_INPUT,
+                       "usage: strahl view SCENE.json [--script FILE] [options]");
+    return true;
+}
+
+// The window, the world and the viewer's state for the loaded scene.
+static bool open_view(view *v, const view_args *o, st_scene *scene, st_err *err) {
+    v->script = o->script != NULL;
+    // Scripts (tests) keep a window of the render size, so window pixels and
+    // screenshots correspond; an interactive session opens a usable window.
+    int win_w = o->win_w, win_h = o->win_h;
+    if (!win_w) {
+        if (v->script)
+            win_w = scene->width, win_h = scene->height;
+        else
+            usable_window(scene->width, scene->height, &win_w, &win_h);
+    }
+    v->render_w = scene->width, v->render_h = scene->height;
+    // --size fixes the render size in an interactive window (screenshots at
+    // that size, like strahl render); in a script the window has that size.
+    v->fixed_size = o->width > 0 && !v->script;
+    v->ctx = st_context_create_window(win_w, win_h, "strahl view", v->script ? 0 : 1, err);
+    if (!v->ctx) return false;
+    v->win = st_context_window(v->ctx);
+    int fw, fh;
+    glfwGetFramebufferSize(v->win, &fw, &fh);
+    st_world_opts opts = {.width = v->fixed_size ? v->render_w : fw,
+                          .height = v->fixed_size ? v->render_h : fh,
+                          .timing = true,
+                          .filter = o->filter_given ? o->filter : scene->filter};
+    v->scene = scene;
+    v->world = st_world_create(scene, &opts, err);
+    if (!v->world) return false;
+    v->gl.scale = (float)o->ui_scale;
+    if (!view_gl_init(&v->gl, err)) return false;
+    view_cam_init(&v->cam, &scene->camera);
+    v->cam_home = v->cam;
+    v->show_panel = !o->hide_panel;
+    v->show_stats = true;
+    v->exposure = (float)o->exposure;
+    v->drag_param = -1;
+    v->sel_param = -1;
+    snprintf(v->shot_dir, sizeof v->shot_dir, "%s", o->shots);
+    view_refresh_modules(v);
+    view_install_callbacks(v);
+    printf("strahl view: %s, window %dx%d, rendering %dx%d on %s; %d module(s) installed; press H "
+           "for help\n",
+           o->scene_path, fw, fh, opts.width, opts.height, st_context_renderer(), v->num_mods);
+    fflush(stdout);
+    return true;
 }
 
 int st_cmd_view(int argc, char **argv) {
-    const char *scene_path = NULL, *script = NULL, *shots = ".";
-    char *sets[MAX_SETS];
-    int num_sets = 0, width = 0, height = 0, win_w = 0, win_h = 0;
-    double exposure = 0, ui_scale = 1;
-    st_pixel_filter filter = ST_FILTER_BOX;
-    bool filter_given = false;
-    bool hide_panel = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool has_next = i + 1 < argc;
-        char *e;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            fputs(help_text, stdout);
-            return ST_EXIT_OK;
-        } else if (!strcmp(a, "--script") && has_next) {
-            script = argv[++i];
-        } else if (!strcmp(a, "--set") && has_next) {
-            if (num_sets == MAX_SETS) return usage_error("too many --set (max 64)%s", "");
-            sets[num_sets++] = argv[++i];
-        } else if (!strcmp(a, "--size") && has_next) {
-            if (!st_parse_size(argv[++i], &width, &height))
-                return usage_error("--size %s: expected WxH, 1..16384 each", argv[i]);
-        } else if (!strcmp(a, "--window") && has_next) {
-            if (!st_parse_size(argv[++i], &win_w, &win_h))
-                return usage_error("--window %s: expected WxH, 1..16384 each", argv[i]);
-        } else if (!strcmp(a, "--filter") && has_next) {
-            if (!st_filter_parse(argv[++i], &filter))
-                return usage_error("--filter %s: expected box or point", argv[i]);
-            filter_given = true;
-        } else if (!strcmp(a, "--exposure") && has_next) {
-            exposure = strtod(argv[++i], &e);
-            if (*e || !isfinite(exposure) || fabs(exposure) > 64)
-                return usage_error("--exposure %s: expected a number of stops in [-64, 64]",
-                                   argv[i]);
-        } else if (!strcmp(a, "--ui-scale") && has_next) {
-            ui_scale = strtod(argv[++i], &e);
-            if (*e || !(ui_scale >= 0.5 && ui_scale <= 8))
-                return usage_error("--ui-scale %s: expected 0.5..8", argv[i]);
-        } else if (!strcmp(a, "--shots") && has_next) {
-            shots = argv[++i];
-        } else if (!strcmp(a, "--hide-panel")) {
-            hide_panel = true;
-        } else if (st_cmd_scene_option(a)) {
-        } else if (a[0] == '-' || scene_path) {
-            return usage_error("unexpected argument '%s' (usage: strahl view SCENE.json [--script "
-                               "FILE] [--size WxH] "
-                               "[--window WxH] [--set MODULE.PARAM=VALUE]... [--exposure EV] "
-                               "[--ui-scale S] [--shots DIR] [--hide-panel])",
-                               a);
-        } else {
-            scene_path = a;
-        }
-    }
-    if (!scene_path)
-        return usage_error("usage: strahl view SCENE.json [--script FILE] [options]%s", "");
-
+    view_args o = {.shots = ".", .ui_scale = 1, .filter = ST_FILTER_BOX};
     st_err err = {0};
+    bool help;
+    if (!parse_args(&o, argc, argv, &help, &err)) return st_report("view", &err);
+    if (help) return ST_EXIT_OK;
     st_scene scene = {0};
     // The script is read (a regular file within the cap) before any window opens.
-    FILE *script_f = script ? st_fopen_input(script, ST_CAP_TEXT, "viewer script", &err) : NULL;
-    if (script && !script_f) return st_report("view", &err);
-    if (!st_load_scene_with(scene_path, sets, num_sets, width, height, &scene, &err)) {
+    FILE *script_f = o.script ? st_fopen_input(o.script, ST_CAP_TEXT, "viewer script", &err) : NULL;
+    if (o.script && !script_f) return st_report("view", &err);
+    if (!st_load_scene_with(o.scene_path, o.sets, o.num_sets, o.width, o.height, &scene, &err)) {
         if (script_f) fclose(script_f);
         return st_report("view", &err);
     }
@@ -133,60 +201,15 @@ int st_cmd_view(int argc, char **argv) {
         st_scene_free(&scene);
         return st_fail(&err, ST_ERR_RUNTIME, "out of memory"), st_report("view", &err);
     }
-    v->script = script != NULL;
-    // Scripts (tests) keep a window of the render size, so window pixels and
-    // screenshots correspond; an interactive session opens a usable window.
-    if (!win_w) {
-        if (v->script)
-            win_w = scene.width, win_h = scene.height;
-        else
-            usable_window(scene.width, scene.height, &win_w, &win_h);
-    }
-    v->render_w = scene.width, v->render_h = scene.height;
-    // --size fixes the render size in an interactive window (screenshots at
-    // that size, like strahl render); in a script the window has that size.
-    v->fixed_size = width > 0 && !v->script;
-    v->ctx = st_context_create_window(win_w, win_h, "strahl view", v->script ? 0 : 1, &err);
-    if (!v->ctx) goto fail;
-    v->win = st_context_window(v->ctx);
-    int fw, fh;
-    glfwGetFramebufferSize(v->win, &fw, &fh);
-    st_world_opts opts = {.width = v->fixed_size ? v->render_w : fw,
-                          .height = v->fixed_size ? v->render_h : fh,
-                          .timing = true,
-                          .filter = filter_given ? filter : scene.filter};
-    v->scene = &scene;
-    v->world = st_world_create(&scene, &opts, &err);
-    if (!v->world) goto fail;
-    v->gl.scale = (float)ui_scale;
-    if (!view_gl_init(&v->gl, &err)) goto fail;
-    view_cam_init(&v->cam, &scene.camera);
-    v->cam_home = v->cam;
-    v->show_panel = !hide_panel;
-    v->show_stats = true;
-    v->exposure = (float)exposure;
-    v->drag_param = -1;
-    v->sel_param = -1;
-    snprintf(v->shot_dir, sizeof v->shot_dir, "%s", shots);
-    view_refresh_modules(v);
-    view_install_callbacks(v);
-    printf("strahl view: %s, window %dx%d, rendering %dx%d on %s; %d module(s) installed; press H "
-           "for help\n",
-           scene_path, fw, fh, opts.width, opts.height, st_context_renderer(), v->num_mods);
-    fflush(stdout);
-
-    if (script) {
-        rc = view_run_script(v, script, script_f);
+    bool ok = open_view(v, &o, &scene, &err);
+    if (ok && o.script) {
+        rc = view_run_script(v, o.script, script_f);
         script_f = NULL; // closed by view_run_script
     } else {
-        while (!v->quit) {
-            if (!view_frame(v, &err)) goto fail;
-        }
+        while (ok && !v->quit)
+            ok = view_frame(v, &err);
     }
-    goto done;
-fail:
-    rc = st_report("view", &err);
-done:
+    if (!ok) rc = st_report("view", &err);
     if (script_f) fclose(script_f);
     if (v->world) st_world_destroy(v->world);
     if (v->ctx) view_gl_free(&v->gl);

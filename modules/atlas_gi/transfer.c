@@ -95,6 +95,103 @@ static bool thin(const tree_ctx *c, const uint32_t *perm, long b, long e, float 
     return hi - lo <= 0.2f * size;
 }
 
+// Splits node i at the median of its widest key axis, unless it is small
+// and flat enough for a leaf; children are appended at *count.
+static void split_node(transfer *t, const tree_ctx *c, int i, int *count, int *depth) {
+    tr_node *nd = &t->nodes[i];
+    long b = nd->begin, e = nd->end;
+    if (e - b < 2) return;
+    float lo[6], hi[6];
+    for (int a = 0; a < 6; a++)
+        lo[a] = INFINITY, hi[a] = -INFINITY;
+    for (long s = b; s < e; s++)
+        for (int a = 0; a < 6; a++) {
+            float v = key(c, t->perm[s], a);
+            lo[a] = fminf(lo[a], v), hi[a] = fmaxf(hi[a], v);
+        }
+    int axis = 0;
+    for (int a = 1; a < 6; a++)
+        if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+    // Small enough for a leaf, unless its texels face different ways
+    // (a leaf stands for one flat piece of surface).
+    float bend = 0;
+    for (int a = 3; a < 6; a++)
+        bend = fmaxf(bend, hi[a] - lo[a]);
+    // A leaf of several texels also stays small in the scene: where the
+    // atlas is coarse (a big scene, a small atlas) leaves keep one texel.
+    float size = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
+    bool small = e - b <= 1 || c->leaf_size <= 0 || size <= c->leaf_size;
+    if (e - b <= c->leaf && bend <= 0.3f * c->lambda && small && thin(c, t->perm, b, e, size))
+        return;
+    long mid = (b + e) / 2;
+    select_kth(c, t->perm, b, e, mid, axis);
+    int k = *count;
+    nd->child = k;
+    t->nodes[k] = (tr_node){.child = -1, .parent = i, .begin = (uint32_t)b, .end = (uint32_t)mid};
+    t->nodes[k + 1] =
+        (tr_node){.child = -1, .parent = i, .begin = (uint32_t)mid, .end = (uint32_t)e};
+    depth[k] = depth[k + 1] = depth[i] + 1;
+    *count = k + 2;
+}
+
+// A leaf's bounds: its texels' area-weighted centroid and mean normal, the
+// normal cone and radius; marks its texels' leaf.
+static void leaf_bounds(transfer *t, const texel *tx, int i) {
+    tr_node *nd = &t->nodes[i];
+    double a = 0, cc[3] = {0, 0, 0}, nn[3] = {0, 0, 0};
+    for (uint32_t s = nd->begin; s < nd->end; s++) {
+        const texel *x = &tx[t->perm[s]];
+        a += x->a;
+        for (int k = 0; k < 3; k++)
+            cc[k] += x->a * x->p[k], nn[k] += x->a * x->n[k];
+        t->texel_leaf[t->perm[s]] = i;
+    }
+    double nl = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+    for (int k = 0; k < 3; k++) {
+        nd->c[k] = (float)(a > 0 ? cc[k] / a : tx[t->perm[nd->begin]].p[k]);
+        nd->n[k] = (float)(nl > 0 ? nn[k] / nl : k == 1);
+    }
+    nd->area = (float)a;
+    nd->cone = nl > 1e-6 * a ? 0.0f : (float)TR_PI;
+    nd->rad = 0;
+    for (uint32_t s = nd->begin; s < nd->end; s++) {
+        const texel *x = &tx[t->perm[s]];
+        float d[3] = {x->p[0] - nd->c[0], x->p[1] - nd->c[1], x->p[2] - nd->c[2]};
+        nd->rad =
+            fmaxf(nd->rad, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 0.75f * sqrtf(x->a));
+        if (nd->cone < (float)TR_PI) nd->cone = fmaxf(nd->cone, angle_between(nd->n, x->n));
+    }
+}
+
+// An inner node's bounds from its two children's.
+static void inner_bounds(transfer *t, int i) {
+    tr_node *nd = &t->nodes[i];
+    const tr_node *k0 = &t->nodes[nd->child], *k1 = k0 + 1;
+    nd->area = k0->area + k1->area;
+    float w0 = nd->area > 0 ? k0->area / nd->area : 0.5f, w1 = 1 - w0, nl = 0;
+    for (int a = 0; a < 3; a++) {
+        nd->c[a] = w0 * k0->c[a] + w1 * k1->c[a];
+        nd->n[a] = k0->area * k0->n[a] + k1->area * k1->n[a];
+        nl += nd->n[a] * nd->n[a];
+    }
+    nl = sqrtf(nl);
+    if (nl > 1e-6f * nd->area && nd->area > 0) {
+        for (int a = 0; a < 3; a++)
+            nd->n[a] /= nl;
+        nd->cone = fminf((float)TR_PI, fmaxf(angle_between(nd->n, k0->n) + k0->cone,
+                                             angle_between(nd->n, k1->n) + k1->cone));
+    } else {
+        nd->n[0] = 0, nd->n[1] = 1, nd->n[2] = 0;
+        nd->cone = (float)TR_PI;
+    }
+    nd->rad = 0;
+    for (int k = 0; k < 2; k++) {
+        const tr_node *ch = k ? k1 : k0;
+        float d[3] = {ch->c[0] - nd->c[0], ch->c[1] - nd->c[1], ch->c[2] - nd->c[2]};
+        nd->rad = fmaxf(nd->rad, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + ch->rad);
+    }
+}
+
 static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, long leaf,
                        float leaf_size, st_err *err) {
     t->nodes = calloc(2 * (size_t)n, sizeof *t->nodes);
@@ -107,42 +204,8 @@ static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, l
     int count = 1;
     t->nodes[0] = (tr_node){.child = -1, .parent = -1, .begin = 0, .end = n};
     // Breadth first: children are appended, so levels come out contiguous.
-    for (int i = 0; i < count; i++) {
-        tr_node *nd = &t->nodes[i];
-        long b = nd->begin, e = nd->end;
-        if (e - b < 2) continue;
-        float lo[6], hi[6];
-        for (int a = 0; a < 6; a++)
-            lo[a] = INFINITY, hi[a] = -INFINITY;
-        for (long s = b; s < e; s++)
-            for (int a = 0; a < 6; a++) {
-                float v = key(&c, t->perm[s], a);
-                lo[a] = fminf(lo[a], v), hi[a] = fmaxf(hi[a], v);
-            }
-        int axis = 0;
-        for (int a = 1; a < 6; a++)
-            if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
-        // Small enough for a leaf, unless its texels face different ways
-        // (a leaf stands for one flat piece of surface).
-        float bend = 0;
-        for (int a = 3; a < 6; a++)
-            bend = fmaxf(bend, hi[a] - lo[a]);
-        // A leaf of several texels also stays small in the scene: where the
-        // atlas is coarse (a big scene, a small atlas) leaves keep one texel.
-        float size = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
-        bool small = e - b <= 1 || c.leaf_size <= 0 || size <= c.leaf_size;
-        if (e - b <= c.leaf && bend <= 0.3f * c.lambda && small && thin(&c, t->perm, b, e, size))
-            continue;
-        long mid = (b + e) / 2;
-        select_kth(&c, t->perm, b, e, mid, axis);
-        nd->child = count;
-        t->nodes[count] =
-            (tr_node){.child = -1, .parent = i, .begin = (uint32_t)b, .end = (uint32_t)mid};
-        t->nodes[count + 1] =
-            (tr_node){.child = -1, .parent = i, .begin = (uint32_t)mid, .end = (uint32_t)e};
-        depth[count] = depth[count + 1] = depth[i] + 1;
-        count += 2;
-    }
+    for (int i = 0; i < count; i++)
+        split_node(t, &c, i, &count, depth);
     t->num_nodes = count;
     t->num_levels = depth[count - 1] + 1;
     t->level_begin = calloc((size_t)t->num_levels + 1, sizeof *t->level_begin);
@@ -156,58 +219,10 @@ static bool build_tree(transfer *t, const texel *tx, uint32_t n, float extent, l
     free(depth);
     // Bounds bottom-up: centroid, area, normal cone, radius.
     for (int i = count - 1; i >= 0; i--) {
-        tr_node *nd = &t->nodes[i];
-        if (nd->child < 0) {
-            // A leaf: its texels' area-weighted centroid and mean normal.
-            double a = 0, cc[3] = {0, 0, 0}, nn[3] = {0, 0, 0};
-            for (uint32_t s = nd->begin; s < nd->end; s++) {
-                const texel *x = &tx[t->perm[s]];
-                a += x->a;
-                for (int k = 0; k < 3; k++)
-                    cc[k] += x->a * x->p[k], nn[k] += x->a * x->n[k];
-                t->texel_leaf[t->perm[s]] = i;
-            }
-            double nl = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-            for (int k = 0; k < 3; k++) {
-                nd->c[k] = (float)(a > 0 ? cc[k] / a : tx[t->perm[nd->begin]].p[k]);
-                nd->n[k] = (float)(nl > 0 ? nn[k] / nl : k == 1);
-            }
-            nd->area = (float)a;
-            nd->cone = nl > 1e-6 * a ? 0.0f : (float)TR_PI;
-            nd->rad = 0;
-            for (uint32_t s = nd->begin; s < nd->end; s++) {
-                const texel *x = &tx[t->perm[s]];
-                float d[3] = {x->p[0] - nd->c[0], x->p[1] - nd->c[1], x->p[2] - nd->c[2]};
-                nd->rad = fmaxf(nd->rad, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) +
-                                             0.75f * sqrtf(x->a));
-                if (nd->cone < (float)TR_PI) nd->cone = fmaxf(nd->cone, angle_between(nd->n, x->n));
-            }
-            continue;
-        }
-        const tr_node *k0 = &t->nodes[nd->child], *k1 = k0 + 1;
-        nd->area = k0->area + k1->area;
-        float w0 = nd->area > 0 ? k0->area / nd->area : 0.5f, w1 = 1 - w0, nl = 0;
-        for (int a = 0; a < 3; a++) {
-            nd->c[a] = w0 * k0->c[a] + w1 * k1->c[a];
-            nd->n[a] = k0->area * k0->n[a] + k1->area * k1->n[a];
-            nl += nd->n[a] * nd->n[a];
-        }
-        nl = sqrtf(nl);
-        if (nl > 1e-6f * nd->area && nd->area > 0) {
-            for (int a = 0; a < 3; a++)
-                nd->n[a] /= nl;
-            nd->cone = fminf((float)TR_PI, fmaxf(angle_between(nd->n, k0->n) + k0->cone,
-                                                 angle_between(nd->n, k1->n) + k1->cone));
-        } else {
-            nd->n[0] = 0, nd->n[1] = 1, nd->n[2] = 0;
-            nd->cone = (float)TR_PI;
-        }
-        nd->rad = 0;
-        for (int k = 0; k < 2; k++) {
-            const tr_node *ch = k ? k1 : k0;
-            float d[3] = {ch->c[0] - nd->c[0], ch->c[1] - nd->c[1], ch->c[2] - nd->c[2]};
-            nd->rad = fmaxf(nd->rad, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + ch->rad);
-        }
+        if (t->nodes[i].child < 0)
+            leaf_bounds(t, tx, i);
+        else
+            inner_bounds(t, i);
     }
     return true;
 }
@@ -597,13 +612,10 @@ static bool make_scene(ctx *c, RTCDevice dev, const float *tris, uint32_t n, st_
     return true;
 }
 
-bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nrm,
-                    const float *tris, uint32_t num_tris, const tr_opts *o, st_err *err) {
-    memset(t, 0, sizeof *t);
-    double c0 = cpu_seconds();
-    double t0 = st_now_ms();
-    t->W = W, t->H = H;
-    size_t cells = (size_t)W * H;
+// The texels with area, from the G-buffer's positions and normals (indexed
+// by atlas texel); allocates t->perm and t->texel_leaf (-1 everywhere).
+static texel *load_texels(transfer *t, const float *pos, const float *nrm, st_err *err) {
+    size_t cells = (size_t)t->W * t->H;
     uint32_t n = 0;
     for (size_t i = 0; i < cells; i++)
         n += pos[4 * i + 3] > 0;
@@ -612,7 +624,8 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     t->texel_leaf = malloc(cells * sizeof *t->texel_leaf);
     if (!tx || !t->perm || !t->texel_leaf) {
         free(tx);
-        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for a %dx%d atlas", W, H);
+        st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for a %dx%d atlas", t->W, t->H);
+        return NULL;
     }
     for (size_t i = 0; i < cells; i++) {
         t->texel_leaf[i] = -1;
@@ -622,6 +635,158 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
             x->p[a] = pos[4 * i + a], x->n[a] = nrm[4 * i + a];
         x->a = pos[4 * i + 3];
     }
+    return tx;
+}
+
+// The texels that take part, in t->perm: sealed ones (borrow -1) are left
+// out, buried ones counted. Returns their number; *extent is their size.
+static uint32_t collect_slots(transfer *t, const texel *tx, const long *borrow, float *extent) {
+    size_t cells = (size_t)t->W * t->H;
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    uint32_t k = 0;
+    for (size_t i = 0; i < cells; i++) {
+        if (!(tx[i].a > 0)) continue;
+        if (borrow && borrow[i] == -1) {
+            t->sealed++;
+            continue;
+        }
+        if (borrow && borrow[i] >= 0) t->buried++;
+        for (int a = 0; a < 3; a++)
+            lo[a] = fminf(lo[a], tx[i].p[a]), hi[a] = fmaxf(hi[a], tx[i].p[a]);
+        t->perm[k++] = (uint32_t)i;
+    }
+    *extent = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
+    return k;
+}
+
+// What the refinement reads: the texels in slot order (buried ones at their
+// borrowed position and normal) and per node its normal cone's cos and sin
+// and whether its texels lie on more than one layer.
+static bool prepare_links(ctx *c, const texel *tx, const long *borrow, uint32_t n, texel **ts_out,
+                          st_err *err) {
+    const transfer *t = c->t;
+    texel *ts = malloc((size_t)n * sizeof *ts);
+    *ts_out = ts;
+    c->cone_cs = malloc(2 * (size_t)t->num_nodes * sizeof *c->cone_cs);
+    if (!ts || !c->cone_cs)
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t id = t->perm[i];
+        ts[i] = tx[id];
+        if (borrow && borrow[id] >= 0)
+            for (int a = 0; a < 3; a++)
+                ts[i].p[a] = tx[borrow[id]].p[a], ts[i].n[a] = tx[borrow[id]].n[a];
+    }
+    c->ts = ts;
+    c->layered = malloc((size_t)t->num_nodes);
+    if (!c->layered) return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    tree_ctx tc = {.tx = tx, .perm = t->perm};
+    for (int i = 0; i < t->num_nodes; i++) {
+        const tr_node *nd = &t->nodes[i];
+        c->cone_cs[2 * i] = cosf(nd->cone), c->cone_cs[2 * i + 1] = sinf(nd->cone);
+        c->layered[i] = !thin(&tc, t->perm, nd->begin, nd->end, 2 * nd->rad);
+    }
+    return true;
+}
+
+// The refinement: the top of the tree serially, then its tasks on `threads`
+// threads, each into its own link buffer wa[i].lb.
+static void run_refine(ctx *c, worker_arg *wa, int threads) {
+    for (int i = 0; i < threads; i++)
+        wa[i].c = c;
+    int root = 0;
+    refine(c, 0, &root, 1, 0, true, &wa[0].lb);
+    pthread_t th[64];
+    int started = 0;
+    for (int i = 1; i < threads && !c->oom; i++)
+        if (!pthread_create(&th[started], NULL, worker, &wa[i])) started++;
+    worker(&wa[0]);
+    for (int i = 0; i < started; i++)
+        pthread_join(th[i], NULL);
+}
+
+// Gathers every thread's links grouped by receiver: a counting sort. A
+// receiver's links all come from one task (or the serial top), in an order
+// that does not depend on the thread schedule.
+static bool gather_links(transfer *t, const worker_arg *wa, int threads, bool oom, st_err *err) {
+    size_t total = 0;
+    for (int i = 0; i < threads; i++) {
+        total += wa[i].lb.n;
+        t->rays += wa[i].lb.rays;
+        if (wa[i].lb.oom) oom = true;
+    }
+    if (oom) return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for the links");
+    t->link_off = calloc((size_t)t->num_nodes + 1, sizeof *t->link_off);
+    t->link_node = malloc((total ? total : 1) * sizeof *t->link_node);
+    t->link_w = malloc((total ? total : 1) * sizeof *t->link_w);
+    if (!t->link_off || !t->link_node || !t->link_w)
+        return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
+    uint32_t *cur = malloc(((size_t)t->num_nodes + 1) * sizeof *cur);
+    if (!cur) return st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    for (int i = 0; i < threads; i++)
+        for (size_t k = 0; k < wa[i].lb.n; k++)
+            t->link_off[wa[i].lb.v[k].r + 1]++;
+    for (int i = 0; i < t->num_nodes; i++)
+        t->link_off[i + 1] += t->link_off[i];
+    memcpy(cur, t->link_off, ((size_t)t->num_nodes + 1) * sizeof *cur);
+    for (int i = 0; i < threads; i++)
+        for (size_t k = 0; k < wa[i].lb.n; k++) {
+            const tr_link *l = &wa[i].lb.v[k];
+            uint32_t at = cur[l->r]++;
+            t->link_node[at] = l->s;
+            t->link_w[at] = l->w;
+        }
+    free(cur);
+    t->num_links = total;
+    return true;
+}
+
+static void release_ctx(ctx *c, RTCDevice dev) {
+    for (int i = 0; i < c->num_tasks; i++)
+        free(c->tasks[i].cand);
+    free(c->tasks);
+    pthread_mutex_destroy(&c->lock);
+    if (c->scene) rtcReleaseScene(c->scene);
+    if (dev) rtcReleaseDevice(dev);
+    free(c->cone_cs);
+    free(c->layered);
+}
+
+// Tree and links over the n texels in t->perm (the precompute's main part).
+static bool build_links(transfer *t, ctx *c, texel *tx, const long *borrow, uint32_t n,
+                        float extent, st_err *err) {
+    const tr_opts *o = c->o;
+    long leaf = o->max_leaves > 0 ? ((long)n + o->max_leaves - 1) / o->max_leaves : 1;
+    bool ok = build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, (float)o->leaf_size, err);
+    t->leaf_texels = 1;
+    for (int i = 0; i < t->num_nodes; i++)
+        if (t->nodes[i].child < 0 && (int)(t->nodes[i].end - t->nodes[i].begin) > t->leaf_texels)
+            t->leaf_texels = (int)(t->nodes[i].end - t->nodes[i].begin);
+    texel *ts = NULL;
+    ok = ok && prepare_links(c, tx, borrow, n, &ts, err);
+    int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
+    if (threads < 1) threads = 1;
+    if (threads > 64) threads = 64;
+    t->threads = threads;
+    worker_arg *wa = calloc((size_t)threads, sizeof *wa);
+    if (ok && !wa) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
+    if (ok) run_refine(c, wa, threads);
+    free(ts);
+    ok = ok && gather_links(t, wa, threads, c->oom, err);
+    for (int i = 0; i < threads && wa; i++)
+        free(wa[i].lb.v);
+    free(wa);
+    return ok;
+}
+
+bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nrm,
+                    const float *tris, uint32_t num_tris, const tr_opts *o, st_err *err) {
+    memset(t, 0, sizeof *t);
+    double c0 = cpu_seconds();
+    double t0 = st_now_ms();
+    t->W = W, t->H = H;
+    texel *tx = load_texels(t, pos, nrm, err);
+    if (!tx) return false;
     ctx c = {.t = t, .tx = tx, .o = o};
     pthread_mutex_init(&c.lock, NULL);
     char cfg[32];
@@ -638,133 +803,16 @@ bool transfer_build(transfer *t, int W, int H, const float *pos, const float *nr
     long *borrow = ok && o->visibility ? find_buried(&c, tris, tx, W, H) : NULL;
     if (ok && o->visibility && !borrow)
         ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    uint32_t k = 0;
-    for (size_t i = 0; ok && i < cells; i++) {
-        if (!(tx[i].a > 0)) continue;
-        if (borrow && borrow[i] == -1) {
-            t->sealed++;
-            continue;
-        }
-        if (borrow && borrow[i] >= 0) t->buried++;
-        for (int a = 0; a < 3; a++)
-            lo[a] = fminf(lo[a], tx[i].p[a]), hi[a] = fmaxf(hi[a], tx[i].p[a]);
-        t->perm[k++] = (uint32_t)i;
-    }
-    n = k;
-    if (!ok || !n) {
-        free(borrow);
-        free(tx);
-        pthread_mutex_destroy(&c.lock);
-        if (c.scene) rtcReleaseScene(c.scene);
-        if (dev) rtcReleaseDevice(dev);
-        t->seconds = (st_now_ms() - t0) / 1000;
-        return ok;
-    }
-    float extent = fmaxf(hi[0] - lo[0], fmaxf(hi[1] - lo[1], hi[2] - lo[2]));
-    long leaf = o->max_leaves > 0 ? ((long)n + o->max_leaves - 1) / o->max_leaves : 1;
-    if (!build_tree(t, tx, n, extent > 0 ? extent : 1, leaf, (float)o->leaf_size, err)) {
-        ok = false;
-        n = 0;
-    }
-    t->leaf_texels = 1;
-    for (int i = 0; i < t->num_nodes; i++)
-        if (t->nodes[i].child < 0 && (int)(t->nodes[i].end - t->nodes[i].begin) > t->leaf_texels)
-            t->leaf_texels = (int)(t->nodes[i].end - t->nodes[i].begin);
-    // Links, from the texels in slot order, buried ones at their borrowed
-    // position and normal.
-    texel *ts = ok ? malloc((size_t)n * sizeof *ts) : NULL;
-    c.cone_cs = ok ? malloc(2 * (size_t)t->num_nodes * sizeof *c.cone_cs) : NULL;
-    if (ok && (!ts || !c.cone_cs))
-        ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %u texels", n);
-    for (uint32_t i = 0; ok && i < n; i++) {
-        uint32_t id = t->perm[i];
-        ts[i] = tx[id];
-        if (borrow && borrow[id] >= 0)
-            for (int a = 0; a < 3; a++)
-                ts[i].p[a] = tx[borrow[id]].p[a], ts[i].n[a] = tx[borrow[id]].n[a];
-    }
+    float extent = 0;
+    uint32_t n = ok ? collect_slots(t, tx, borrow, &extent) : 0;
+    if (ok && n) ok = build_links(t, &c, tx, borrow, n, extent, err);
+    bool some = n > 0;
     free(borrow);
-    c.ts = ts;
-    c.layered = ok ? malloc((size_t)t->num_nodes) : NULL;
-    if (ok && !c.layered) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
-    tree_ctx tc = {.tx = tx, .perm = t->perm};
-    for (int i = 0; ok && i < t->num_nodes; i++) {
-        const tr_node *nd = &t->nodes[i];
-        c.cone_cs[2 * i] = cosf(nd->cone), c.cone_cs[2 * i + 1] = sinf(nd->cone);
-        c.layered[i] = !thin(&tc, t->perm, nd->begin, nd->end, 2 * nd->rad);
-    }
-    int threads = o->threads > 0 ? o->threads : (int)sysconf(_SC_NPROCESSORS_ONLN);
-    if (threads < 1) threads = 1;
-    if (threads > 64) threads = 64;
-    t->threads = threads;
-    worker_arg *wa = calloc((size_t)threads, sizeof *wa);
-    if (ok && !wa) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
-    if (ok) {
-        for (int i = 0; i < threads; i++)
-            wa[i].c = &c;
-        int root = 0;
-        refine(&c, 0, &root, 1, 0, true, &wa[0].lb); // the top of the tree serially, then tasks
-        pthread_t th[64];
-        int started = 0;
-        for (int i = 1; i < threads && !c.oom; i++)
-            if (!pthread_create(&th[started], NULL, worker, &wa[i])) started++;
-        worker(&wa[0]);
-        for (int i = 0; i < started; i++)
-            pthread_join(th[i], NULL);
-    }
-    for (int i = 0; i < c.num_tasks; i++)
-        free(c.tasks[i].cand);
-    free(c.tasks);
-    pthread_mutex_destroy(&c.lock);
-    if (c.scene) rtcReleaseScene(c.scene);
-    if (dev) rtcReleaseDevice(dev);
+    release_ctx(&c, dev);
     free(tx);
-    free(ts);
-    free(c.cone_cs);
-    free(c.layered);
-    // Gather every thread's links grouped by receiver: a counting sort. A
-    // receiver's links all come from one task (or the serial top), in an
-    // order that does not depend on the thread schedule.
-    size_t total = 0;
-    for (int i = 0; ok && i < threads; i++) {
-        total += wa[i].lb.n;
-        t->rays += wa[i].lb.rays;
-        if (wa[i].lb.oom) c.oom = true;
-    }
-    if (ok && c.oom) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for the links");
-    if (ok) {
-        t->link_off = calloc((size_t)t->num_nodes + 1, sizeof *t->link_off);
-        t->link_node = malloc((total ? total : 1) * sizeof *t->link_node);
-        t->link_w = malloc((total ? total : 1) * sizeof *t->link_w);
-        if (!t->link_off || !t->link_node || !t->link_w)
-            ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory for %zu links", total);
-    }
-    uint32_t *cur = ok ? malloc(((size_t)t->num_nodes + 1) * sizeof *cur) : NULL;
-    if (ok && !cur) ok = st_fail(err, ST_ERR_RUNTIME, "transfer: out of memory");
-    if (ok) {
-        for (int i = 0; i < threads; i++)
-            for (size_t k = 0; k < wa[i].lb.n; k++)
-                t->link_off[wa[i].lb.v[k].r + 1]++;
-        for (int i = 0; i < t->num_nodes; i++)
-            t->link_off[i + 1] += t->link_off[i];
-        memcpy(cur, t->link_off, ((size_t)t->num_nodes + 1) * sizeof *cur);
-        for (int i = 0; i < threads; i++)
-            for (size_t k = 0; k < wa[i].lb.n; k++) {
-                const tr_link *l = &wa[i].lb.v[k];
-                uint32_t at = cur[l->r]++;
-                t->link_node[at] = l->s;
-                t->link_w[at] = l->w;
-            }
-    }
-    free(cur);
-    for (int i = 0; i < threads && wa; i++)
-        free(wa[i].lb.v);
-    free(wa);
     if (!ok) return false;
-    t->num_links = total;
     t->seconds = (st_now_ms() - t0) / 1000;
-    t->cpu_seconds = cpu_seconds() - c0;
+    if (some) t->cpu_seconds = cpu_seconds() - c0;
     return true;
 }
 

@@ -134,53 +134,27 @@ static GLuint buffer(size_t bytes, const void *data, long long *mem) {
     return b;
 }
 
-bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
-    tr_gpu_release(g);
+// The push walks from a texel's leaf up to the root; nodes without links
+// add nothing, so the walk visits only those with links: per node its
+// nearest proper ancestor with links (nodes are breadth first, parents
+// before children), per texel the first node with links on its chain
+// (-1: a gutter, -2: a surface texel that no link reaches).
+static void linked_ancestors(const transfer *t, int32_t *up, int32_t *first) {
+    for (int i = 0; i < t->num_nodes; i++) {
+        int p = t->nodes[i].parent;
+        up[i] = p < 0 ? -1 : t->link_off[p + 1] > t->link_off[p] ? p : up[p];
+    }
+    for (size_t j = 0; j < (size_t)t->W * t->H; j++) {
+        int l = t->texel_leaf[j];
+        first[j] = l < 0 ? -1 : t->link_off[l + 1] > t->link_off[l] ? l : up[l] >= 0 ? up[l] : -2;
+    }
+}
+
+// Per node its 16 floats (centroid, area; child, slots, linked ancestor;
+// tangents) and first chunk; per chunk its links and receiver.
+static void pack_nodes(const transfer *t, const int32_t *up, float *nodes, uint32_t *choff,
+                       uint32_t *links, uint32_t *recv) {
     int nn = t->num_nodes;
-    // Chunks: each receiver's links in pieces of exactly TRG_CHUNK, the last
-    // one padded with links of weight 0, and whole workgroups of chunks: the
-    // link shader runs no divergent loop and no early return.
-    uint64_t nch = 0;
-    for (int i = 0; i < nn; i++)
-        nch += (t->link_off[i + 1] - t->link_off[i] + TRG_CHUNK - 1) / TRG_CHUNK;
-    nch = (nch + 63) / 64 * 64;
-    uint64_t nslots = nch * TRG_CHUNK;
-    GLint max_tbo = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
-    if (nch * 4 > (uint64_t)max_tbo || nslots > (uint64_t)max_tbo ||
-        (uint64_t)nn * 4 > (uint64_t)max_tbo || nn >= (1 << 24))
-        return st_fail(err, ST_ERR_RUNTIME,
-                       "atlas_gi: %llu links in %d nodes exceed the GPU's texture buffer limit (%d "
-                       "texels); use a smaller transfer_leaves or a larger transfer_eps",
-                       (unsigned long long)t->num_links, nn, max_tbo);
-    // The push walks from a texel's leaf up to the root; nodes without links
-    // add nothing, so the walk visits only those with links: per node its
-    // nearest proper ancestor with links (nodes are breadth first, parents
-    // before children), per texel the first node with links on its chain
-    // (-1: a gutter, -2: a surface texel that no link reaches).
-    int32_t *up = malloc((size_t)(nn ? nn : 1) * sizeof *up);
-    int32_t *first = malloc((size_t)t->W * t->H * sizeof *first);
-    if (up && first) {
-        for (int i = 0; i < nn; i++) {
-            int p = t->nodes[i].parent;
-            up[i] = p < 0 ? -1 : t->link_off[p + 1] > t->link_off[p] ? p : up[p];
-        }
-        for (size_t j = 0; j < (size_t)t->W * t->H; j++) {
-            int l = t->texel_leaf[j];
-            first[j] = l < 0                                 ? -1
-                       : t->link_off[l + 1] > t->link_off[l] ? l
-                       : up[l] >= 0                          ? up[l]
-                                                             : -2;
-        }
-    }
-    float *nodes = calloc((size_t)(nn ? nn : 1) * 16, sizeof *nodes);
-    uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
-    uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
-    uint32_t *recv = calloc((size_t)(nch ? nch : 1), sizeof *recv);
-    if (!up || !first || !nodes || !choff || !links || !recv) {
-        free(up), free(first), free(nodes), free(choff), free(links), free(recv);
-        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
-    }
     uint64_t c = 0;
     for (int i = 0; i < nn; i++) {
         const tr_node *n = &t->nodes[i];
@@ -201,6 +175,13 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
             recv[c++] = (uint32_t)i;
     }
     choff[nn] = (uint32_t)c;
+}
+
+// The buffers and their buffer-texture views.
+static void create_buffers(tr_gpu *g, const transfer *t, const float *nodes, const uint32_t *choff,
+                           const uint32_t *links, const uint32_t *recv, uint64_t nch) {
+    int nn = t->num_nodes;
+    uint64_t nslots = nch * TRG_CHUNK;
     uint32_t nperm = nn ? t->nodes[0].end : 0;
     long long *m = g->mem;
     g->buf[TRG_NODES] = buffer((size_t)nn * 16 * sizeof(float), nodes, &m[TRG_MEM_NODES]);
@@ -211,7 +192,6 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
     g->buf[TRG_CHRECV] = buffer(nch * sizeof(uint32_t), recv, &m[TRG_MEM_LINKS]);
     g->buf[TRG_PERM] = buffer(nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM]);
     g->buf[TRG_PARTIAL] = buffer(nch * 12 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
-    free(nodes), free(choff), free(links), free(recv);
     static const GLenum fmt[TRG_COUNT] = {GL_RGBA32F,  GL_RGBA32F, GL_RGBA32F, GL_R32UI,
                                           GL_RGBA32UI, GL_R32UI,   GL_RGBA32F, GL_R32UI};
     glCreateTextures(GL_TEXTURE_BUFFER, TRG_COUNT, g->tex);
@@ -219,6 +199,41 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
         glTextureBuffer(g->tex[i], fmt[i], g->buf[i]);
     glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->nodes_itex);
     glTextureBuffer(g->nodes_itex, GL_RGBA32I, g->buf[TRG_NODES]);
+}
+
+bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
+    tr_gpu_release(g);
+    int nn = t->num_nodes;
+    // Chunks: each receiver's links in pieces of exactly TRG_CHUNK, the last
+    // one padded with links of weight 0, and whole workgroups of chunks: the
+    // link shader runs no divergent loop and no early return.
+    uint64_t nch = 0;
+    for (int i = 0; i < nn; i++)
+        nch += (t->link_off[i + 1] - t->link_off[i] + TRG_CHUNK - 1) / TRG_CHUNK;
+    nch = (nch + 63) / 64 * 64;
+    uint64_t nslots = nch * TRG_CHUNK;
+    GLint max_tbo = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    if (nch * 4 > (uint64_t)max_tbo || nslots > (uint64_t)max_tbo ||
+        (uint64_t)nn * 4 > (uint64_t)max_tbo || nn >= (1 << 24))
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "atlas_gi: %llu links in %d nodes exceed the GPU's texture buffer limit (%d "
+                       "texels); use a smaller transfer_leaves or a larger transfer_eps",
+                       (unsigned long long)t->num_links, nn, max_tbo);
+    int32_t *up = malloc((size_t)(nn ? nn : 1) * sizeof *up);
+    int32_t *first = malloc((size_t)t->W * t->H * sizeof *first);
+    if (up && first) linked_ancestors(t, up, first);
+    float *nodes = calloc((size_t)(nn ? nn : 1) * 16, sizeof *nodes);
+    uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
+    uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
+    uint32_t *recv = calloc((size_t)(nch ? nch : 1), sizeof *recv);
+    if (!up || !first || !nodes || !choff || !links || !recv) {
+        free(up), free(first), free(nodes), free(choff), free(links), free(recv);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    }
+    pack_nodes(t, up, nodes, choff, links, recv);
+    create_buffers(g, t, nodes, choff, links, recv, nch);
+    free(nodes), free(choff), free(links), free(recv);
     const st_target_desc leaf = {GL_R32I, .width = t->W, .height = t->H, .filter = GL_NEAREST};
     const st_target *lt = st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err);
     if (lt) {
@@ -227,9 +242,9 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
     }
     free(up);
     free(first);
-    m[TRG_MEM_LEAF] = (long long)t->W * t->H * 4;
+    g->mem[TRG_MEM_LEAF] = (long long)t->W * t->H * 4;
     for (int i = 0; i < TRG_MEM_COUNT; i++)
-        g->bytes += m[i];
+        g->bytes += g->mem[i];
     if (!lt || !track(g, err)) return false;
     g->num_nodes = nn;
     g->num_chunks = (int)nch;

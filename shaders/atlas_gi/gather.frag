@@ -4,7 +4,7 @@
 // to each texel's flux (sampling=power), each weighted by 1/(N p_j). Output 0: this bounce's indirect radiance;
 // output 1 (blended additively on the last bounce): rgb and luminance^2 for
 // the running mean and its variance.
-#include "atlas_gi/estimator.glsl"
+#include "common/estimator.glsl"
 #include "common/medium.glsl"
 #ifdef AG_VISIBILITY
 #include "common/bvh.glsl"

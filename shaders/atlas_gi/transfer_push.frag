@@ -5,7 +5,7 @@
 // bounce, and the running sum the resolve pass divides by the frame count
 // (here 1).
 #include "atlas_gi/transfer.glsl"
-#include "atlas_gi/estimator.glsl"
+#include "common/estimator.glsl"
 // Per texel the first node with links on the way up from its leaf (-1 in
 // gutters, -2 where no link reaches); each node names the next such one.
 uniform isampler2D ag_leaf;

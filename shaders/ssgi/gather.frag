@@ -4,7 +4,7 @@
 // the pixel solid angle being s^2 cos^3(alpha) for a pixel of side s on the
 // image plane at distance 1 and alpha its angle to the optical axis.
 #include "common/medium.glsl"
-#include "atlas_gi/estimator.glsl"
+#include "common/estimator.glsl"
 uniform sampler2D st_hdr_in;     // direct + emission, seen through the medium (the regular pass)
 uniform sampler2D st_gbuffer;    // normal, distance (-1: no surface)
 uniform sampler2D st_albedo_tex; // albedo, front side

@@ -53,6 +53,35 @@ static inline char st_view_module_key(const char *module) {
     return 0;
 }
 
+// The god-ray techniques the G key cycles, by name, before `before` (NULL:
+// all): installed plugins that only add light to the image, by the rule of
+// tools/view/view_kinds.c written out again (no regular_include, provide
+// nothing, no enum parameter with an "indirect" choice).
+static inline int st_view_godray_modules(char out[][ST_NAME_MAX], int max, const char *before) {
+    char names[64][ST_NAME_MAX];
+    int n = st_plugin_list(names, 64), k = 0;
+    for (int i = 0; i < n && k < max; i++) {
+        if (before && strcmp(names[i], before) >= 0) continue;
+        st_plugin_lib *lib = st_plugin_open(names[i], &(st_err){0});
+        if (!lib) continue;
+        const st_plugin *p = st_plugin_desc(lib);
+        bool display = false;
+        for (int q = 0; q < p->num_params && !display; q++)
+            for (int c = 0; p->params[q].type == ST_PARAM_ENUM &&
+                            c < st_param_num_choices(&p->params[q]) && !display;
+                 c++) {
+                char ch[ST_NAME_MAX];
+                st_param_choice(&p->params[q], c, ch, sizeof ch);
+                display = !strcmp(ch, "indirect");
+            }
+        bool godray = !(p->regular_include && p->regular_include[0]) &&
+                      !(p->provides && p->provides[0]) && !display;
+        st_plugin_close(lib);
+        if (godray) snprintf(out[k++], ST_NAME_MAX, "%s", names[i]);
+    }
+    return k;
+}
+
 static inline int st_view_installed(const char *module) {
     char names[64][ST_NAME_MAX];
     int n = st_plugin_list(names, 64);

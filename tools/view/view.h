@@ -113,7 +113,13 @@ typedef struct view {
     int num_mods;
     view_memory memory[VIEW_MAX_MODS];
     int num_memory;
-    int godray; // index into view_godrays (0 = off)
+    // The G and I keys' modules, by their declared kind (view_kinds.c):
+    // godrays[0] = "off", then the god-ray techniques by name; gi_module ""
+    // when no GI module is installed.
+    char godrays[VIEW_MAX_MODS + 1][ST_NAME_MAX];
+    int num_godrays;
+    char gi_module[ST_NAME_MAX];
+    int godray; // index into godrays (0 = off)
     int gi;     // index into view_gi_modes (0 = off)
 
     bool show_panel, show_stats, show_help;
@@ -163,8 +169,16 @@ typedef struct view {
     int shot_counter;
 } view;
 
-extern const char *const view_godrays[4];  // off, mitchell, sousa, toth
 extern const char *const view_gi_modes[5]; // off, direct, indirect, combined, atlas
+
+// ---- what a module is to the viewer (view_kinds.c) -----------------------
+typedef enum { VIEW_KIND_OTHER, VIEW_KIND_GODRAYS, VIEW_KIND_GI } view_kind;
+view_kind view_plugin_kind(const st_plugin *p);
+// A GI module's display switch: its first enum parameter with an "indirect"
+// choice (-1: none).
+int view_gi_display_param(const st_plugin *p);
+// Fills v->godrays and v->gi_module from v->mods.
+void view_classify_modules(view *v);
 
 // ---- actions (view_actions.c) -------------------------------------------
 void view_message(view *v, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -188,7 +202,7 @@ void view_set_camera(view *v, const float pos[3], const float target[3]);
 bool view_key(view *v, int key, int mods, st_err *err);
 void view_char(view *v, unsigned codepoint);
 int view_key_from_name(const char *name, int *mods);
-const char *view_help_text(void);
+const char *view_help_text(const view *v);
 
 // ---- frame (view_frame.c) ----------------------------------------------
 // One iteration: events, camera, resize, world frame, display, overlay, swap.

@@ -12,9 +12,7 @@
 #include <string.h>
 #include <strings.h>
 
-const char *const view_godrays[4] = {"off", "mitchell", "sousa", "toth"};
 const char *const view_gi_modes[5] = {"off", "direct", "indirect", "combined", "atlas"};
-#define GI_MODULE "atlas_gi"
 
 void view_message(view *v, const char *fmt, ...) {
     va_list ap;
@@ -31,7 +29,6 @@ static int cmp_name(const void *a, const void *b) {
     return strcmp(a, b);
 }
 static int loaded_index(const view *v, const char *name);
-static int gi_display_param(const st_plugin *p);
 
 static bool installed(const view *v, const char *name) {
     for (int i = 0; i < v->num_mods; i++)
@@ -53,15 +50,16 @@ void view_refresh_modules(view *v) {
     v->num_mods = n < VIEW_MAX_MODS ? n : VIEW_MAX_MODS;
     for (int i = 0; i < v->num_mods; i++)
         snprintf(v->mods[i], ST_NAME_MAX, "%.*s", ST_NAME_MAX - 1, names[i]);
+    view_classify_modules(v);
     // The cycles follow what is loaded (the scene may load toth itself).
     v->godray = 0;
-    for (int k = 1; k < 4 && !v->godray; k++)
-        if (st_world_has_module(v->world, view_godrays[k])) v->godray = k;
+    for (int k = 1; k < v->num_godrays && !v->godray; k++)
+        if (st_world_has_module(v->world, v->godrays[k])) v->godray = k;
     v->gi = 0;
-    int m = loaded_index(v, GI_MODULE);
+    int m = v->gi_module[0] ? loaded_index(v, v->gi_module) : -1;
     if (m >= 0) {
         st_module_info mi = st_world_module(v->world, m);
-        int pi = gi_display_param(mi.plugin);
+        int pi = view_gi_display_param(mi.plugin);
         v->gi = 3; // without a display switch the module shows its combined result
         if (pi >= 0) {
             char c[ST_NAME_MAX];
@@ -150,50 +148,36 @@ bool view_toggle_module(view *v, int index, st_err *err) {
     return view_enable(v, v->mods[index], !st_world_has_module(v->world, v->mods[index]), err);
 }
 
-// The next technique in off > mitchell > sousa > toth that is installed and
-// that the scene accepts (mitchell and sousa refuse spot lights): a refusal
-// moves on to the next one instead of leaving the cycle stuck on it.
+// The next technique in off > the god-ray techniques (view_kinds.c: by
+// name, today mitchell > sousa > toth) that the scene accepts (mitchell and
+// sousa refuse spot lights): a refusal moves on to the next one instead of
+// leaving the cycle stuck on it.
 bool view_cycle_godrays(view *v, st_err *err) {
     char skipped[512] = "";
-    for (int step = 1; step <= 4; step++) {
-        int c = (v->godray + step) % 4;
-        const char *why = NULL;
+    int n = v->num_godrays;
+    for (int step = 1; step <= n; step++) {
+        int c = (v->godray + step) % n;
+        // The names are copied: switching modules refreshes v->godrays.
+        char name[ST_NAME_MAX], off[ST_NAME_MAX];
+        snprintf(name, sizeof name, "%s", v->godrays[c]);
         st_err refused = {0};
-        if (c != 0 && !installed(v, view_godrays[c])) why = "not installed";
-        if (!why) {
-            for (int k = 1; k < 4; k++)
-                if (k != c && !view_enable(v, view_godrays[k], false, err)) return false;
-            if (c == 0 || view_enable(v, view_godrays[c], true, &refused)) {
-                v->godray = c;
-                if (skipped[0])
-                    view_message(v, "god rays: %s (skipped: %s)", view_godrays[c], skipped);
-                else
-                    view_message(v, "god rays: %s", view_godrays[c]);
-                return true;
-            }
-            why = refused.msg;
+        for (int k = 1; k < n; k++) {
+            snprintf(off, sizeof off, "%s", v->godrays[k]);
+            if (k != c && !view_enable(v, off, false, err)) return false;
+        }
+        if (c == 0 || view_enable(v, name, true, &refused)) {
+            v->godray = c;
+            if (skipped[0])
+                view_message(v, "god rays: %s (skipped: %s)", name, skipped);
+            else
+                view_message(v, "god rays: %s", name);
+            return true;
         }
         size_t l = strlen(skipped);
-        snprintf(skipped + l, sizeof skipped - l, "%s%s: %.160s", l ? "; " : "", view_godrays[c],
-                 why);
+        snprintf(skipped + l, sizeof skipped - l, "%s%s: %.160s", l ? "; " : "", name, refused.msg);
     }
     return st_fail(err, ST_ERR_RUNTIME, "god rays: no technique could be switched on (%s)",
                    skipped);
-}
-
-// The GI module's display switch: its first enum parameter whose choices
-// include "indirect" (found from the descriptor, so no name is assumed).
-static int gi_display_param(const st_plugin *p) {
-    for (int i = 0; i < p->num_params; i++) {
-        const st_param_def *d = &p->params[i];
-        if (d->type != ST_PARAM_ENUM) continue;
-        for (int k = 0; k < st_param_num_choices(d); k++) {
-            char c[ST_NAME_MAX];
-            st_param_choice(d, k, c, sizeof c);
-            if (!strcmp(c, "indirect")) return i;
-        }
-    }
-    return -1;
 }
 
 // Choice index of a GI mode: exact name, or a choice starting with it
@@ -210,15 +194,17 @@ static int gi_choice(const st_param_def *d, const char *mode) {
 }
 
 bool view_cycle_gi(view *v, st_err *err) {
-    if (!installed(v, GI_MODULE)) {
+    if (!v->gi_module[0]) {
         v->gi = 0;
-        view_message(v, "GI display: off (%s is not installed)", GI_MODULE);
+        view_message(v, "GI display: off (no GI module is installed)");
         return true;
     }
-    st_plugin_lib *lib = st_plugin_open(GI_MODULE, err);
+    char gi_module[ST_NAME_MAX];
+    snprintf(gi_module, sizeof gi_module, "%s", v->gi_module);
+    st_plugin_lib *lib = st_plugin_open(gi_module, err);
     if (!lib) return false;
     const st_plugin *p = st_plugin_desc(lib);
-    int pi = gi_display_param(p);
+    int pi = view_gi_display_param(p);
     int choice[5] = {-1, -1, -1, -1, -1};
     char pname[ST_NAME_MAX] = "";
     if (pi >= 0) {
@@ -239,13 +225,13 @@ bool view_cycle_gi(view *v, st_err *err) {
         size_t l = strlen(skipped);
         snprintf(skipped + l, sizeof skipped - l, "%s%s", l ? ", " : "", view_gi_modes[c]);
     }
-    if (!view_enable(v, GI_MODULE, target != 0, err)) return false;
-    if (target && pi >= 0 && !st_world_set_param(v->world, GI_MODULE, pname, choice[target], err))
+    if (!view_enable(v, gi_module, target != 0, err)) return false;
+    if (target && pi >= 0 && !st_world_set_param(v->world, gi_module, pname, choice[target], err))
         return false;
     v->gi = target;
     if (skipped[0])
         view_message(v, "GI display: %s (%s.%s has no choice for: %s)", view_gi_modes[target],
-                     GI_MODULE, pi >= 0 ? pname : "<display>", skipped);
+                     gi_module, pi >= 0 ? pname : "<display>", skipped);
     else
         view_message(v, "GI display: %s", view_gi_modes[target]);
     return true;
@@ -260,8 +246,8 @@ bool view_set_param(view *v, const char *module, const char *param, double value
     st_param_format(d, value, text, sizeof text);
     view_message(v, "%s.%s = %s", module, param, text);
     // The GI cycle follows a display switch set by hand.
-    if (!strcmp(module, GI_MODULE) && d->type == ST_PARAM_ENUM &&
-        gi_display_param(p) == st_param_index(p, param)) {
+    if (!strcmp(module, v->gi_module) && d->type == ST_PARAM_ENUM &&
+        view_gi_display_param(p) == st_param_index(p, param)) {
         char c[ST_NAME_MAX];
         st_param_choice(d, (int)value, c, sizeof c);
         for (int k = 1; k < 5; k++)
@@ -363,8 +349,8 @@ bool view_write_stats(view *v, const char *path, st_err *err) {
     fprintf(f,
             " \"god_rays\": \"%s\", \"gi_display\": \"%s\", \"exposure\": %g, \"camera\": "
             "{\"position\": [%.9g, %.9g, %.9g], \"target\": [%.9g, %.9g, %.9g]},\n",
-            view_godrays[v->godray], view_gi_modes[v->gi], v->exposure, v->cam.pos[0],
-            v->cam.pos[1], v->cam.pos[2], v->cam.target[0], v->cam.target[1], v->cam.target[2]);
+            v->godrays[v->godray], view_gi_modes[v->gi], v->exposure, v->cam.pos[0], v->cam.pos[1],
+            v->cam.pos[2], v->cam.target[0], v->cam.target[1], v->cam.target[2]);
     bool acc_done;
     uint32_t acc = st_world_accumulated(v->world, &acc_done);
     fprintf(f, " \"accumulated\": %u, \"accumulation_done\": %s,\n", acc,
@@ -500,13 +486,93 @@ void view_char(view *v, unsigned c) {
     }
 }
 
+// The panel's keys: pick, nudge, toggle, type or reset the focused
+// parameter. *done: the key is one of them.
+static bool param_key(view *v, int key, bool shift, bool *done, st_err *err) {
+    double val;
+    const st_param_def *d;
+    *done = true;
+    switch (key) {
+    case GLFW_KEY_UP:
+        focus_step(v, -1);
+        return true;
+    case GLFW_KEY_DOWN:
+        focus_step(v, 1);
+        return true;
+    case GLFW_KEY_LEFT:
+        return nudge(v, -1, shift, err);
+    case GLFW_KEY_RIGHT:
+        return nudge(v, 1, shift, err);
+    case GLFW_KEY_SPACE:
+        if ((d = focused(v, &val)) && (d->type == ST_PARAM_BOOL || d->type == ST_PARAM_ENUM))
+            return nudge(v, 1, false, err);
+        return true;
+    case GLFW_KEY_ENTER:
+    case GLFW_KEY_KP_ENTER:
+        if ((d = focused(v, &val)) || (focus_step(v, 1) && (d = focused(v, &val)))) {
+            v->editing = v->edit_fresh = true;
+            if (d->type == ST_PARAM_ENUM || d->type == ST_PARAM_BOOL)
+                st_param_format(d, val, v->edit, sizeof v->edit);
+            else
+                snprintf(v->edit, sizeof v->edit, "%.6g", val);
+        }
+        return true;
+    case GLFW_KEY_DELETE:
+        if ((d = focused(v, &val))) return view_set_param(v, v->sel_mod, d->name, d->def, err);
+        return true;
+    default:
+        *done = false;
+        return true;
+    }
+}
+
+// The camera, render size and exposure keys. *done: the key is one of them.
+static void camera_key(view *v, int key, bool *done) {
+    *done = true;
+    switch (key) {
+    case GLFW_KEY_K:
+        v->fixed_size = !v->fixed_size;
+        if (v->fixed_size)
+            view_message(v,
+                         "rendering at the scene's size %dx%d (scaled to the window; screenshots "
+                         "at that size)",
+                         v->render_w, v->render_h);
+        else
+            view_message(v, "rendering at the window's size");
+        return;
+    case GLFW_KEY_C:
+        v->cam.fly = !v->cam.fly;
+        view_message(v, "camera: %s", v->cam.fly ? "fly (drag to look, WASD QE to move)" : "orbit");
+        return;
+    case GLFW_KEY_R:
+        v->cam = v->cam_home;
+        v->cam_dirty = true;
+        view_message(v, "camera reset to the scene's");
+        return;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+        v->exposure += 0.5f;
+        view_message(v, "exposure %+.1f EV", v->exposure);
+        return;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT:
+        v->exposure -= 0.5f;
+        view_message(v, "exposure %+.1f EV", v->exposure);
+        return;
+    default:
+        *done = false;
+    }
+}
+
 bool view_key(view *v, int key, int mods, st_err *err) {
-    bool shift = mods & GLFW_MOD_SHIFT;
+    bool shift = mods & GLFW_MOD_SHIFT, done;
     if (v->editing) return edit_key(v, key, err);
     if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) return view_toggle_module(v, key - GLFW_KEY_1, err);
     if (key == GLFW_KEY_0) return view_toggle_module(v, 9, err);
-    double val;
-    const st_param_def *d;
+    bool ok = param_key(v, key, shift, &done, err);
+    if (done) return ok;
+    camera_key(v, key, &done);
+    if (done) return true;
     switch (key) {
     case GLFW_KEY_G:
         return view_cycle_godrays(v, err);
@@ -534,62 +600,6 @@ bool view_key(view *v, int key, int mods, st_err *err) {
     case GLFW_KEY_H:
     case GLFW_KEY_F1:
         v->show_help = !v->show_help;
-        return true;
-    case GLFW_KEY_K:
-        v->fixed_size = !v->fixed_size;
-        if (v->fixed_size)
-            view_message(v,
-                         "rendering at the scene's size %dx%d (scaled to the window; screenshots "
-                         "at that size)",
-                         v->render_w, v->render_h);
-        else
-            view_message(v, "rendering at the window's size");
-        return true;
-    case GLFW_KEY_C:
-        v->cam.fly = !v->cam.fly;
-        view_message(v, "camera: %s", v->cam.fly ? "fly (drag to look, WASD QE to move)" : "orbit");
-        return true;
-    case GLFW_KEY_R:
-        v->cam = v->cam_home;
-        v->cam_dirty = true;
-        view_message(v, "camera reset to the scene's");
-        return true;
-    case GLFW_KEY_EQUAL:
-    case GLFW_KEY_KP_ADD:
-        v->exposure += 0.5f;
-        view_message(v, "exposure %+.1f EV", v->exposure);
-        return true;
-    case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT:
-        v->exposure -= 0.5f;
-        view_message(v, "exposure %+.1f EV", v->exposure);
-        return true;
-    case GLFW_KEY_UP:
-        focus_step(v, -1);
-        return true;
-    case GLFW_KEY_DOWN:
-        focus_step(v, 1);
-        return true;
-    case GLFW_KEY_LEFT:
-        return nudge(v, -1, shift, err);
-    case GLFW_KEY_RIGHT:
-        return nudge(v, 1, shift, err);
-    case GLFW_KEY_SPACE:
-        if ((d = focused(v, &val)) && (d->type == ST_PARAM_BOOL || d->type == ST_PARAM_ENUM))
-            return nudge(v, 1, false, err);
-        return true;
-    case GLFW_KEY_ENTER:
-    case GLFW_KEY_KP_ENTER:
-        if ((d = focused(v, &val)) || (focus_step(v, 1) && (d = focused(v, &val)))) {
-            v->editing = v->edit_fresh = true;
-            if (d->type == ST_PARAM_ENUM || d->type == ST_PARAM_BOOL)
-                st_param_format(d, val, v->edit, sizeof v->edit);
-            else
-                snprintf(v->edit, sizeof v->edit, "%.6g", val);
-        }
-        return true;
-    case GLFW_KEY_DELETE:
-        if ((d = focused(v, &val))) return view_set_param(v, v->sel_mod, d->name, d->def, err);
         return true;
     case GLFW_KEY_ESCAPE:
         if (v->show_help)
@@ -645,22 +655,32 @@ int view_key_from_name(const char *name, int *mods) {
     return -1;
 }
 
-const char *view_help_text(void) {
-    return "strahl view\tkeys\n"
-           "1-9, 0\tswitch module #n on/off (numbers in the panel)\n"
-           "G\tgod rays: off > mitchell > sousa > toth\n"
-           "I\tGI display: off > direct > indirect > combined > atlas\n"
-           "left drag\torbit (orbit mode) / look around (fly mode)\n"
-           "right drag, wheel\tpan, zoom (wheel over the panel scrolls it)\n"
-           "W A S D, Q E\tmove forward/left/back/right, down/up (Shift: x5)\n"
-           "C / R\torbit or fly camera / back to the scene camera\n"
-           "K\trender at the scene's size (screenshots) / the window's\n"
-           "Tab / O\tparameter panel / timings overlay\n"
-           "Up, Down\tpick a parameter (or click it)\n"
-           "Left, Right\tadjust it (Shift: x10); Space: toggle, next choice\n"
-           "Enter / Del\ttype a value / back to its default\n"
-           "+ / -\texposure +-0.5 EV (display and PNG)\n"
-           "F5\treload shaders (errors shown, old shaders kept)\n"
-           "P, F12\tscreenshot: EXR (linear) + PNG + window capture\n"
-           "H, F1 / Esc\tthis help / close help, quit\n";
+// The G line names the god-ray techniques found (view_kinds.c).
+const char *view_help_text(const view *v) {
+    static char text[2048];
+    char cycle[512] = "off";
+    for (int i = 1; i < v->num_godrays; i++) {
+        size_t l = strlen(cycle);
+        snprintf(cycle + l, sizeof cycle - l, " > %s", v->godrays[i]);
+    }
+    snprintf(text, sizeof text,
+             "strahl view\tkeys\n"
+             "1-9, 0\tswitch module #n on/off (numbers in the panel)\n"
+             "G\tgod rays: %s\n"
+             "I\tGI display: off > direct > indirect > combined > atlas\n"
+             "left drag\torbit (orbit mode) / look around (fly mode)\n"
+             "right drag, wheel\tpan, zoom (wheel over the panel scrolls it)\n"
+             "W A S D, Q E\tmove forward/left/back/right, down/up (Shift: x5)\n"
+             "C / R\torbit or fly camera / back to the scene camera\n"
+             "K\trender at the scene's size (screenshots) / the window's\n"
+             "Tab / O\tparameter panel / timings overlay\n"
+             "Up, Down\tpick a parameter (or click it)\n"
+             "Left, Right\tadjust it (Shift: x10); Space: toggle, next choice\n"
+             "Enter / Del\ttype a value / back to its default\n"
+             "+ / -\texposure +-0.5 EV (display and PNG)\n"
+             "F5\treload shaders (errors shown, old shaders kept)\n"
+             "P, F12\tscreenshot: EXR (linear) + PNG + window capture\n"
+             "H, F1 / Esc\tthis help / close help, quit\n",
+             cycle);
+    return text;
 }

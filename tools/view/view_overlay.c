@@ -67,7 +67,7 @@ static float stats_box(view *v, float x, float y, bool bottom) {
     uint32_t acc = st_world_accumulated(v->world, &acc_done);
     char accs[48] = "";
     if (acc) snprintf(accs, sizeof accs, "  %u frame(s)%s", acc, acc_done ? ", still" : "");
-    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV%s", view_godrays[v->godray],
+    snprintf(s2, sizeof s2, "god rays: %s  GI: %s  %s  %+.1f EV%s", v->godrays[v->godray],
              view_gi_modes[v->gi], v->cam.fly ? "fly" : "orbit", v->exposure, accs);
     // Columns as wide as their widest entry.
     float cw[2] = {view_ui_text_width(g, "module"), view_ui_text_width(g, "pass")};
@@ -188,6 +188,49 @@ static float panel_width(const view *v) {
     return w < v->fb_w - 12 * k ? w : v->fb_w - 12 * k;
 }
 
+// Module i's row in the panel: its key, checkbox and name; a click switches
+// it. Returns whether it is on.
+static bool module_row(view *v, int i, float x, float y, float cw) {
+    view_gl *g = &v->gl;
+    const float k = g->scale, line = view_ui_line(g);
+    const char *name = v->mods[i];
+    bool on = st_world_has_module(v->world, name);
+    char s[16] = "";
+    if (i < 10) snprintf(s, sizeof s, "%d", (i + 1) % 10);
+    view_ui_text(g, x, y, s, C_DIM);
+    view_ui_rect(g, x + 14 * k, y, line, line, C_TRACK);
+    if (on) view_ui_rect(g, x + 16 * k, y + 2 * k, line - 4 * k, line - 4 * k, C_ACCENT);
+    view_ui_text(g, x + 14 * k + line + 5 * k, y, name, on ? C_TEXT : C_DIM);
+    add_widget(v, name, "", x, y, cw, line);
+    if (v->mouse_pressed[0] && inside(v, x, y, cw, line)) {
+        st_err e = {0};
+        if (!view_toggle_module(v, i, &e)) view_message(v, "%s", e.msg);
+        on = st_world_has_module(v->world, name);
+    }
+    return on;
+}
+
+// The help of parameter d (NULL: the panel's keys), with its type and
+// range; returns its height.
+static float help_text(view *v, const st_param_def *d, const char *name, float x, float y,
+                       float cw) {
+    if (!d)
+        return wrapped(v, x, y, cw,
+                       "click/drag: set; Up/Down: pick, Left/Right: adjust, Enter: type; H: help",
+                       C_DIM);
+    char range[160], s[400];
+    if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
+        snprintf(range, sizeof range, "%s [%g, %g], default %g",
+                 d->type == ST_PARAM_INT ? "int" : "float", d->min, d->max, d->def);
+    else if (d->type == ST_PARAM_ENUM)
+        snprintf(range, sizeof range, "one of %s", d->choices ? d->choices : "");
+    else
+        snprintf(range, sizeof range, "bool, default %s", d->def != 0 ? "on" : "off");
+    snprintf(s, sizeof s, "%s: %s", name, range);
+    float h = wrapped(v, x, y, cw, s, C_TEXT);
+    return h + wrapped(v, x, y + h, cw, d->help ? d->help : "", C_DIM);
+}
+
 // The panel: every switchable module with its key and checkbox, the
 // parameters of loaded ones, then the help of the hovered (else focused)
 // parameter. Sized to its content, scrolled when taller than the window.
@@ -222,29 +265,13 @@ static float panel(view *v, float max_bottom) {
     // Row y positions are snapped to whole rows so clipping never cuts text.
     float y = top - floorf(v->panel_scroll / row) * row;
     const st_param_def *help = NULL;
-    char helpname[160] = "", s[400];
+    char helpname[160] = "";
 #define VISIBLE (y >= top - 0.5f && y + row <= bottom + 0.5f)
     if (VISIBLE) view_ui_text(g, x, y, "modules (keys) and parameters", C_TEXT);
     y += row;
     for (int i = 0; i < v->num_mods; i++) {
         const char *name = v->mods[i];
-        bool on = st_world_has_module(v->world, name);
-        if (VISIBLE) {
-            if (i < 10)
-                snprintf(s, sizeof s, "%d", (i + 1) % 10);
-            else
-                s[0] = 0;
-            view_ui_text(g, x, y, s, C_DIM);
-            view_ui_rect(g, x + 14 * k, y, line, line, C_TRACK);
-            if (on) view_ui_rect(g, x + 16 * k, y + 2 * k, line - 4 * k, line - 4 * k, C_ACCENT);
-            view_ui_text(g, x + 14 * k + line + 5 * k, y, name, on ? C_TEXT : C_DIM);
-            add_widget(v, name, "", x, y, cw, line);
-            if (v->mouse_pressed[0] && inside(v, x, y, cw, line)) {
-                st_err e = {0};
-                if (!view_toggle_module(v, i, &e)) view_message(v, "%s", e.msg);
-                on = st_world_has_module(v->world, name);
-            }
-        }
+        bool on = VISIBLE ? module_row(v, i, x, y, cw) : st_world_has_module(v->world, name);
         y += row;
         if (!on) continue;
         int m = -1;
@@ -272,23 +299,7 @@ static float panel(view *v, float max_bottom) {
     // Help of the hovered (else focused) parameter, with its type and range.
     float hy = bottom + pad;
     view_ui_rect(g, x, hy - pad * 0.5f, cw, 1 * k, C_TRACK);
-    if (help) {
-        char range[160];
-        if (help->type == ST_PARAM_FLOAT || help->type == ST_PARAM_INT)
-            snprintf(range, sizeof range, "%s [%g, %g], default %g",
-                     help->type == ST_PARAM_INT ? "int" : "float", help->min, help->max, help->def);
-        else if (help->type == ST_PARAM_ENUM)
-            snprintf(range, sizeof range, "one of %s", help->choices ? help->choices : "");
-        else
-            snprintf(range, sizeof range, "bool, default %s", help->def != 0 ? "on" : "off");
-        snprintf(s, sizeof s, "%s: %s", helpname, range);
-        hy += wrapped(v, x, hy, cw, s, C_TEXT);
-        hy += wrapped(v, x, hy, cw, help->help ? help->help : "", C_DIM);
-    } else {
-        hy += wrapped(v, x, hy, cw,
-                      "click/drag: set; Up/Down: pick, Left/Right: adjust, Enter: type; H: help",
-                      C_DIM);
-    }
+    hy += help_text(v, help, helpname, x, hy, cw);
     float h = hy + pad - y0;
     view_ui_patch_rect(g, bg, x0, y0, w, h);
     v->over_panel = inside(v, x0, y0, w, h);
@@ -341,7 +352,7 @@ static float messages(view *v, float panel_x, float panel_bottom) {
 static void help_box(view *v) {
     view_gl *g = &v->gl;
     const float k = g->scale, pad = 10 * k, line = view_ui_line(g) + 1 * k;
-    const char *text = view_help_text();
+    const char *text = view_help_text(v);
     float kw = 0, dw = 0;
     int lines = 0;
     char buf[256];

@@ -1,0 +1,303 @@
+// atlas_gi: the atlas on the GPU (its textures, framebuffers, the G-buffer's
+// points and model type, the regular pass' triangle table) and the G-buffer
+// pass that rasterizes every triangle at its atlas position.
+#include "agi.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// The atlas' textures, owned by the world (declared in alloc_textures).
+static const char *const tex_name[T_COUNT] = {
+    "atlas_gi.position", "atlas_gi.normal",   "atlas_gi.albedo",  "atlas_gi.direct",
+    "atlas_gi.area",     "atlas_gi.bounce0",  "atlas_gi.bounce1", "atlas_gi.accum",
+    "atlas_gi.indirect", "atlas_gi.combined", "atlas_gi.stats"};
+static const GLenum tex_format[T_COUNT] = {GL_RGBA32F, GL_RGBA32F, GL_RGBA16F, GL_RGBA32F,
+                                           GL_R32F,    GL_RGBA32F, GL_RGBA32F, GL_RGBA32F,
+                                           GL_RGBA32F, GL_RGBA32F, GL_RGBA32F};
+// The buffers it creates itself, tracked by the world for --stats.
+const char *const agi_buffer_names[] = {
+    "atlas_gi.points",        "atlas_gi.vertices",      "atlas_gi.indices",
+    "atlas_gi.triangles",     "atlas_gi.triangles_tex", "atlas_gi.mesh_base",
+    "atlas_gi.mesh_base_tex", "atlas_gi.bvh_nodes",     "atlas_gi.bvh_triangles"};
+enum { NUM_BUFFERS = 9 };
+
+void agi_release_atlas_gpu(agi *g) {
+    for (int i = 0; i < T_COUNT; i++) // fresh textures for the next atlas, as before
+        st_world_declare_target(g->w, tex_name[i], NULL, &(st_err){0});
+    memset(g->tex, 0, sizeof g->tex);
+    for (size_t i = 0; i < NUM_BUFFERS; i++)
+        st_world_untrack(g->w, agi_buffer_names[i]);
+    GLuint fbos[4] = {g->fbo_gb, g->fbo_gather[0], g->fbo_gather[1], g->fbo_resolve};
+    glDeleteFramebuffers(4, fbos);
+    g->fbo_gb = g->fbo_gather[0] = g->fbo_gather[1] = g->fbo_resolve = 0;
+    if (g->pts_vao) glDeleteVertexArrays(1, &g->pts_vao);
+    GLuint bufs[3] = {g->pts_vbo, g->tri_buf, g->base_buf};
+    glDeleteBuffers(3, bufs);
+    st_bvh_gpu_free(&g->B_gpu);
+    GLuint texs[2] = {g->tri_tex, g->base_tex};
+    glDeleteTextures(2, texs);
+    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->tri_tex = g->base_tex = 0;
+    if (g->type.vao) st_model_type_destroy(&g->type);
+    free(g->models);
+    free(g->gmeshes);
+    g->models = NULL;
+    g->gmeshes = NULL;
+    g->num_models = 0;
+    st_bvh_free(&g->B);
+    g->have_bvh = false;
+    agi_release_transfer(g);
+    atlas_free(&g->A);
+}
+
+static GLuint make_fbo(const GLuint *tex, int n) {
+    GLuint f;
+    GLenum bufs[4];
+    glCreateFramebuffers(1, &f);
+    for (int i = 0; i < n; i++) {
+        glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0 + i, tex[i], 0);
+        bufs[i] = GL_COLOR_ATTACHMENT0 + i;
+    }
+    glNamedFramebufferDrawBuffers(f, n, bufs);
+    return f;
+}
+
+// The atlas on the CPU (atlas.h), and the scene's extent for the visibility
+// rays' offset.
+static bool atlas_cpu(agi *g, st_err *err) {
+    const st_scene *sc = st_world_scene(g->w);
+    atlas_opts o = {
+        .size = ip(g, P_ATLAS_SIZE),
+        .texels_per_meter = g->p[P_TEXELS_PER_METER],
+        .max_size = 4096,
+        .gutter = 2,
+        .chart_angle_deg = g->p[P_CHART_ANGLE],
+        .use_uv1 = atlas_meshes_have_uv1(sc->meshes, sc->num_meshes),
+    };
+    if (!atlas_build(&g->A, sc->meshes, sc->num_meshes, &o, err)) return false;
+    atlas *A = &g->A;
+    int W = g->W = A->width, H = g->H = A->height;
+    // The transfer's CPU side holds ~70 bytes per texel.
+    if (ip(g, P_MODE) == 0 && (long)W * H > 2048L * 2048L)
+        return st_fail(err, ST_ERR_INPUT,
+                       "atlas_gi.atlas_size: a %dx%d atlas is too large for mode=transfer (at most "
+                       "2048x2048; use "
+                       "mode=gather or a smaller atlas)",
+                       W, H);
+    g->lookup = o.use_uv1 ? 0 : 1;
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t k = 0; k < A->num_tris; k++)
+        for (int r = 0; r < 3; r++) {
+            const float *t = A->tris + 16 * (size_t)k;
+            float v[3] = {t[r], t[r] + t[4 + r], t[r] + t[8 + r]};
+            for (int c = 0; c < 3; c++)
+                lo[r] = fminf(lo[r], v[c]), hi[r] = fmaxf(hi[r], v[c]);
+        }
+    g->extent = 0;
+    for (int r = 0; r < 3 && A->num_tris; r++)
+        g->extent = fmax(g->extent, hi[r] - lo[r]);
+    return true;
+}
+
+// The G-buffer pass draws the split meshes as a model type of their own.
+static bool build_model_type(agi *g, st_err *err) {
+    const atlas *A = &g->A;
+    g->num_models = A->num_meshes;
+    g->gmeshes = calloc(A->num_meshes ? (size_t)A->num_meshes : 1, sizeof *g->gmeshes);
+    g->models = calloc(A->num_meshes ? (size_t)A->num_meshes : 1, sizeof *g->models);
+    if (!g->gmeshes || !g->models) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    for (int i = 0; i < A->num_meshes; i++)
+        g->gmeshes[i] = A->meshes[i].mesh;
+    return st_model_type_build(&g->type, "atlas_gi", g->gmeshes, A->num_meshes, NULL, g->models,
+                               err);
+}
+
+// The atlas' textures (declared with the world) and framebuffers.
+static bool alloc_textures(agi *g, st_err *err) {
+    int W = g->W, H = g->H;
+    g->stats_top = 0;
+    while ((W > H ? W : H) >> (g->stats_top + 1))
+        g->stats_top++;
+    // Texel-exact lookups everywhere but in the two the regular pass filters;
+    // the statistics' mip chain averages down to one texel.
+    for (int i = 0; i < T_COUNT; i++) {
+        bool linear = i == T_INDIRECT || i == T_COMBINED;
+        st_target_desc d = {tex_format[i], .width = W, .height = H,
+                            .levels = i == T_STATS ? g->stats_top + 1 : 1,
+                            .filter = linear ? GL_LINEAR : GL_NEAREST};
+        const st_target *t = st_world_alloc_target(g->w, tex_name[i], &d, err);
+        if (!t) return false;
+        g->tex[i] = t->color[0];
+    }
+    glTextureSubImage2D(g->tex[T_AREA], 0, 0, 0, W, H, GL_RED, GL_FLOAT, g->A.area);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(g->tex[T_INDIRECT], 0, GL_RGBA, GL_FLOAT, zero);
+    glClearTexImage(g->tex[T_COMBINED], 0, GL_RGBA, GL_FLOAT, zero);
+    g->fbo_gb = make_fbo(&g->tex[T_POS], 4);
+    g->fbo_gather[0] = make_fbo((GLuint[]){g->tex[T_BOUNCE0], g->tex[T_ACCUM]}, 2);
+    g->fbo_gather[1] = make_fbo((GLuint[]){g->tex[T_BOUNCE1], g->tex[T_ACCUM]}, 2);
+    g->fbo_resolve = make_fbo(&g->tex[T_INDIRECT], 3);
+    return true;
+}
+
+// Conservative coverage: points for texels the rasterizer misses.
+static bool upload_points(agi *g, st_err *err) {
+    const atlas *A = &g->A;
+    g->num_points = A->num_points;
+    float *pv = malloc((A->num_points ? (size_t)A->num_points : 1) * 14 * sizeof *pv);
+    if (!pv) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    for (int i = 0; i < A->num_points; i++) {
+        const atlas_point *pt = &A->points[i];
+        const st_mesh *m = &A->meshes[pt->amesh].mesh;
+        float *v = pv + 14 * (size_t)i;
+        v[0] = (float)pt->x, v[1] = (float)pt->y;
+        memcpy(v + 2, pt->pos, 12);
+        memcpy(v + 5, pt->nrm, 12);
+        memcpy(v + 8, m->albedo, 12);
+        memcpy(v + 11, m->emission, 12);
+    }
+    glCreateBuffers(1, &g->pts_vbo);
+    glNamedBufferStorage(
+        g->pts_vbo, (GLsizeiptr)((A->num_points ? A->num_points : 1) * 14 * sizeof(float)), pv, 0);
+    free(pv);
+    glCreateVertexArrays(1, &g->pts_vao);
+    glVertexArrayVertexBuffer(g->pts_vao, 0, g->pts_vbo, 0, 14 * sizeof(float));
+    const int comps[5] = {2, 3, 3, 3, 3}, offs[5] = {0, 2, 5, 8, 11};
+    for (GLuint a = 0; a < 5; a++) {
+        glEnableVertexArrayAttrib(g->pts_vao, a);
+        glVertexArrayAttribFormat(g->pts_vao, a, comps[a], GL_FLOAT, GL_FALSE,
+                                  (GLuint)(offs[a] * sizeof(float)));
+        glVertexArrayAttribBinding(g->pts_vao, a, 0);
+    }
+    return true;
+}
+
+// The regular pass' triangle table and per-mesh bases, as buffer textures.
+static bool upload_lookup(agi *g, st_err *err) {
+    const st_scene *sc = st_world_scene(g->w);
+    const atlas *A = &g->A;
+    GLint max_tbo = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    if ((uint64_t)A->num_tris * 3 > (uint64_t)max_tbo)
+        return st_fail(err, ST_ERR_RUNTIME,
+                       "%u triangles exceed the GPU's texture buffer limit (%d texels)",
+                       A->num_tris, max_tbo);
+    glCreateBuffers(1, &g->tri_buf);
+    glNamedBufferStorage(g->tri_buf,
+                         (GLsizeiptr)((A->num_tris ? A->num_tris : 1) * 12 * sizeof(float)),
+                         A->lookup, 0);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->tri_tex);
+    glTextureBuffer(g->tri_tex, GL_RGBA32F, g->tri_buf);
+    int nm = sc->num_meshes ? sc->num_meshes : 1;
+    int32_t *base = malloc((size_t)nm * 2 * sizeof *base);
+    if (!base) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    for (int i = 0; i < 2 * nm; i++)
+        base[i] = sc->num_meshes ? A->mesh_base[i] : -1;
+    glCreateBuffers(1, &g->base_buf);
+    glNamedBufferStorage(g->base_buf, (GLsizeiptr)(nm * 2 * sizeof *base), base, 0);
+    free(base);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->base_tex);
+    glTextureBuffer(g->base_tex, GL_RG32I, g->base_buf);
+    return true;
+}
+
+// Builds the atlas on the CPU and everything on the GPU that depends on it.
+bool agi_build_atlas(agi *g, st_err *err) {
+    agi_release_atlas_gpu(g);
+    if (!atlas_cpu(g, err) || !build_model_type(g, err) || !alloc_textures(g, err) ||
+        !upload_points(g, err) || !upload_lookup(g, err))
+        return false;
+    const GLuint objs[7] = {g->pts_vbo, g->type.vbo.id, g->type.ibo.id, g->tri_buf,
+                            g->tri_tex, g->base_buf,    g->base_tex};
+    for (int i = 0; i < 7; i++) // 4 and 6: buffer textures over 3 and 5
+        if (!st_world_track(g->w, agi_buffer_names[i], i == 4 || i == 6 ? GL_TEXTURE : GL_BUFFER,
+                            objs[i], err))
+            return false;
+    g->atlas_dirty = false;
+    g->gb_dirty = true;
+    return st_gl_check("atlas_gi atlas", err);
+}
+
+float *agi_scene_triangles(const agi *g, uint32_t *count, st_err *err) {
+    const atlas *A = &g->A;
+    uint32_t n = 0;
+    for (int i = 0; i < A->num_meshes; i++)
+        if (!A->meshes[i].back) n += A->meshes[i].mesh.num_triangles;
+    float *c = malloc((n ? n : 1) * 9 * sizeof *c);
+    if (!c) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+        return NULL;
+    }
+    uint32_t k = 0;
+    for (int i = 0; i < A->num_meshes; i++) {
+        if (A->meshes[i].back) continue;
+        for (uint32_t t = 0; t < A->meshes[i].mesh.num_triangles; t++, k++) {
+            const float *s = A->tris + 16 * (size_t)(A->meshes[i].first_tri + t);
+            for (int r = 0; r < 3; r++) {
+                c[9 * k + r] = s[r];
+                c[9 * k + 3 + r] = s[r] + s[4 + r];
+                c[9 * k + 6 + r] = s[r] + s[8 + r];
+            }
+        }
+    }
+    *count = n;
+    return c;
+}
+
+// ---- the G-buffer pass ----------------------------------------------------------
+
+bool agi_compile_gbuffer(agi *g, bool shadow, st_err *err) {
+    char defs[256];
+    snprintf(defs, sizeof defs, "%s%s", st_world_light_defines(g->w),
+             shadow ? "AG_SHADOW 1\n" : "");
+    st_shader *a = st_shader_load("atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag", defs, err);
+    if (!a) return false;
+    size_t l = strlen(defs);
+    snprintf(defs + l, sizeof defs - l, "AG_POINTS 1\n");
+    st_shader *b =
+        st_shader_load("atlas_gi/gbuffer_points.vert", "atlas_gi/gbuffer.frag", defs, err);
+    if (!b) {
+        st_shader_destroy(a);
+        return false;
+    }
+    st_shader_destroy(g->sh_gb);
+    st_shader_destroy(g->sh_gbp);
+    g->sh_gb = a;
+    g->sh_gbp = b;
+    g->shadow = shadow;
+    return true;
+}
+
+bool agi_gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
+    memset(g->prof_gb, 0, sizeof g->prof_gb);
+    agi_prof_mark(g, NULL, 0);
+    if ((f->changes & ST_CHANGE_GEOMETRY) && !(f->changes & ST_CHANGE_FIRST)) g->atlas_dirty = true;
+    if (g->atlas_dirty && !agi_build_atlas(g, err)) return false;
+    bool shadow = st_world_has_module(g->w, "shadow_map");
+    if (shadow != g->shadow && !agi_compile_gbuffer(g, shadow, err)) return false;
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_gb);
+    glViewport(0, 0, g->W, g->H);
+    const float zero[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 4; i++)
+        glClearBufferfv(GL_COLOR, i, zero);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    // Points first: triangles overwrite wherever their rasterizer reaches.
+    st_shader_use(g->sh_gbp);
+    st_world_apply_uniforms(g->w, g->sh_gbp, f);
+    st_shader_texture(g->sh_gbp, "ag_area_tex", GL_TEXTURE_2D, g->tex[T_AREA]);
+    st_shader_set_vec2(g->sh_gbp, "ag_size", (float)g->W, (float)g->H);
+    if (g->num_points) {
+        glBindVertexArray(g->pts_vao);
+        glDrawArrays(GL_POINTS, 0, g->num_points);
+    }
+    st_shader_use(g->sh_gb);
+    st_world_apply_uniforms(g->w, g->sh_gb, f);
+    st_shader_texture(g->sh_gb, "ag_area_tex", GL_TEXTURE_2D, g->tex[T_AREA]);
+    st_model_type_draw(&g->type, g->models, g->num_models, g->sh_gb);
+    agi_prof_mark(g, g->prof_gb, 0);
+    g->gb_dirty = false;
+    g->have_cdf = false;
+    g->restart = true;
+    return st_gl_check("atlas_gi G-buffer", err);
+}
