@@ -1,5 +1,5 @@
 // ssgi: the screen-space baseline for atlas_gi. The same one-bounce
-// estimators (shaders/atlas_gi/estimator.glsl), but the senders are drawn
+// estimators (shaders/common/estimator.glsl), but the senders are drawn
 // from the camera's G-buffer: N Hammersley samples over the image's pixels,
 // each pixel standing for the surface patch it sees (area = its solid angle
 // times distance^2 over the cosine to the view ray). Surfaces out of view or
