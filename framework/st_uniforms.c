@@ -98,6 +98,7 @@ void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
         GLint l = st_shader_loc(sh, builtin_uniforms[i].name);
         if (l >= 0) builtin_uniforms[i].set(w, sh, l, f);
     }
+    st_medium_gpu_uniforms(&w->medium, sh);
     for (int m = 0; m < w->num_mods; m++) {
         for (int i = 0; i < w->mods[m]->num_uniforms; i++) {
             const st_uniform *u = &w->mods[m]->uniforms[i];

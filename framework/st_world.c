@@ -16,6 +16,7 @@ static void light_defines(st_world *w) {
         types |= 1u << w->scene->lights[i].type;
     snprintf(w->light_defines, sizeof w->light_defines, "ST_MAX_LIGHTS %d\nST_LIGHT_TYPES %u\n",
              ST_MAX_LIGHTS, types);
+    st_medium_gpu_defines(w->scene, w->light_defines, sizeof w->light_defines);
 }
 
 bool st_world_build_regular(st_world *w, st_err *err) {
@@ -118,22 +119,16 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
         st_fail(err, ST_ERR_RUNTIME, "out of memory");
         return NULL;
     }
-    // No GPU technique (the regular pass included) models a varying density
-    // yet: refuse rather than draw a homogeneous medium's image.
-    if (scene->medium.present && st_density_varies(&scene->density)) {
-        st_fail(err, ST_ERR_INPUT,
-                "%s: medium.density (%s) is supported by strahl reference only so far; the GPU "
-                "techniques and the regular pass model a homogeneous medium",
-                scene->path, scene->density.kind == ST_DENSITY_HEIGHT ? "height fog" : "vdb grid");
-        free(w);
-        return NULL;
-    }
     w->scene = scene;
     light_defines(w);
     if (opts) w->opts = *opts;
     if (scene->num_lights > ST_MAX_LIGHTS) {
         st_fail(err, ST_ERR_INPUT, "%s: lights: %d lights, at most %d are supported", scene->path,
                 scene->num_lights, ST_MAX_LIGHTS);
+        free(w);
+        return NULL;
+    }
+    if (!st_medium_gpu_create(&w->medium, scene, err)) {
         free(w);
         return NULL;
     }
@@ -192,6 +187,7 @@ void st_world_destroy(st_world *w) {
     st_target_destroy(&w->cam.accum[0]);
     st_target_destroy(&w->cam.accum[1]);
     st_shader_destroy(w->accumulate);
+    st_medium_gpu_destroy(&w->medium);
     free(w->acc_read);
     free(w->models);
     free(w->stats);

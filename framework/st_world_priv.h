@@ -12,6 +12,7 @@
 #ifndef ST_WORLD_PRIV_H
 #define ST_WORLD_PRIV_H
 #include "st_list.h"
+#include "st_medium_gpu.h"
 #include "st_targets.h"
 #include "st_world.h"
 
@@ -73,6 +74,7 @@ struct st_world {
     st_shader *regular;
     st_shader *background;             // the background seen through a medium (scenes with one)
     char light_defines[64];            // st_world_light_defines
+    st_medium_gpu medium;              // the varying density on the GPU (st_medium_gpu.c)
     st_module_inst *mods[MAX_MODULES]; // one heap block per instance: never moves
     unsigned next_serial;
     int num_mods;
