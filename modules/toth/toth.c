@@ -9,8 +9,9 @@
 //           lookups at both ends of each step, a boundary inside a step
 //           located by bisection
 //   gather  (M > 1 only)  averages the fractions of the M x M block
-//   compose (full resolution)  the unshadowed integral per pixel by
-//           Gauss-Legendre in that angle (no texture fetch), times the
+//   compose (full resolution)  the unshadowed integral per pixel: a point
+//           light's from the airlight table (airlight.h, compose=table), a
+//           spot's by Gauss-Legendre in that angle, times the
 //           fraction upsampled depth-aware (or marched here where the taps
 //           disagree or show another surface), added to the image the
 //           regular pass attenuated by e^(-sigma_t s)
@@ -20,6 +21,7 @@
 // upsampled; the brute-force baseline. Without a medium, with sigma_s = 0 or
 // without lights no pass runs: the view ray's extinction belongs to the
 // regular pass (docs/physics.md), toth only adds in-scattered light.
+#include "airlight.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -40,9 +42,11 @@ enum {
     P_REFINE_TAPS,
     P_MIN_ROWS,
     P_EXACT,
+    P_COMPOSE,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
+enum { COMPOSE_TABLE, COMPOSE_QUADRATURE };
 
 // Defaults (the Pareto front of docs/benchmarks.md, tools/bench_all.sh):
 // equi-angular sampling, the visible fraction marched at quarter resolution
@@ -95,6 +99,9 @@ static const st_param_def params[P_COUNT] = {
     {"exact_edges", ST_PARAM_BOOL, 0, 0, 1, NULL,
      "equiangular: a shadow boundary the shadow map brackets inside a step is settled with exact "
      "rays against the scene's BVH (needs shadow_map.refine), 4 more halvings"},
+    {"compose", ST_PARAM_ENUM, COMPOSE_TABLE, 0, 0, "table|quadrature",
+     "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
+     "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
@@ -106,6 +113,11 @@ typedef struct toth {
     st_pass_info info;
     int height;     // image rows the targets were declared for
     int decl_scale; // the divisor they were declared with
+    // The airlight table (compose=table) and the phase function it holds.
+    GLuint airlight;
+    st_phase_kind table_kind;
+    float table_g;
+    float *table;
 } toth;
 
 // Steps cannot be shared by more pixels than there are steps.
@@ -153,14 +165,17 @@ static bool declare_targets(toth *t, int height, st_err *err) {
            st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err);
 }
 
-static bool load_shaders(st_world *w, st_shader **march, st_shader **gather, st_shader **compose,
-                         st_err *err) {
+static bool load_shaders(st_world *w, const double *p, st_shader **march, st_shader **gather,
+                         st_shader **compose, st_err *err) {
     const char *defines = st_world_light_defines(w);
+    char cdef[256];
+    snprintf(cdef, sizeof cdef, "%s%s", defines,
+             p[P_COMPOSE] == COMPOSE_TABLE ? "TOTH_AIRLIGHT 1\n" : "");
     *march = st_shader_load("common/fullscreen.vert", "toth/march.frag", defines, err);
     *gather =
         *march ? st_shader_load("common/fullscreen.vert", "toth/gather.frag", defines, err) : NULL;
-    *compose = *gather ? st_shader_load("common/fullscreen.vert", "toth/compose.frag", defines, err)
-                       : NULL;
+    *compose =
+        *gather ? st_shader_load("common/fullscreen.vert", "toth/compose.frag", cdef, err) : NULL;
     if (*compose) return true;
     st_shader_destroy(*march);
     st_shader_destroy(*gather);
@@ -177,7 +192,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     t->w = w;
     t->p = p;
     if (!declare_targets(t, st_world_scene(w)->height, err) ||
-        !load_shaders(w, &t->march, &t->gather, &t->compose, err)) {
+        !load_shaders(w, p, &t->march, &t->gather, &t->compose, err)) {
         free(t);
         return NULL;
     }
@@ -189,6 +204,7 @@ static void destroy(void *self) {
     st_shader_destroy(t->march);
     st_shader_destroy(t->gather);
     st_shader_destroy(t->compose);
+    free(t->table);
     free(t);
 }
 
@@ -228,6 +244,28 @@ static bool needed(void *self, int pass, const st_frame *f) {
         declare_targets(t, f->height, &ignore);
     }
     return medium_scatters(f->scene) && f->scene->num_lights > 0;
+}
+
+// The airlight table of the scene's phase function (compose=table), filled
+// when the phase function changes: 256 x 1024 texels, ~1M phase evaluations.
+static GLuint airlight_table(toth *t, const st_medium_desc *m, st_err *err) {
+    const st_target *tg = st_world_target(t->w, "toth.airlight");
+    if (tg && t->table && t->table_kind == m->phase && t->table_g == m->g) return tg->color[0];
+    const st_target_desc d = {GL_R32F, .width = TOTH_AIRLIGHT_NXI, .height = TOTH_AIRLIGHT_NU,
+                              .filter = GL_LINEAR};
+    tg = st_world_alloc_target(t->w, "toth.airlight", &d, err);
+    if (!tg) return 0;
+    if (!t->table) t->table = malloc(sizeof(float) * TOTH_AIRLIGHT_NXI * TOTH_AIRLIGHT_NU);
+    if (!t->table) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory (toth airlight table)");
+        return 0;
+    }
+    toth_airlight_fill(t->table, m->phase, m->g);
+    glTextureSubImage2D(tg->color[0], 0, 0, 0, TOTH_AIRLIGHT_NXI, TOTH_AIRLIGHT_NU, GL_RED,
+                        GL_FLOAT, t->table);
+    t->table_kind = m->phase;
+    t->table_g = m->g;
+    return tg->color[0];
 }
 
 static void set_common(toth *t, st_shader *sh) {
@@ -271,6 +309,11 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
         st_shader_set_int(t->compose, "toth_has_inscatter", src != NULL);
         if (src) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        if (t->p[P_COMPOSE] == COMPOSE_TABLE) {
+            GLuint table = airlight_table(t, &f->scene->medium, err);
+            if (!table) return false;
+            st_shader_texture(t->compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
+        }
         break;
     }
     }
@@ -289,17 +332,10 @@ static st_shader *shader(void *self, int pass) {
     }
 }
 
-// A new march scale or interleave re-describes the targets.
-static void param_changed(void *self, int index) {
-    st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
-        declare_targets(self, ((toth *)self)->height, &ignore);
-}
-
 static bool reload(void *self, st_err *err) {
     toth *t = self;
     st_shader *m, *g, *c;
-    if (!load_shaders(t->w, &m, &g, &c, err)) return false;
+    if (!load_shaders(t->w, t->p, &m, &g, &c, err)) return false;
     st_shader_destroy(t->march);
     st_shader_destroy(t->gather);
     st_shader_destroy(t->compose);
@@ -307,6 +343,15 @@ static bool reload(void *self, st_err *err) {
     t->gather = g;
     t->compose = c;
     return true;
+}
+
+// A new march scale or interleave re-describes the targets; a new compose
+// method recompiles the shaders (on failure the old ones stay).
+static void param_changed(void *self, int index) {
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
+        declare_targets(self, ((toth *)self)->height, &ignore);
+    if (index == P_COMPOSE) reload(self, &ignore);
 }
 
 ST_PLUGIN(.name = "toth",

@@ -10,6 +10,11 @@
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
 #include "toth/visibility.glsl"
+#ifdef TOTH_AIRLIGHT
+#include "toth/airlight.glsl" // compose=table
+#else
+#define toth_unshadowed toth_eq_unshadowed // compose=quadrature
+#endif
 uniform sampler2D st_hdr_in;
 uniform sampler2D st_gbuffer;
 uniform sampler2D toth_inscatter_tex;
@@ -96,7 +101,7 @@ void main() {
             frac = toth_visible_fraction(st_cam_pos, dir, s, toth_samples, 0, 1, u, toth_bisect, sigma_t);
         }
         for (int l = 0; l < st_num_lights; l++)
-            L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
+            L += frac[min(l, 3)] * toth_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
     } else if (toth_has_inscatter != 0) {
         L += up.rgb;
     }
