@@ -104,12 +104,15 @@ static const st_param_def params[P_COUNT] = {
      "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
 };
 
-enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
+enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
 
 typedef struct toth {
     st_world *w;
     const double *p;
-    st_shader *march, *gather, *compose;
+    struct toth_shaders {
+        st_shader *march, *gather, *edges, *compose;
+    } sh;
+    GLuint vao; // the edges pass's points (attribute-less)
     st_pass_info info;
     int height;     // image rows the targets were declared for
     int decl_scale; // the divisor they were declared with
@@ -143,9 +146,10 @@ static int scale(const toth *t, int height) {
 
 // The pass a slot index stands for (the gather exists only when interleaved).
 static int pass_kind(const toth *t, int pass) {
+    int g = interleave(t) > 1;
     if (pass == 0) return PASS_MARCH;
-    if (pass == 1 && interleave(t) > 1) return PASS_GATHER;
-    return PASS_COMPOSE;
+    if (pass == 1 && g) return PASS_GATHER;
+    return pass == 1 + g ? PASS_EDGES : PASS_COMPOSE;
 }
 
 static bool medium_scatters(const st_scene *sc) {
@@ -161,25 +165,34 @@ static bool declare_targets(toth *t, int height, st_err *err) {
     t->height = height;
     t->decl_scale = scale(t, height);
     const st_target_desc d = {GL_RGBA32F, .divisor = t->decl_scale, .filter = GL_NEAREST};
+    // The edges pass's fractions, full resolution (-1: not marched there).
+    const st_target_desc full = {GL_RGBA32F, .divisor = 1, .filter = GL_NEAREST};
     return st_world_declare_target(t->w, "toth.march", &d, err) &&
-           st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err);
+           st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err) &&
+           st_world_declare_target(t->w, "toth.refined", &full, err);
 }
 
-static bool load_shaders(st_world *w, const double *p, st_shader **march, st_shader **gather,
-                         st_shader **compose, st_err *err) {
+static void destroy_shaders(struct toth_shaders *sh) {
+    st_shader_destroy(sh->march);
+    st_shader_destroy(sh->gather);
+    st_shader_destroy(sh->edges);
+    st_shader_destroy(sh->compose);
+    *sh = (struct toth_shaders){0};
+}
+
+static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, st_err *err) {
     const char *defines = st_world_light_defines(w);
     char cdef[256];
     snprintf(cdef, sizeof cdef, "%s%s", defines,
              p[P_COMPOSE] == COMPOSE_TABLE ? "TOTH_AIRLIGHT 1\n" : "");
-    *march = st_shader_load("common/fullscreen.vert", "toth/march.frag", defines, err);
-    *gather =
-        *march ? st_shader_load("common/fullscreen.vert", "toth/gather.frag", defines, err) : NULL;
-    *compose =
-        *gather ? st_shader_load("common/fullscreen.vert", "toth/compose.frag", cdef, err) : NULL;
-    if (*compose) return true;
-    st_shader_destroy(*march);
-    st_shader_destroy(*gather);
-    *march = *gather = NULL;
+    const char *vs = "common/fullscreen.vert";
+    *sh = (struct toth_shaders){0};
+    if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
+        (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
+        (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
+        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err)))
+        return true;
+    destroy_shaders(sh);
     return false;
 }
 
@@ -191,8 +204,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     }
     t->w = w;
     t->p = p;
-    if (!declare_targets(t, st_world_scene(w)->height, err) ||
-        !load_shaders(w, p, &t->march, &t->gather, &t->compose, err)) {
+    if (!declare_targets(t, st_world_scene(w)->height, err) || !load_shaders(w, p, &t->sh, err)) {
         free(t);
         return NULL;
     }
@@ -201,15 +213,14 @@ static void *create(st_world *w, const double *p, st_err *err) {
 
 static void destroy(void *self) {
     toth *t = self;
-    st_shader_destroy(t->march);
-    st_shader_destroy(t->gather);
-    st_shader_destroy(t->compose);
+    destroy_shaders(&t->sh);
+    if (t->vao) glDeleteVertexArrays(1, &t->vao);
     free(t->table);
     free(t);
 }
 
 static int num_passes(void *self) {
-    return interleave(self) > 1 ? 3 : 2;
+    return interleave(self) > 1 ? 4 : 3;
 }
 
 static const st_pass_info *pass_info(void *self, int pass) {
@@ -223,10 +234,16 @@ static const st_pass_info *pass_info(void *self, int pass) {
         t->info = (st_pass_info){"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather",
                                  ST_PASS_FULLSCREEN};
         break;
+    case PASS_EDGES: // draws its own points (on_pass)
+        t->info = (st_pass_info){"edges", ST_STAGE_POST,
+                                 interleave(t) > 1 ? "gbuffer,shadow_map,toth.gather"
+                                                   : "gbuffer,shadow_map,toth.march",
+                                 "toth.refined", 0};
+        break;
     default:
         t->info = (st_pass_info){"compose", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "hdr,gbuffer,shadow_map,toth.gather"
-                                                   : "hdr,gbuffer,shadow_map,toth.march",
+                                 interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined"
+                                                   : "hdr,gbuffer,toth.march,toth.refined",
                                  "hdr", ST_PASS_FULLSCREEN};
         break;
     }
@@ -243,7 +260,13 @@ static bool needed(void *self, int pass, const st_frame *f) {
         st_err ignore = {0}; // only fails for a bad name, which create already caught
         declare_targets(t, f->height, &ignore);
     }
-    return medium_scatters(f->scene) && f->scene->num_lights > 0;
+    bool any = medium_scatters(f->scene) && f->scene->num_lights > 0;
+    // The edges pass: only where compose may read it (equi-angular below full
+    // resolution, refine < 1).
+    if (pass_kind(t, pass) == PASS_EDGES)
+        return any && t->p[P_SAMPLING] == SAMPLING_EQUIANGULAR && t->decl_scale > 1 &&
+               t->p[P_REFINE] < 1;
+    return any;
 }
 
 // The airlight table of the scene's phase function (compose=table), filled
@@ -274,45 +297,73 @@ static void set_common(toth *t, st_shader *sh) {
     st_shader_set_int(sh, "toth_interleave", interleave(t));
 }
 
+// The edges pass: one point per scale x scale block (edges.vert keeps those
+// with a pixel that may need its own ray), drawn into toth.refined after
+// clearing it to -1 (compose then upsamples every pixel not marched here).
+static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err *err) {
+    st_shader *sh = t->sh.edges;
+    int s = t->decl_scale, bx = (f->width + s - 1) / s, by = (f->height + s - 1) / s;
+    set_common(t, sh);
+    st_shader_set_int(sh, "toth_blocks_x", bx);
+    st_shader_set_int(sh, "toth_samples", (int)t->p[P_SAMPLES]);
+    st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
+    st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
+    st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
+    st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+    if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
+    st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+    const float none[4] = {-1, -1, -1, -1};
+    glClearBufferfv(GL_COLOR, 0, none);
+    if (!t->vao) glCreateVertexArrays(1, &t->vao);
+    glBindVertexArray(t->vao);
+    glPointSize((float)s);
+    glDrawArrays(GL_POINTS, 0, bx * by);
+    glPointSize(1.0f);
+    return true;
+}
+
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     toth *t = self;
+    struct toth_shaders *sh = &t->sh;
+    const st_target *src = st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
     // march and gather draw into the target they write, bound by the world.
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        set_common(t, t->march);
-        st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
-        st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
-        st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
-        st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
-        st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(t->march, "toth_exact", t->p[P_EXACT] != 0);
+        set_common(t, sh->march);
+        st_shader_set_int(sh->march, "toth_samples", (int)t->p[P_SAMPLES]);
+        st_shader_set_int(sh->march, "toth_jitter", t->p[P_JITTER] != 0);
+        st_shader_set_int(sh->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
+        st_shader_set_int(sh->march, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
         if (!march) return false;
-        set_common(t, t->gather);
-        st_shader_set_int(t->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
-        st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
+        set_common(t, sh->gather);
+        st_shader_set_int(sh->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_texture(sh->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
         break;
     }
+    case PASS_EDGES:
+        if (!draw_edges(t, f, src, err)) return false;
+        break;
     default: {
-        const st_target *src =
-            st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
-        set_common(t, t->compose);
-        st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
-        st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
-        st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
-        st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
-        st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
-        st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(t->compose, "toth_exact", t->p[P_EXACT] != 0);
-        st_shader_set_int(t->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-        st_shader_set_int(t->compose, "toth_has_inscatter", src != NULL);
-        if (src) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        const st_target *refined = st_world_target(t->w, "toth.refined");
+        set_common(t, sh->compose);
+        st_shader_set_int(sh->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(sh->compose, "toth_nodes", (int)t->p[P_NODES]);
+        st_shader_set_float(sh->compose, "toth_refine", (float)t->p[P_REFINE]);
+        st_shader_set_int(sh->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+        st_shader_set_int(sh->compose, "toth_has_inscatter", src != NULL);
+        if (src) st_shader_texture(sh->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        if (refined)
+            st_shader_texture(sh->compose, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
         if (t->p[P_COMPOSE] == COMPOSE_TABLE) {
             GLuint table = airlight_table(t, &f->scene->medium, err);
             if (!table) return false;
-            st_shader_texture(t->compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
+            st_shader_texture(sh->compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
         }
         break;
     }
@@ -324,24 +375,22 @@ static st_shader *shader(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        return t->march;
+        return t->sh.march;
     case PASS_GATHER:
-        return t->gather;
+        return t->sh.gather;
+    case PASS_EDGES:
+        return t->sh.edges;
     default:
-        return t->compose;
+        return t->sh.compose;
     }
 }
 
 static bool reload(void *self, st_err *err) {
     toth *t = self;
-    st_shader *m, *g, *c;
-    if (!load_shaders(t->w, t->p, &m, &g, &c, err)) return false;
-    st_shader_destroy(t->march);
-    st_shader_destroy(t->gather);
-    st_shader_destroy(t->compose);
-    t->march = m;
-    t->gather = g;
-    t->compose = c;
+    struct toth_shaders sh;
+    if (!load_shaders(t->w, t->p, &sh, err)) return false;
+    destroy_shaders(&t->sh);
+    t->sh = sh;
     return true;
 }
 
