@@ -9,12 +9,16 @@
 //           lookups at both ends of each step, a boundary inside a step
 //           located by bisection
 //   gather  (M > 1 only)  averages the fractions of the M x M block
+//   edges   (below full resolution)  marches the full-resolution pixels whose
+//           upsampling taps disagree or show another surface, into
+//           toth.refined; drawn as one point per block, the blocks without
+//           such a pixel culled in the vertex shader (llvmpipe would run the
+//           march code masked for every pixel of a full-screen pass)
 //   compose (full resolution)  the unshadowed integral per pixel: a point
 //           light's from the airlight table (airlight.h, compose=table), a
-//           spot's by Gauss-Legendre in that angle, times the
-//           fraction upsampled depth-aware (or marched here where the taps
-//           disagree or show another surface), added to the image the
-//           regular pass attenuated by e^(-sigma_t s)
+//           spot's by Gauss-Legendre in that angle, times the fraction
+//           upsampled depth-aware (or the edges pass's), added to the image
+//           the regular pass attenuated by e^(-sigma_t s)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
