@@ -9,17 +9,23 @@
 //           lookups at both ends of each step, a boundary inside a step
 //           located by bisection
 //   gather  (M > 1 only)  averages the fractions of the M x M block
-//   compose (full resolution)  the unshadowed integral per pixel by
-//           Gauss-Legendre in that angle (no texture fetch), times the
-//           fraction upsampled depth-aware (or marched here where the taps
-//           disagree or show another surface), added to the image the
-//           regular pass attenuated by e^(-sigma_t s)
+//   edges   (below full resolution)  marches the full-resolution pixels whose
+//           upsampling taps disagree or show another surface, into
+//           toth.refined; drawn as one point per block, the blocks without
+//           such a pixel culled in the vertex shader (llvmpipe would run the
+//           march code masked for every pixel of a full-screen pass)
+//   compose (full resolution)  the unshadowed integral per pixel: a point
+//           light's from the airlight table (airlight.h, compose=table), a
+//           spot's by Gauss-Legendre in that angle, times the fraction
+//           upsampled depth-aware (or the edges pass's), added to the image
+//           the regular pass attenuated by e^(-sigma_t s)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
 // upsampled; the brute-force baseline. Without a medium, with sigma_s = 0 or
 // without lights no pass runs: the view ray's extinction belongs to the
 // regular pass (docs/physics.md), toth only adds in-scattered light.
+#include "airlight.h"
 #include "st_world.h"
 #include "st_physics.h"
 #include <math.h>
@@ -41,9 +47,11 @@ enum {
     P_REFINE_TAPS,
     P_MIN_ROWS,
     P_EXACT,
+    P_COMPOSE,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
+enum { COMPOSE_TABLE, COMPOSE_QUADRATURE };
 
 // Defaults (the Pareto front of docs/benchmarks.md, tools/bench_all.sh):
 // equi-angular sampling, the visible fraction marched at quarter resolution
@@ -96,17 +104,28 @@ static const st_param_def params[P_COUNT] = {
     {"exact_edges", ST_PARAM_BOOL, 0, 0, 1, NULL,
      "equiangular: a shadow boundary the shadow map brackets inside a step is settled with exact "
      "rays against the scene's BVH (needs shadow_map.refine), 4 more halvings"},
+    {"compose", ST_PARAM_ENUM, COMPOSE_TABLE, 0, 0, "table|quadrature",
+     "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
+     "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
 };
 
-enum { PASS_MARCH, PASS_GATHER, PASS_COMPOSE };
+enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
 
 typedef struct toth {
     st_world *w;
     const double *p;
-    st_shader *march, *gather, *compose;
+    struct toth_shaders {
+        st_shader *march, *gather, *edges, *compose;
+    } sh;
+    GLuint vao; // the edges pass's points (attribute-less)
     st_pass_info info;
     int height;     // image rows the targets were declared for
     int decl_scale; // the divisor they were declared with
+    // The airlight table (compose=table) and the phase function it holds.
+    GLuint airlight;
+    st_phase_kind table_kind;
+    float table_g;
+    float *table;
 } toth;
 
 // Steps cannot be shared by more pixels than there are steps.
@@ -132,9 +151,10 @@ static int scale(const toth *t, int height) {
 
 // The pass a slot index stands for (the gather exists only when interleaved).
 static int pass_kind(const toth *t, int pass) {
+    int g = interleave(t) > 1;
     if (pass == 0) return PASS_MARCH;
-    if (pass == 1 && interleave(t) > 1) return PASS_GATHER;
-    return PASS_COMPOSE;
+    if (pass == 1 && g) return PASS_GATHER;
+    return pass == 1 + g ? PASS_EDGES : PASS_COMPOSE;
 }
 
 static bool medium_scatters(const st_scene *sc) {
@@ -150,22 +170,34 @@ static bool declare_targets(toth *t, int height, st_err *err) {
     t->height = height;
     t->decl_scale = scale(t, height);
     const st_target_desc d = {GL_RGBA32F, .divisor = t->decl_scale, .filter = GL_NEAREST};
+    // The edges pass's fractions, full resolution (-1: not marched there).
+    const st_target_desc full = {GL_RGBA32F, .divisor = 1, .filter = GL_NEAREST};
     return st_world_declare_target(t->w, "toth.march", &d, err) &&
-           st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err);
+           st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err) &&
+           st_world_declare_target(t->w, "toth.refined", &full, err);
 }
 
-static bool load_shaders(st_world *w, st_shader **march, st_shader **gather, st_shader **compose,
-                         st_err *err) {
+static void destroy_shaders(struct toth_shaders *sh) {
+    st_shader_destroy(sh->march);
+    st_shader_destroy(sh->gather);
+    st_shader_destroy(sh->edges);
+    st_shader_destroy(sh->compose);
+    *sh = (struct toth_shaders){0};
+}
+
+static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, st_err *err) {
     const char *defines = st_world_light_defines(w);
-    *march = st_shader_load("common/fullscreen.vert", "toth/march.frag", defines, err);
-    *gather =
-        *march ? st_shader_load("common/fullscreen.vert", "toth/gather.frag", defines, err) : NULL;
-    *compose = *gather ? st_shader_load("common/fullscreen.vert", "toth/compose.frag", defines, err)
-                       : NULL;
-    if (*compose) return true;
-    st_shader_destroy(*march);
-    st_shader_destroy(*gather);
-    *march = *gather = NULL;
+    char cdef[256];
+    snprintf(cdef, sizeof cdef, "%s%s", defines,
+             p[P_COMPOSE] == COMPOSE_TABLE ? "TOTH_AIRLIGHT 1\n" : "");
+    const char *vs = "common/fullscreen.vert";
+    *sh = (struct toth_shaders){0};
+    if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
+        (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
+        (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
+        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err)))
+        return true;
+    destroy_shaders(sh);
     return false;
 }
 
@@ -177,8 +209,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     }
     t->w = w;
     t->p = p;
-    if (!declare_targets(t, st_world_scene(w)->height, err) ||
-        !load_shaders(w, &t->march, &t->gather, &t->compose, err)) {
+    if (!declare_targets(t, st_world_scene(w)->height, err) || !load_shaders(w, p, &t->sh, err)) {
         free(t);
         return NULL;
     }
@@ -187,14 +218,14 @@ static void *create(st_world *w, const double *p, st_err *err) {
 
 static void destroy(void *self) {
     toth *t = self;
-    st_shader_destroy(t->march);
-    st_shader_destroy(t->gather);
-    st_shader_destroy(t->compose);
+    destroy_shaders(&t->sh);
+    if (t->vao) glDeleteVertexArrays(1, &t->vao);
+    free(t->table);
     free(t);
 }
 
 static int num_passes(void *self) {
-    return interleave(self) > 1 ? 3 : 2;
+    return interleave(self) > 1 ? 4 : 3;
 }
 
 static const st_pass_info *pass_info(void *self, int pass) {
@@ -208,14 +239,26 @@ static const st_pass_info *pass_info(void *self, int pass) {
         t->info = (st_pass_info){"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather",
                                  ST_PASS_FULLSCREEN};
         break;
+    case PASS_EDGES: // draws its own points (on_pass)
+        t->info = (st_pass_info){"edges", ST_STAGE_POST,
+                                 interleave(t) > 1 ? "gbuffer,shadow_map,toth.gather"
+                                                   : "gbuffer,shadow_map,toth.march",
+                                 "toth.refined", 0};
+        break;
     default:
         t->info = (st_pass_info){"compose", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "hdr,gbuffer,shadow_map,toth.gather"
-                                                   : "hdr,gbuffer,shadow_map,toth.march",
+                                 interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined"
+                                                   : "hdr,gbuffer,toth.march,toth.refined",
                                  "hdr", ST_PASS_FULLSCREEN};
         break;
     }
     return &t->info;
+}
+
+// A varying density (medium.density) has no closed-form unshadowed
+// integral: its view rays are marched (sampling=uniform, march_density.glsl).
+static int sampling(const toth *t, const st_scene *sc) {
+    return st_density_varies(&sc->density) ? SAMPLING_UNIFORM : (int)t->p[P_SAMPLING];
 }
 
 // Nothing runs without a scattering medium or without lights: toth adds
@@ -228,13 +271,35 @@ static bool needed(void *self, int pass, const st_frame *f) {
         st_err ignore = {0}; // only fails for a bad name, which create already caught
         declare_targets(t, f->height, &ignore);
     }
-    return medium_scatters(f->scene) && f->scene->num_lights > 0;
+    bool any = medium_scatters(f->scene) && f->scene->num_lights > 0;
+    // The edges pass: only where compose may read it (equi-angular below full
+    // resolution, refine < 1).
+    if (pass_kind(t, pass) == PASS_EDGES)
+        return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR && t->decl_scale > 1 &&
+               t->p[P_REFINE] < 1;
+    return any;
 }
 
-// A varying density (medium.density) has no closed-form unshadowed
-// integral: its view rays are marched (sampling=uniform, march_density.glsl).
-static int sampling(const toth *t, const st_scene *sc) {
-    return st_density_varies(&sc->density) ? SAMPLING_UNIFORM : (int)t->p[P_SAMPLING];
+// The airlight table of the scene's phase function (compose=table), filled
+// when the phase function changes: 256 x 1024 texels, ~1M phase evaluations.
+static GLuint airlight_table(toth *t, const st_medium_desc *m, st_err *err) {
+    const st_target *tg = st_world_target(t->w, "toth.airlight");
+    if (tg && t->table && t->table_kind == m->phase && t->table_g == m->g) return tg->color[0];
+    const st_target_desc d = {GL_R32F, .width = TOTH_AIRLIGHT_NXI, .height = TOTH_AIRLIGHT_NU,
+                              .filter = GL_LINEAR};
+    tg = st_world_alloc_target(t->w, "toth.airlight", &d, err);
+    if (!tg) return 0;
+    if (!t->table) t->table = malloc(sizeof(float) * TOTH_AIRLIGHT_NXI * TOTH_AIRLIGHT_NU);
+    if (!t->table) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory (toth airlight table)");
+        return 0;
+    }
+    toth_airlight_fill(t->table, m->phase, m->g);
+    glTextureSubImage2D(tg->color[0], 0, 0, 0, TOTH_AIRLIGHT_NXI, TOTH_AIRLIGHT_NU, GL_RED,
+                        GL_FLOAT, t->table);
+    t->table_kind = m->phase;
+    t->table_g = m->g;
+    return tg->color[0];
 }
 
 static void set_common(toth *t, st_shader *sh) {
@@ -243,41 +308,74 @@ static void set_common(toth *t, st_shader *sh) {
     st_shader_set_int(sh, "toth_interleave", interleave(t));
 }
 
+// The edges pass: one point per scale x scale block (edges.vert keeps those
+// with a pixel that may need its own ray), drawn into toth.refined after
+// clearing it to -1 (compose then upsamples every pixel not marched here).
+static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err *err) {
+    st_shader *sh = t->sh.edges;
+    int s = t->decl_scale, bx = (f->width + s - 1) / s, by = (f->height + s - 1) / s;
+    set_common(t, sh);
+    st_shader_set_int(sh, "toth_blocks_x", bx);
+    st_shader_set_int(sh, "toth_samples", (int)t->p[P_SAMPLES]);
+    st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
+    st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
+    st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
+    st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+    if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
+    st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+    const float none[4] = {-1, -1, -1, -1};
+    glClearBufferfv(GL_COLOR, 0, none);
+    if (!t->vao) glCreateVertexArrays(1, &t->vao);
+    glBindVertexArray(t->vao);
+    glPointSize((float)s);
+    glDrawArrays(GL_POINTS, 0, bx * by);
+    glPointSize(1.0f);
+    return true;
+}
+
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     toth *t = self;
+    struct toth_shaders *sh = &t->sh;
+    const st_target *src = st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
     // march and gather draw into the target they write, bound by the world.
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        set_common(t, t->march);
-        st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
-        st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
-        st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
-        st_shader_set_int(t->march, "toth_sampling", sampling(t, f->scene));
-        st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(t->march, "toth_exact", t->p[P_EXACT] != 0);
+        set_common(t, sh->march);
+        st_shader_set_int(sh->march, "toth_samples", (int)t->p[P_SAMPLES]);
+        st_shader_set_int(sh->march, "toth_jitter", t->p[P_JITTER] != 0);
+        st_shader_set_int(sh->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
+        st_shader_set_int(sh->march, "toth_sampling", sampling(t, f->scene));
+        st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
         if (!march) return false;
-        set_common(t, t->gather);
-        st_shader_set_int(t->gather, "toth_sampling", sampling(t, f->scene));
-        st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
+        set_common(t, sh->gather);
+        st_shader_set_int(sh->gather, "toth_sampling", sampling(t, f->scene));
+        st_shader_texture(sh->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
         break;
     }
+    case PASS_EDGES:
+        if (!draw_edges(t, f, src, err)) return false;
+        break;
     default: {
-        const st_target *src =
-            st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
-        set_common(t, t->compose);
-        st_shader_set_int(t->compose, "toth_sampling", sampling(t, f->scene));
-        st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
-        st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
-        st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);
-        st_shader_set_float(t->compose, "toth_refine", (float)t->p[P_REFINE]);
-        st_shader_set_int(t->compose, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(t->compose, "toth_exact", t->p[P_EXACT] != 0);
-        st_shader_set_int(t->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-        st_shader_set_int(t->compose, "toth_has_inscatter", src != NULL);
-        if (src) st_shader_texture(t->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        const st_target *refined = st_world_target(t->w, "toth.refined");
+        set_common(t, sh->compose);
+        st_shader_set_int(sh->compose, "toth_sampling", sampling(t, f->scene));
+        st_shader_set_int(sh->compose, "toth_nodes", (int)t->p[P_NODES]);
+        st_shader_set_float(sh->compose, "toth_refine", (float)t->p[P_REFINE]);
+        st_shader_set_int(sh->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+        st_shader_set_int(sh->compose, "toth_has_inscatter", src != NULL);
+        if (src) st_shader_texture(sh->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        if (refined)
+            st_shader_texture(sh->compose, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
+        if (t->p[P_COMPOSE] == COMPOSE_TABLE) {
+            GLuint table = airlight_table(t, &f->scene->medium, err);
+            if (!table) return false;
+            st_shader_texture(sh->compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
+        }
         break;
     }
     }
@@ -288,32 +386,32 @@ static st_shader *shader(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        return t->march;
+        return t->sh.march;
     case PASS_GATHER:
-        return t->gather;
+        return t->sh.gather;
+    case PASS_EDGES:
+        return t->sh.edges;
     default:
-        return t->compose;
+        return t->sh.compose;
     }
-}
-
-// A new march scale or interleave re-describes the targets.
-static void param_changed(void *self, int index) {
-    st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
-        declare_targets(self, ((toth *)self)->height, &ignore);
 }
 
 static bool reload(void *self, st_err *err) {
     toth *t = self;
-    st_shader *m, *g, *c;
-    if (!load_shaders(t->w, &m, &g, &c, err)) return false;
-    st_shader_destroy(t->march);
-    st_shader_destroy(t->gather);
-    st_shader_destroy(t->compose);
-    t->march = m;
-    t->gather = g;
-    t->compose = c;
+    struct toth_shaders sh;
+    if (!load_shaders(t->w, t->p, &sh, err)) return false;
+    destroy_shaders(&t->sh);
+    t->sh = sh;
     return true;
+}
+
+// A new march scale or interleave re-describes the targets; a new compose
+// method recompiles the shaders (on failure the old ones stay).
+static void param_changed(void *self, int index) {
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
+        declare_targets(self, ((toth *)self)->height, &ignore);
+    if (index == P_COMPOSE) reload(self, &ignore);
 }
 
 ST_PLUGIN(.name = "toth",

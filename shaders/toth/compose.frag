@@ -1,80 +1,29 @@
-// toth pass 3: adds the in-scattered light at full resolution to what the
-// camera sees (hdr_in, already L_surface e^(-sigma_t s): the regular pass owns
-// the view ray's extinction, docs/physics.md). A march at reduced resolution is upsampled depth-aware: the
-// bilinear taps that show the pixel's own surface, else the tap nearest in
-// distance, so shafts do not bleed across silhouettes. With
+// toth's last pass: adds the in-scattered light at full resolution to what
+// the camera sees (hdr_in, already L_surface e^(-sigma_t s): the regular pass
+// owns the view ray's extinction, docs/physics.md). A march at reduced
+// resolution is upsampled depth-aware (toth/upsample.glsl). With
 // sampling=equiangular the march holds each light's visible fraction: the
 // smooth unshadowed integral is evaluated here for every full-resolution
-// pixel (no texture fetch), so upsampling and interleaving touch only the
-// visibility and never blur the glow of a light in view.
+// pixel (the airlight table, or Gauss-Legendre nodes), so upsampling and
+// interleaving touch only the visibility and never blur the glow of a light
+// in view. Pixels whose taps disagree were marched by the edges pass; their
+// fractions are read here (no march code in this pass: llvmpipe would run it
+// masked for every pixel).
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
-#include "toth/visibility.glsl"
+#include "toth/equiangular.glsl"
+#ifdef TOTH_AIRLIGHT
+#include "toth/airlight.glsl" // compose=table
+#else
+#define toth_unshadowed toth_eq_unshadowed // compose=quadrature
+#endif
+#include "toth/upsample.glsl"
 uniform sampler2D st_hdr_in;
-uniform sampler2D st_gbuffer;
-uniform sampler2D toth_inscatter_tex;
+uniform sampler2D toth_refined_tex; // the edges pass: fractions of the pixels marched there
 uniform int toth_has_inscatter;
 uniform int toth_sampling; // 0 uniform, 1 equiangular
 uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
-uniform int toth_samples;  // equiangular: visibility steps of a refined pixel
-uniform int toth_jitter;
-uniform int toth_bisect;
-uniform float toth_refine; // fraction spread over the taps above which a pixel is marched here
-uniform int toth_refine_taps; // fewer taps on the pixel's surface than this: marched here
 layout(location = 0) out vec4 o_radiance;
-
-// spread: how much the taps that were mixed differ (max - min over the
-// channels), 1 when none showed the pixel's surface.
-vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
-    ivec2 size = textureSize(toth_inscatter_tex, 0);
-    spread = 0.0;
-    if (toth_scale <= 1) return texelFetch(toth_inscatter_tex, p, 0);
-    vec4 lo = vec4(1e30), hi = vec4(-1e30), lo_all = vec4(1e30), hi_all = vec4(-1e30);
-    // March pixel k traces full pixel k * scale + (scale - 1) / 2.
-    vec2 f = (vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale);
-    ivec2 b = ivec2(floor(f));
-    vec2 fr = f - vec2(b);
-    vec4 sum = vec4(0.0);
-    float wsum = 0.0, best = 1e30;
-    int used = 0, inside = 0;
-    vec4 nearest = vec4(0.0);
-    float s = toth_ray_length(g, p);
-    for (int k = 0; k < 4; k++) {
-        ivec2 o = ivec2(k & 1, k >> 1);
-        ivec2 q = clamp(b + o, ivec2(0), size - 1);
-        vec4 gq = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
-        vec4 v = texelFetch(toth_inscatter_tex, q, 0);
-        float bil = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
-        lo_all = min(lo_all, v);
-        hi_all = max(hi_all, v);
-        inside += q == b + o ? 1 : 0;
-        if (toth_similar(g, gq)) {
-            sum += (bil + 1e-3) * v;
-            wsum += bil + 1e-3;
-            used += q == b + o ? 1 : 0; // a tap clamped at the border extrapolates
-            lo = min(lo, v);
-            hi = max(hi, v);
-        }
-        float diff = abs(toth_ray_length(gq, toth_full_pixel(q)) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
-        if (diff < best) {
-            best = diff;
-            nearest = v;
-        }
-    }
-    vec4 d = hi - lo;
-    // Taps that show another surface (a silhouette or a crease), or that are
-    // clamped at the image border, leave the others as a one-sided guess
-    // that can agree with itself: below toth_refine_taps usable taps, count
-    // that as full disagreement, so such pixels march their own ray too --
-    // unless all four taps lie inside the image, one shows the pixel's
-    // surface and all see exactly the same fraction (a crease or silhouette
-    // wholly lit or wholly in shadow: on the window and hole scenes at 600^2
-    // this takes 40% off compose's time; relaxing it further, to taps that agree
-    // within 0.01, puts pixels beside a crease 8% off in test_toth_sun_shadow).
-    bool settled = used > 0 && inside == 4 && all(equal(hi_all, lo_all));
-    spread = used >= toth_refine_taps ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
-    return wsum > 0.0 ? sum / wsum : nearest;
-}
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
@@ -90,13 +39,14 @@ void main() {
         vec3 dir = toth_view_dir(p);
         float s = toth_ray_length(g, p);
         // Where the taps disagree (a shaft's edge, a silhouette) the
-        // interpolated fraction is a guess: march this pixel's own ray.
+        // interpolated fraction is a guess: the edges pass marched this
+        // pixel's own ray (-1: it decided otherwise, keep the guess).
         if (spread > toth_refine) {
-            float u = toth_jitter != 0 ? toth_noise(p) : 0.5;
-            frac = toth_visible_fraction(st_cam_pos, dir, s, toth_samples, 0, 1, u, toth_bisect, sigma_t);
+            vec4 r = texelFetch(toth_refined_tex, p, 0);
+            if (r.x >= 0.0) frac = r;
         }
         for (int l = 0; l < st_num_lights; l++)
-            L += frac[min(l, 3)] * toth_eq_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
+            L += frac[min(l, 3)] * toth_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
     } else if (toth_has_inscatter != 0) {
         L += up.rgb;
     }

@@ -2,8 +2,8 @@
 // scattering medium (no medium, or sigma_s = 0) or without lights (the view
 // ray's extinction belongs to the regular pass, tests/toth/test_toth_absorb.c);
 // the gather exists only when
-// interleaved; shadow_map is required; a parameter that is out of range is
-// refused naming it.
+// interleaved; the edges pass runs only below full resolution; shadow_map is required; a parameter
+// that is out of range is refused naming it.
 #include "toth_test.h"
 #include <cjson/cJSON.h>
 
@@ -11,7 +11,7 @@ static char buf[1 << 16], scene[512], out[512];
 
 typedef struct {
     int passes, runs, skipped, culled;
-    int march, gather, compose; // runs per pass
+    int march, gather, edges, compose; // runs per pass
 } toth_stats;
 
 static toth_stats stats(const char *extra) {
@@ -35,6 +35,7 @@ static toth_stats stats(const char *extra) {
         t.culled += cJSON_GetObjectItem(p, "culled")->valueint;
         if (!strcmp(name, "march")) t.march = runs;
         if (!strcmp(name, "gather")) t.gather = runs;
+        if (!strcmp(name, "edges")) t.edges = runs;
         if (!strcmp(name, "compose")) t.compose = runs;
     }
     cJSON_Delete(j);
@@ -51,23 +52,28 @@ int main(void) {
     snprintf(out, sizeof out, "%s/passes.exr", ST_TEST_SCRATCH);
     const char *med = "\"sigma_s\": [0.1, 0.1, 0.1], \"sigma_a\": [0.01, 0.01, 0.01]";
 
-    // With a medium, interleaved: march, gather and compose every frame.
+    // With a medium, interleaved: march, gather and compose every frame (32
+    // rows, below min_rows: the march is at full resolution, the edges pass
+    // has nothing to do).
     write_room(2, med, "\"interleave\": 2");
     toth_stats t = stats("--frames 3");
-    CHECK(t.passes == 3 && t.march == 3 && t.gather == 3 && t.compose == 3,
-          "medium: passes %d, march %d gather %d compose %d runs", t.passes, t.march, t.gather,
-          t.compose);
+    CHECK(t.passes == 4 && t.march == 3 && t.gather == 3 && t.compose == 3 && t.edges == 0,
+          "medium: passes %d, march %d gather %d edges %d compose %d runs", t.passes, t.march,
+          t.gather, t.edges, t.compose);
     // Not interleaved: no gather pass at all.
     t = stats("--frames 2 --set toth.interleave=1");
-    CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0,
+    CHECK(t.passes == 3 && t.march == 2 && t.compose == 2 && t.gather == 0,
           "interleave 1: %d passes", t.passes);
     write_room(2, med, "");
     t = stats("--frames 2");
-    CHECK(t.passes == 2 && t.march == 2 && t.compose == 2 && t.gather == 0,
+    CHECK(t.passes == 3 && t.march == 2 && t.compose == 2 && t.gather == 0,
           "interleave 1: %d passes", t.passes);
+    // At quarter resolution the edges pass runs every frame.
+    t = stats("--frames 2 --set toth.min_rows=0");
+    CHECK(t.edges == 2 && t.compose == 2, "quarter resolution: edges %d runs", t.edges);
     // Fewer samples than M^2 pixels to share them: interleaving is limited.
     t = stats("--set toth.samples=3 --set toth.interleave=4");
-    CHECK(t.passes == 2, "3 samples cannot be split over 2x2 pixels: %d passes", t.passes);
+    CHECK(t.passes == 3, "3 samples cannot be split over 2x2 pixels: %d passes", t.passes);
 
     // No medium, or one that does not scatter: no toth pass runs.
     write_room(2, NULL, "");
