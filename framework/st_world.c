@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "st_world.h"
 #include "st_physics.h"
+#include "st_medium_gpu.h" /* hook: medium */
 #include "st_targets.h"
 #include <cglm/cglm.h>
 #include <math.h>
@@ -59,6 +60,7 @@ struct st_world {
     st_shader *regular;
     st_shader *background;             // the background seen through a medium (scenes with one)
     char light_defines[64];            // st_world_light_defines
+    st_medium_gpu medium;              /* hook: medium (the density on the GPU) */
     st_module_inst *mods[MAX_MODULES]; // one heap block per instance: never moves
     unsigned next_serial;
     int num_mods;
@@ -185,6 +187,7 @@ void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
         GLint l = st_shader_loc(sh, builtin_uniforms[i].name);
         if (l >= 0) builtin_uniforms[i].set(w, sh, l, f);
     }
+    st_medium_gpu_uniforms(&w->medium, sh); /* hook: medium */
     for (int m = 0; m < w->num_mods; m++) {
         for (int i = 0; i < w->mods[m]->num_uniforms; i++) {
             const st_uniform *u = &w->mods[m]->uniforms[i];
@@ -1007,6 +1010,7 @@ static void light_defines(st_world *w) {
         types |= 1u << w->scene->lights[i].type;
     snprintf(w->light_defines, sizeof w->light_defines, "ST_MAX_LIGHTS %d\nST_LIGHT_TYPES %u\n",
              ST_MAX_LIGHTS, types);
+    st_medium_gpu_defines(w->scene, w->light_defines, sizeof w->light_defines); /* hook: medium */
 }
 
 static bool build_regular(st_world *w, st_err *err) {
@@ -1077,22 +1081,16 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
         st_fail(err, ST_ERR_RUNTIME, "out of memory");
         return NULL;
     }
-    // No GPU technique (the regular pass included) models a varying density
-    // yet: refuse rather than draw a homogeneous medium's image.
-    if (scene->medium.present && st_density_varies(&scene->density)) {
-        st_fail(err, ST_ERR_INPUT,
-                "%s: medium.density (%s) is supported by strahl reference only so far; the GPU "
-                "techniques and the regular pass model a homogeneous medium",
-                scene->path, scene->density.kind == ST_DENSITY_HEIGHT ? "height fog" : "vdb grid");
-        free(w);
-        return NULL;
-    }
     w->scene = scene;
     light_defines(w);
     if (opts) w->opts = *opts;
     if (scene->num_lights > ST_MAX_LIGHTS) {
         st_fail(err, ST_ERR_INPUT, "%s: lights: %d lights, at most %d are supported", scene->path,
                 scene->num_lights, ST_MAX_LIGHTS);
+        free(w);
+        return NULL;
+    }
+    if (!st_medium_gpu_create(&w->medium, scene, err)) { /* hook: medium */
         free(w);
         return NULL;
     }
@@ -1173,6 +1171,7 @@ void st_world_destroy(st_world *w) {
     st_target_destroy(&w->cam.accum[0]);
     st_target_destroy(&w->cam.accum[1]);
     st_shader_destroy(w->accumulate);
+    st_medium_gpu_destroy(&w->medium); /* hook: medium */
     free(w->acc_read);
     free(w->models);
     free(w->stats);

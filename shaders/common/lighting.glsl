@@ -1,7 +1,7 @@
 // What the lights deliver at a point, and direct light on a Lambertian
 // surface, shared by the regular pass and atlas_gi's G-buffer (C:
 // st_light_incident, st_direct_lambert in st_physics):
-//   rho/pi E max(cos, 0) V e^(-sigma_t path)
+//   rho/pi E max(cos, 0) V e^(-sigma_t tau(path))
 // E = I/d^2 (point), I falloff/d^2 (spot), the irradiance (directional).
 // The including shader defines st_visibility (1 without shadow_map).
 #ifndef ST_LIGHTING_GLSL
@@ -53,7 +53,8 @@ vec3 st_direct_light(vec3 p, vec3 n, vec3 albedo) {
         if (!st_light_incident(i, p, r)) continue;
         float c = dot(n, r.to_light);
         if (c <= 0.0) continue;
-        direct += albedo / ST_PI * r.E * c * st_visibility(i, p, n) * st_path_transmittance(r.path);
+        direct += albedo / ST_PI * r.E * c * st_visibility(i, p, n) *
+                  st_light_transmittance(p, r.to_light, r.path);
     }
     return direct;
 }

@@ -1,7 +1,7 @@
 // Regular pass: Lambertian direct light from point lights (docs/physics.md:
 // L = rho/pi * I * cos / d^2 * V * e^(-sigma_t d)) plus emission, plus
 // indirect light when a module provides it, as the camera sees it: times the
-// view ray's transmittance e^(-sigma_t s) whenever the scene has a medium
+// view ray's transmittance e^(-sigma_t tau) (tau = s when homogeneous) whenever the scene has a medium
 // (whichever volumetric module runs, or none; they add in-scattered light). Modules hook in through their
 // regular_include, which the world expands before this file.
 #include "common/lighting.glsl"
@@ -48,9 +48,9 @@ void main() {
     // radiance before the view ray); st_compose_viewed says whether what it
     // returns is seen through the medium.
     vec3 L = st_compose(direct, emission, indirect, p, n, v_uv1);
-    if (st_compose_viewed()) L *= st_view_transmittance(s);
+    if (st_compose_viewed()) L *= st_view_ray_transmittance(-to_cam / max(s, 1e-30), s);
 #else
-    vec3 L = (direct + emission + indirect) * st_view_transmittance(s);
+    vec3 L = (direct + emission + indirect) * st_view_ray_transmittance(-to_cam / max(s, 1e-30), s);
 #endif
     o_radiance = vec4(L, 1.0);
     o_gbuffer = vec4(n, s);

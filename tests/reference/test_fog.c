@@ -541,7 +541,8 @@ static void scene_format(const char *dir) {
         CHECK(0, "good.json: %s", err.msg);
     }
 
-    // The command line: render refuses (exit 2, no output), reference renders.
+    // The command line: render draws both (the GPU density, common/medium.glsl;
+    // its accuracy is tests/toth's), reference renders.
     char out[1024], cmd[4096], buf[8192];
     snprintf(out, sizeof out, "%s/fog.exr", dir);
     snprintf(path, sizeof path, "%s/height.json", dir);
@@ -549,14 +550,11 @@ static void scene_format(const char *dir) {
     unlink(out);
     snprintf(cmd, sizeof cmd, "%s render %s -o %s", ST_TEST_STRAHL, path, out);
     int rc = st_test_capture(buf, sizeof buf, cmd);
-    CHECK(rc == 2 && strstr(buf, "medium.density (height fog) is supported by strahl reference "
-                                 "only so far"),
-          "render of height fog: rc %d, '%s'", rc, buf);
-    CHECK(!st_test_exists(out), "render left %s behind", out);
+    CHECK(rc == 0 && st_test_exists(out), "render of height fog: rc %d, '%s'", rc, buf);
+    unlink(out);
     snprintf(cmd, sizeof cmd, "%s render %s/good.json -o %s", ST_TEST_STRAHL, dir, out);
     rc = st_test_capture(buf, sizeof buf, cmd);
-    CHECK(rc == 2 && strstr(buf, "medium.density (vdb grid) is supported by strahl reference"),
-          "render of a vdb grid: rc %d, '%s'", rc, buf);
+    CHECK(rc == 0 && st_test_exists(out), "render of a vdb grid: rc %d, '%s'", rc, buf);
     snprintf(cmd, sizeof cmd, "cd / && %s reference %s/good.json -o %s --spp 4", ST_TEST_STRAHL,
              dir, out);
     rc = st_test_capture(buf, sizeof buf, cmd);

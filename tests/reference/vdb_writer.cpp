@@ -25,10 +25,18 @@ extern "C" bool st_test_write_vdb(const char *path, const st_test_vdb *spec) {
             auto acc = g->getAccessor();
             for (int k = 0; k < spec->n[2]; k++)
                 for (int j = 0; j < spec->n[1]; j++)
-                    for (int i = 0; i < spec->n[0]; i++)
+                    for (int i = 0; i < spec->n[0]; i++) {
+                        float v = spec->value;
+                        if (spec->radius > 0) {
+                            double x = i - 0.5 * (spec->n[0] - 1), y = j - 0.5 * (spec->n[1] - 1),
+                                   z = k - 0.5 * (spec->n[2] - 1);
+                            double q = (x * x + y * y + z * z) / (spec->radius * spec->radius);
+                            v = q < 1.0 ? (float)(spec->value * (1.0 - q)) : 0.0f;
+                        }
                         acc.setValue(openvdb::Coord(spec->origin[0] + i, spec->origin[1] + j,
                                                     spec->origin[2] + k),
-                                     spec->value);
+                                     v);
+                    }
             if (spec->has_bad)
                 acc.setValue(openvdb::Coord(spec->bad[0], spec->bad[1], spec->bad[2]),
                              spec->bad_value);
