@@ -27,6 +27,18 @@ layout(location = 0) out vec4 o_radiance;
 const float FROXEL_GL_X[4] = float[4](0.1834346425, 0.5255324099, 0.7966664774, 0.9602898565);
 const float FROXEL_GL_W[4] = float[4](0.3626837834, 0.3137066459, 0.2223810345, 0.1012285363);
 
+// Density times the view's and the light's transmittance at x, t along
+// the view ray dir and d from the light (exact for every density: the near
+// field is small, 8 points a pixel).
+vec3 froxel_near_medium(vec3 dir, float t, vec3 x, vec3 to_light, float d) {
+#if ST_DENSITY_VARIES
+    float tau = st_optical_depth(st_cam_pos, dir, 0.0, t) + st_optical_depth(x, to_light, 0.0, d);
+    return st_density(x) * st_depth_transmittance(tau);
+#else
+    return exp(-st_medium_sigma_t() * (t + d));
+#endif
+}
+
 vec3 froxel_near(int l, vec3 dir, float s) {
     float R = froxel_near_radius(l);
     vec3 v = st_light_pos[l] - st_cam_pos;
@@ -35,7 +47,7 @@ vec3 froxel_near(int l, vec3 dir, float s) {
     float H2 = h * h + R * R;
     float ta = atan(-foot / h), tb = atan((s - foot) / h);
     float mid = 0.5 * (ta + tb), half_len = 0.5 * (tb - ta);
-    vec3 sigma_t = st_medium_sigma_t(), sum = vec3(0.0);
+    vec3 sum = vec3(0.0);
     for (int k = 0; k < 8; k++) {
         float th = mid + half_len * (k < 4 ? -FROXEL_GL_X[k] : FROXEL_GL_X[k - 4]);
         float tr = h * tan(th), t = foot + tr;
@@ -50,7 +62,7 @@ vec3 froxel_near(int l, vec3 dir, float s) {
         }
         float kern = R * R / (h * (H2 + tr * tr));
         float w = FROXEL_GL_W[k < 4 ? k : k - 4] * half_len;
-        sum += w * kern * f * st_phase(st_phase_kind, dot(to_light, dir), st_phase_g) * exp(-sigma_t * (t + d));
+        sum += w * kern * f * st_phase(st_phase_kind, dot(to_light, dir), st_phase_g) * froxel_near_medium(dir, t, x, to_light, d);
     }
     vec3 nearest = st_cam_pos + clamp(foot, 0.0, s) * dir;
     if (all(equal(sum, vec3(0.0)))) return sum;

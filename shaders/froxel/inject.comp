@@ -11,12 +11,6 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(rgba32f, binding = 0) uniform writeonly image2DArray froxel_inject_img;
 
-// The medium's density at x relative to sigma_s, sigma_a (1: homogeneous).
-float froxel_density(vec3 x) { return 1.0; }
-
-// Transmittance of the path of length `path` from x toward the light.
-vec3 froxel_light_transmittance(vec3 x, vec3 to_light, float path) { return st_path_transmittance(path); }
-
 // What positioned light l scatters toward the camera per unit sigma_s,
 // averaged over the slice's stretch [t0, t1] of the column's ray, before
 // visibility and the light's transmittance: I times the mean of
@@ -73,7 +67,15 @@ void main() {
     // The froxel's width across the ray at the sample (its rows span the
     // view's height at that depth).
     float width = 2.0 * mix(z0, z1, froxel_offset) * tan(0.5 * st_fov_y) / float(froxel_grid.y);
-    float dens = froxel_density(x);
+    // The medium's density (common/medium.glsl): at the sample for the source,
+    // and the slice's mean (its optical depth over its length: exact for
+    // height fog and grids) for the extinction the integration applies.
+    float dens = st_density(x);
+#if ST_DENSITY_VARIES
+    float mean_dens = st_optical_depth(st_cam_pos, dir, t0, t1) / max(t1 - t0, 1e-30);
+#else
+    float mean_dens = 1.0;
+#endif
     vec3 S = vec3(0.0);
     if (dens > 0.0) {
         for (int l = 0; l < st_num_lights; l++) {
@@ -93,8 +95,8 @@ void main() {
             float vis = st_visibility_point(l, x);
             // Extinction first: a large optical depth underflows to 0 instead
             // of forming inf * 0.
-            if (vis > 0.0) S += vis * (froxel_light_transmittance(x, to_light, path) * G);
+            if (vis > 0.0) S += vis * (st_light_transmittance(x, to_light, path) * G);
         }
     }
-    imageStore(froxel_inject_img, id, vec4(dens * st_sigma_s * S, dens));
+    imageStore(froxel_inject_img, id, vec4(dens * st_sigma_s * S, mean_dens));
 }
