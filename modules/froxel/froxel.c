@@ -19,7 +19,9 @@
 // scattering medium or without lights no pass runs.
 #include "st_world.h"
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 enum {
     P_TILE,
@@ -32,6 +34,8 @@ enum {
     P_NEAR_FIELD,
     P_NEAR_RADIUS,
     P_JITTER,
+    P_TEMPORAL,
+    P_HISTORY,
     P_COUNT
 };
 
@@ -60,6 +64,12 @@ static const st_param_def params[P_COUNT] = {
      "each frame samples the froxels at another depth inside their slices (a Halton sequence); "
      "the box filter's accumulation averages the frames (temporal integration for stills; "
      "off: slice midpoints)"},
+    {"temporal", ST_PARAM_BOOL, 0, 0, 1, NULL,
+     "temporal reprojection (Hillaire 2015): each frame samples its froxels at another depth in "
+     "their slices and blends them with the previous frame's grid, reprojected (off for stills: "
+     "the first frame is the plain one, later ones converge to the slice average)"},
+    {"history", ST_PARAM_FLOAT, 0.9, 0, 0.99, NULL,
+     "temporal: the reprojected history's weight in the blend"},
 };
 
 enum { PASS_INJECT, PASS_INTEGRATE, PASS_COMPOSE, PASS_COUNT };
@@ -70,6 +80,11 @@ typedef struct froxel {
     st_shader *inject, *integrate, *compose;
     st_pass_info info;
     int gx, gy, gz; // the grid the targets were declared for
+    // temporal: the previous frame's matrices, and whether froxel.history
+    // holds that frame's grid
+    float prev_view_proj[16], prev_view[16];
+    bool has_history;
+    int history_frames; // frames blended since the history was last reset
 } froxel;
 
 // The grid for an image of w x h pixels: square tiles of `tile` pixels, made
@@ -97,8 +112,11 @@ static bool declare_targets(froxel *x, int w, int h, st_err *err) {
     x->gz = (int)x->p[P_SLICES];
     const st_target_desc d = {GL_RGBA32F, .type = GL_TEXTURE_2D_ARRAY, .width = x->gx,
                               .height = x->gy, .layers = x->gz};
+    x->has_history = false;
+    x->history_frames = 0;
     return st_world_declare_target(x->w, "froxel.inject", &d, err) &&
-           st_world_declare_target(x->w, "froxel.integrated", &d, err);
+           st_world_declare_target(x->w, "froxel.integrated", &d, err) &&
+           st_world_declare_target(x->w, "froxel.history", x->p[P_TEMPORAL] != 0 ? &d : NULL, err);
 }
 
 static void destroy_shaders(froxel *x) {
@@ -184,7 +202,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
 // with jitter the base-2 radical inverse of the frame index (accumulated
 // stills average them).
 static float slice_offset(const froxel *x, uint64_t frame) {
-    if (x->p[P_JITTER] == 0) return 0.5f;
+    if (x->p[P_JITTER] == 0 && x->p[P_TEMPORAL] == 0) return 0.5f;
     double r = 0, f = 0.5;
     for (uint64_t n = frame; n; n >>= 1, f *= 0.5)
         r += f * (double)(n & 1);
@@ -210,8 +228,25 @@ static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
     glBindImageTexture(0, in->color[0], 0, GL_TRUE, 0,
                        pass == PASS_INJECT ? GL_WRITE_ONLY : GL_READ_ONLY, GL_RGBA32F);
     if (pass == PASS_INJECT) {
+        const st_target *hist = NULL;
+        if (x->p[P_TEMPORAL] != 0 && !(hist = st_world_get_target(x->w, "froxel.history", err)))
+            return false;
+        st_shader_set_int(sh, "froxel_temporal", hist && x->has_history);
+        st_shader_set_float(sh, "froxel_history", (float)x->p[P_HISTORY]);
+        st_shader_set_mat4(sh, "froxel_prev_view_proj", x->prev_view_proj);
+        st_shader_set_mat4(sh, "froxel_prev_view", x->prev_view);
+        if (hist) glBindImageTexture(2, hist->color[0], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
         glDispatchCompute((GLuint)(x->gx + 3) / 4, (GLuint)(x->gy + 3) / 4,
                           (GLuint)(x->gz + 3) / 4);
+        if (hist) { // this frame's grid becomes the next one's history
+            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            glCopyImageSubData(in->color[0], GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, hist->color[0],
+                               GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, x->gx, x->gy, x->gz);
+            memcpy(x->prev_view_proj, f->view_proj, sizeof x->prev_view_proj);
+            memcpy(x->prev_view, f->view, sizeof x->prev_view);
+            x->history_frames += x->has_history;
+            x->has_history = true;
+        }
     } else {
         glBindImageTexture(1, out->color[0], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glDispatchCompute((GLuint)(x->gx + 7) / 8, (GLuint)(x->gy + 7) / 8, 1);
@@ -232,6 +267,26 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     return st_gl_check("froxel compose", err);
 }
 
+// temporal: frames until the first frame's weight in the blend, history^n,
+// is below 1%; a still runs at least that many (the box filter starts
+// accumulating after them). Without temporal froxel is exact for its grid
+// at once and reports nothing.
+static int history_need(const froxel *x) {
+    double h = x->p[P_HISTORY];
+    return h <= 0 ? 0 : (int)ceil(log(0.01) / log(h));
+}
+
+static bool progress(void *self, st_progress *out) {
+    froxel *x = self;
+    if (x->p[P_TEMPORAL] == 0) return false;
+    out->converged = x->history_frames >= history_need(x);
+    out->frames = (uint32_t)x->history_frames;
+    out->error = pow(x->p[P_HISTORY], x->history_frames);
+    snprintf(out->info, sizeof out->info, "temporal: %d of %d frames blended (%dx%dx%d froxels)",
+             x->history_frames, history_need(x), x->gx, x->gy, x->gz);
+    return true;
+}
+
 static st_shader *shader(void *self, int pass) {
     froxel *x = self;
     return pass == PASS_INJECT ? x->inject : pass == PASS_INTEGRATE ? x->integrate : x->compose;
@@ -240,8 +295,8 @@ static st_shader *shader(void *self, int pass) {
 static void param_changed(void *self, int index) {
     froxel *x = self;
     st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_TILE || index == P_MIN_ROWS || index == P_GRID_X || index == P_GRID_Y ||
-        index == P_SLICES) {
+    if (index == P_TILE || index == P_MIN_ROWS || index == P_TEMPORAL || index == P_GRID_X ||
+        index == P_GRID_Y || index == P_SLICES) {
         const st_camera *c = st_world_camera(x->w);
         declare_targets(x, c->width, c->height, &ignore);
     }
@@ -265,5 +320,5 @@ ST_PLUGIN(.name = "froxel",
                          "per pixel",
           ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .needed = needed, .on_pass = on_pass,
-          .shader = shader, .param_changed = param_changed, .reload = reload,
+          .shader = shader, .param_changed = param_changed, .reload = reload, .progress = progress,
           .light_types = ST_LIGHT_BITS_ALL)

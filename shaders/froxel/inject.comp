@@ -11,6 +11,41 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(rgba32f, binding = 0) uniform writeonly image2DArray froxel_inject_img;
 
+// temporal: the previous frame's grid (source, mean density), reprojected
+// through the previous frame's matrices and blended in with weight
+// froxel_history (Hillaire 2015's history; trilinear between its froxels'
+// centres, the current value alone where x was outside that grid). Read as
+// an image: llvmpipe's compiler crashes on a sampled array here.
+uniform int froxel_temporal;
+uniform float froxel_history;
+uniform mat4 froxel_prev_view_proj, froxel_prev_view;
+layout(rgba32f, binding = 2) uniform readonly image2DArray froxel_history_img;
+
+vec4 froxel_history_at(ivec3 c) {
+    return imageLoad(froxel_history_img, clamp(c, ivec3(0), froxel_grid - 1));
+}
+
+vec4 froxel_reproject(vec3 x, vec4 cur) {
+    if (froxel_temporal == 0) return cur;
+    vec4 p = froxel_prev_view_proj * vec4(x, 1.0);
+    if (!(p.w > 0.0)) return cur;
+    vec2 ndc = p.xy / p.w;
+    if (any(greaterThan(abs(ndc), vec2(1.0)))) return cur;
+    float u = froxel_slice(-(froxel_prev_view * vec4(x, 1.0)).z);
+    if (!(u >= 0.0 && u <= 1.0)) return cur;
+    // Continuous froxel coordinates relative to the centres.
+    vec3 g = vec3((ndc * 0.5 + 0.5) * vec2(froxel_grid.xy), u * float(froxel_grid.z)) - 0.5;
+    ivec3 i = ivec3(floor(g));
+    vec3 f = g - vec3(i);
+    vec4 h = vec4(0.0);
+    for (int k = 0; k < 8; k++) {
+        ivec3 o = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+        vec3 w = mix(1.0 - f, f, vec3(o));
+        h += w.x * w.y * w.z * froxel_history_at(i + o);
+    }
+    return mix(cur, h, froxel_history);
+}
+
 // What positioned light l scatters toward the camera per unit sigma_s,
 // averaged over the slice's stretch [t0, t1] of the column's ray, before
 // visibility and the light's transmittance: I times the mean of
@@ -98,5 +133,5 @@ void main() {
             if (vis > 0.0) S += vis * (st_light_transmittance(x, to_light, path) * G);
         }
     }
-    imageStore(froxel_inject_img, id, vec4(dens * st_sigma_s * S, mean_dens));
+    imageStore(froxel_inject_img, id, froxel_reproject(x, vec4(dens * st_sigma_s * S, mean_dens)));
 }
