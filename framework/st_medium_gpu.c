@@ -19,6 +19,14 @@ static bool varies(const st_scene *s) {
     return s->medium.present && st_density_varies(&s->density);
 }
 
+bool st_medium_gpu_check_module(const st_scene *s, const char *name, st_err *err) {
+    if (!varies(s) || st_medium_gpu_module_ok(name)) return true;
+    return st_fail(err, ST_ERR_INPUT,
+                   "%s: medium.density (%s): module '%s' models a homogeneous medium only; with a "
+                   "varying density the GPU runs shadow_map, toth and froxel",
+                   s->path, s->density.kind == ST_DENSITY_HEIGHT ? "height fog" : "vdb grid", name);
+}
+
 void st_medium_gpu_defines(const st_scene *s, char *defines, size_t cap) {
     if (!varies(s)) return;
     size_t n = strlen(defines);
@@ -65,13 +73,7 @@ bool st_medium_gpu_create(st_medium_gpu *m, const st_scene *s, st_err *err) {
     memset(m, 0, sizeof *m);
     if (!varies(s)) return true;
     for (int i = 0; i < s->num_modules; i++)
-        if (!st_medium_gpu_module_ok(s->modules[i].name))
-            return st_fail(err, ST_ERR_INPUT,
-                           "%s: medium.density (%s): module '%s' models a homogeneous medium "
-                           "only; with a varying density the GPU runs shadow_map, toth and froxel",
-                           s->path,
-                           s->density.kind == ST_DENSITY_HEIGHT ? "height fog" : "vdb grid",
-                           s->modules[i].name);
+        if (!st_medium_gpu_check_module(s, s->modules[i].name, err)) return false;
     m->kind = s->density.kind;
     m->base = (float)s->density.base;
     m->falloff = (float)s->density.falloff;

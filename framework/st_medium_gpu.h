@@ -35,6 +35,10 @@ void st_medium_gpu_uniforms(const st_medium_gpu *m, st_shader *sh);
 // Whether module `name` handles a varying density (shadow_map, which knows
 // no medium, toth, froxel).
 bool st_medium_gpu_module_ok(const char *name);
+// False with an ST_ERR_INPUT naming the module when the scene's density
+// varies and module `name` does not handle it (the world checks the scene's
+// modules at creation and a module switched on later).
+bool st_medium_gpu_check_module(const st_scene *s, const char *name, st_err *err);
 
 #ifdef __cplusplus
 }

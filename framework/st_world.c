@@ -1223,6 +1223,7 @@ bool st_world_has_module(const st_world *w, const char *module) {
 bool st_world_enable(st_world *w, const char *module, bool on, st_err *err) {
     int m = find_module(w, module);
     if (on == (m >= 0)) return true;
+    if (on && !st_medium_gpu_check_module(w->scene, module, err)) return false; /* hook: medium */
     unsigned before = w->next_serial; // instances with a larger serial are this call's
     if (on) {
         if (!load(w, module, err)) return false;

@@ -21,6 +21,7 @@
 // without lights no pass runs: the view ray's extinction belongs to the
 // regular pass (docs/physics.md), toth only adds in-scattered light.
 #include "st_world.h"
+#include "st_physics.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -230,6 +231,12 @@ static bool needed(void *self, int pass, const st_frame *f) {
     return medium_scatters(f->scene) && f->scene->num_lights > 0;
 }
 
+// A varying density (medium.density) has no closed-form unshadowed
+// integral: its view rays are marched (sampling=uniform, march_density.glsl).
+static int sampling(const toth *t, const st_scene *sc) {
+    return st_density_varies(&sc->density) ? SAMPLING_UNIFORM : (int)t->p[P_SAMPLING];
+}
+
 static void set_common(toth *t, st_shader *sh) {
     st_shader_set_int(sh, "toth_scale", t->decl_scale);
     st_shader_set_float(sh, "toth_tolerance", (float)t->p[P_TOLERANCE]);
@@ -245,7 +252,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(t->march, "toth_samples", (int)t->p[P_SAMPLES]);
         st_shader_set_int(t->march, "toth_jitter", t->p[P_JITTER] != 0);
         st_shader_set_int(t->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
-        st_shader_set_int(t->march, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->march, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(t->march, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(t->march, "toth_exact", t->p[P_EXACT] != 0);
         break;
@@ -253,7 +260,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
         if (!march) return false;
         set_common(t, t->gather);
-        st_shader_set_int(t->gather, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->gather, "toth_sampling", sampling(t, f->scene));
         st_shader_texture(t->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
         break;
     }
@@ -261,7 +268,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         const st_target *src =
             st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
         set_common(t, t->compose);
-        st_shader_set_int(t->compose, "toth_sampling", (int)t->p[P_SAMPLING]);
+        st_shader_set_int(t->compose, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(t->compose, "toth_nodes", (int)t->p[P_NODES]);
         st_shader_set_int(t->compose, "toth_samples", (int)t->p[P_SAMPLES]);
         st_shader_set_int(t->compose, "toth_jitter", t->p[P_JITTER] != 0);

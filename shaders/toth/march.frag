@@ -5,6 +5,7 @@
 #include "common/uniforms.glsl"
 #include "toth/source.glsl"
 #include "toth/march.glsl"
+#include "toth/march_density.glsl"
 #include "toth/visibility.glsl"
 #include "toth/common.glsl"
 uniform sampler2D st_gbuffer;
@@ -24,13 +25,19 @@ void main() {
     int M = max(toth_interleave, 1);
     int first = (lp.x % M) + M * (lp.y % M);
     vec3 sigma_t = st_sigma_s + st_sigma_a;
+#if !ST_DENSITY_VARIES // a varying density is marched (toth.c sets sampling=uniform)
     if (toth_sampling == 1) {
         float u = toth_jitter != 0 ? toth_noise(fp) : 0.5;
         o_march = toth_visible_fraction(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_bisect, sigma_t) /
                   float(M * M);
         return;
     }
+#endif
     float u = toth_jitter != 0 ? toth_noise(fp) : st_step_sample_offset(toth_integrator);
+#if ST_DENSITY_VARIES
+    vec3 L = toth_march_density(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_integrator, sigma_t);
+#else
     vec3 L = toth_march(st_cam_pos, toth_view_dir(fp), s, toth_samples, first, M * M, u, toth_integrator, sigma_t);
+#endif
     o_march = vec4(L, s);
 }

@@ -1,11 +1,12 @@
 // toth: the single-scattering source of docs/physics.md at a point x of a view ray
 // with direction dir (camera -> scene): the sum over the lights of
-// sigma_s phase(theta) E V e^(-sigma_t path), E = I/d^2 (point), I f/d^2
+// sigma_s phase(theta) E V e^(-sigma_t tau(path)), E = I/d^2 (point), I f/d^2
 // (spot), the irradiance (directional), V from shadow_map.
 #ifndef TOTH_SOURCE_GLSL
 #define TOTH_SOURCE_GLSL
 #include "common/uniforms.glsl"
 #include "common/physics.glsl"
+#include "common/medium.glsl"
 #include "shadow_map/visibility.glsl"
 
 vec3 toth_source(vec3 x, vec3 dir, float min_d2) {
@@ -35,6 +36,7 @@ vec3 toth_source(vec3 x, vec3 dir, float min_d2) {
                 f = a * a;
             }
             path = d;
+            to_light = d > 0.0 ? v / d : vec3(0.0);
             E = st_light_intensity[l] * (f / max(d2, min_d2));
         }
         if (all(equal(E, vec3(0.0)))) continue;
@@ -42,7 +44,7 @@ vec3 toth_source(vec3 x, vec3 dir, float min_d2) {
         if (vis <= 0.0) continue;
         // Extinction first: with sigma_t d large the product underflows to
         // 0 instead of forming inf * 0.
-        S += st_phase(st_phase_kind, c, st_phase_g) * vis * E * exp(-sigma_t * path);
+        S += st_phase(st_phase_kind, c, st_phase_g) * vis * E * st_light_transmittance(x, to_light, path);
     }
     return st_sigma_s * S;
 }

@@ -39,7 +39,8 @@
 //    measures relMSE = mean((a-b)^2 / (b^2 + 0.01)) and NRMSE = rmse /
 //    mean(b), b = Cycles: direct cases relMSE <= 0.001 (box cases also
 //    issue 20's NRMSE <= 0.02); medium cases (toth)
-//    relMSE <= 0.005 and NRMSE <= 0.05; bounce cases (atlas_gi at its
+//    relMSE <= 0.005 and NRMSE <= 0.05, also on fog cases (a medium of
+//    varying density, issue 24's bound for toth); bounce cases (atlas_gi at its
 //    default, the precomputed transfer): the atlas_gi issue's relMSE <= 0.005
 //    and NRMSE <= 0.03, and the image mean within a factor 2.
 // A "crosscheck CASE METHOD ..." line per comparison goes to stdout.
@@ -66,6 +67,11 @@ static const struct {
     // reference itself, within its noise statistic, shows NRMSE 0.13, so
     // toth's 0.078 is mostly Cycles' noise; a longer Cycles render is due.
     {"fog_room", "toth", "nrmse", 0.0779},
+    // Issue 24's VDB cloud: image means within 0.03%, NRMSE 0.043 (0.022
+    // with the reference at 256 spp, where the statistic stays at 1.61), so
+    // a small systematic difference between Cycles' ray-marched volume
+    // object and the exact trilinear grid remains (docs/accuracy.md).
+    {"vdb_cloud", "reference", "noise-statistic", 1.585},
     {NULL, NULL, NULL, 0},
 };
 
@@ -223,17 +229,6 @@ int main(int argc, char **argv) {
     printf("crosscheck %s reference: relmse %.6g nrmse %.6g noise-statistic %.4f bound %.4f\n",
            name, s.relmse, s.nrmse, s.m, s.bound);
     check_le(name, "reference", "noise-statistic", s.m, s.bound);
-    // fog: a medium of varying density, which no GPU technique models yet:
-    // strahl render must refuse it (exit 2, no image) rather than draw one.
-    if (fog) {
-        unlink(gpu_path);
-        CHECK(st_test_sh("%s render %s -o %s", ST_TEST_STRAHL, scene, gpu_path) == 2 &&
-                  !st_test_exists(gpu_path),
-              "strahl render refuses %s (exit 2, no output)", name);
-        st_image_free(&cyc), st_image_free(&se), st_image_free(&ref), st_image_free(&ref_rgb);
-        return st_test_summary(name);
-    }
-
     // The GPU plugins of the scene, every parameter at its default.
     CHECK(st_test_sh("%s render %s -o %s --filter %s", ST_TEST_STRAHL, scene, gpu_path, filter) ==
               0,
@@ -247,7 +242,7 @@ int main(int argc, char **argv) {
         if (direct) {
             check_le(name, method, "relmse", relmse, 0.001);
             if (box) check_le(name, method, "nrmse", nrmse, 0.02); // issue 20's bound
-        } else if (medium) {
+        } else if (medium || fog) { // fog: toth marching the varying density
             check_le(name, method, "relmse", relmse, 0.005);
             check_le(name, method, "nrmse", nrmse, 0.05);
         } else {

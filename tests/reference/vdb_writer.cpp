@@ -43,10 +43,12 @@ extern "C" bool st_test_write_vdb(const char *path, const st_test_vdb *spec) {
             grids.push_back(g);
         }
         // A second grid, so a wrong name has something to list.
-        openvdb::FloatGrid::Ptr t = openvdb::FloatGrid::create(0.0f);
-        t->setName("temperature");
-        t->tree().setValue(openvdb::Coord(0, 0, 0), 1.0f);
-        grids.push_back(t);
+        if (!spec->single_grid) {
+            openvdb::FloatGrid::Ptr t = openvdb::FloatGrid::create(0.0f);
+            t->setName("temperature");
+            t->tree().setValue(openvdb::Coord(0, 0, 0), 1.0f);
+            grids.push_back(t);
+        }
         openvdb::io::File file(path);
         file.write(grids);
         file.close();

@@ -23,6 +23,7 @@ typedef struct st_test_vdb {
     float bad_value;
     bool vector_grid;
     double radius;
+    bool single_grid; // without the second grid "temperature"
 } st_test_vdb;
 
 bool st_test_write_vdb(const char *path, const st_test_vdb *spec);

@@ -14,7 +14,8 @@ int main(int argc, char **argv) {
                         .origin = {-12, -12, -12},
                         .value = 1.0f,
                         .voxel = 0.05,
-                        .radius = 11.5};
+                        .radius = 11.5,
+                        .single_grid = true};
     if (!st_test_write_vdb(argv[1], &spec)) {
         fprintf(stderr, "make_cloud_vdb: cannot write %s\n", argv[1]);
         return 1;

@@ -11,9 +11,11 @@
 // the issue (the closed form per pixel); a grid: a 10^3 block of density 2
 // (trilinear, falling to 0 over one voxel at its faces) between the camera
 // and the emitter. A module that models a homogeneous medium only
-// (mitchell) is refused with exit 2.
+// (mitchell) is refused with exit 2, also when switched on later.
 #include "toth_test.h"
 #include "../reference/vdb_writer.h"
+#include "st_test_support.h"
+#include "st_world.h"
 
 #define W 96
 #define H 72
@@ -155,6 +157,28 @@ int main(void) {
     CHECK(rc == 2 && strstr(buf, "module 'mitchell' models a homogeneous medium only") &&
               !st_test_exists(out),
           "mitchell with height fog: rc %d, '%s'", rc, buf);
+    // Switched on in a running world (the viewer's path), likewise.
+    st_context *ctx = st_test_context();
+    st_scene sc;
+    st_err err = {0};
+    write_scene("");
+    if (ctx && st_scene_load(scene, &sc, &err)) {
+        st_world *w = st_world_create(&sc, NULL, &err);
+        CHECK(w != NULL, "world: %s", err.msg);
+        if (w) {
+            bool ok = st_world_enable(w, "mitchell", true, &err);
+            CHECK(!ok && err.kind == ST_ERR_INPUT && strstr(err.msg, "module 'mitchell'") &&
+                      !st_world_has_module(w, "mitchell"),
+                  "enabling mitchell with height fog: %d '%s'", ok, err.msg);
+            err = (st_err){0};
+            CHECK(st_world_enable(w, "toth", true, &err), "enabling toth: %s", err.msg);
+            st_world_destroy(w);
+        }
+        st_scene_free(&sc);
+    } else {
+        CHECK(0, "context or scene: %s", err.msg);
+    }
+    st_context_destroy(ctx);
     // A grid: 10^3 voxels of 0.2 m holding 2, centred at (0, 1.5, 2).
     char vdb[600];
     snprintf(vdb, sizeof vdb, "%s/block.vdb", ST_TEST_SCRATCH);

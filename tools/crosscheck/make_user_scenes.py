@@ -7,7 +7,7 @@
 #
 #   blender -b --factory-startup --python tools/crosscheck/make_user_scenes.py -- OUTDIR [NAME...]
 #
-# NAME: ds_cornell, meshes, dense, fog_room (default: all). Coordinates below
+# NAME: ds_cornell, meshes, dense, fog_room, cloud_room (default: all). Coordinates below
 # are strahl's (y up, metres); Blender is z up, and the exporter maps Blender
 # (x, y, z) to glTF (x, z, -y).
 import math
@@ -25,7 +25,7 @@ args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 if not args:
     sys.stderr.write("usage: ... -- OUTDIR [NAME...]\n")
     sys.exit(2)
-outdir, names = args[0], args[1:] or ["ds_cornell", "meshes", "dense", "fog_room"]
+outdir, names = args[0], args[1:] or ["ds_cornell", "meshes", "dense", "fog_room", "cloud_room"]
 
 
 def reset():
@@ -183,6 +183,18 @@ def fog_room():
     export("fog_room")
 
 
+def cloud_room():
+    # A floor, a back wall and a pedestal under a cloud (the case's OpenVDB
+    # grid, cloud.vdb) lit by a spot from above: the cloud's shadow on the
+    # floor, its self-shadowing and the lit cone in its density.
+    reset()
+    box("floor", (-2.5, -0.1, -2.5), (2.5, 0, 2.5), (0.6, 0.55, 0.5))
+    box("back", (-2.5, 0, -1.6), (2.5, 3, -1.5), (0.6, 0.6, 0.6))
+    box("pedestal", (0.5, 0, -0.6), (0.9, 0.5, -0.2), (0.3, 0.4, 0.5), 20.0)
+    export("cloud_room")
+
+
 os.makedirs(outdir, exist_ok=True)
 for n in names:
-    {"ds_cornell": ds_cornell, "meshes": meshes, "dense": dense, "fog_room": fog_room}[n]()
+    {"ds_cornell": ds_cornell, "meshes": meshes, "dense": dense, "fog_room": fog_room,
+     "cloud_room": cloud_room}[n]()
