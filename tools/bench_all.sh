@@ -9,6 +9,9 @@
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
 #   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5): toth against the CPU
 #   reference (ONLY=truth, also part of toth and all).
+#   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4):
+#   froxel beside toth, mitchell and sousa against the CPU reference (ONLY=froxel,
+#   also part of all).
 # References are converged enough for the tables they serve: a first run with
 # REF_SPP (GI_REF_SPP) samples measures the reference's own noise (rms of its
 # per-pixel standard error), and a second shard with another seed, merged in,
@@ -31,6 +34,9 @@ MAX_REF_SPP=${MAX_REF_SPP:-65536}
 ONLY=${ONLY:-all}
 TRUTH_SIZES=${TRUTH_SIZES:-320x240 512x512}
 TRUTH_ERR=${TRUTH_ERR:-9e-5}
+FROXEL_SIZE=${FROXEL_SIZE:-$GODRAY_SIZE}
+FROXEL_TIME_SIZE=${FROXEL_TIME_SIZE:-512x512}
+FROXEL_ERR=${FROXEL_ERR:-3e-4}
 FRAMES=${FRAMES:-5}
 REF_SPP=${REF_SPP:-16}
 [ -x "$S" ] || { cmake --preset release >/dev/null && cmake --build --preset release; }
@@ -60,6 +66,7 @@ ref_target() {
     */ref_godrays_*) echo "$SHAFT_ERR" ;; # mitchell, sousa: scaled rmse >= ~0.026
     */ref_gi_*) echo "$GI_ERR" ;;         # atlas_gi: rmse >= ~0.043
     */truth_ref_*) echo "$TRUTH_ERR" ;;   # toth and the brute force: rmse >= ~9e-5
+    */froxel_ref_*) echo "$FROXEL_ERR" ;; # froxel beside toth, mitchell, sousa
     *) echo 0 ;;                          # 0: take the given --spp as it is
     esac
 }
@@ -207,6 +214,57 @@ awk -F, 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json
 log "truth: $OUT/truth_summary.md"
 fi
 
+# ---- froxel beside toth, mitchell and sousa against ground truth (issue 24) ---
+# Per god-ray scene one reference (`strahl reference --bounces 0`, point filter,
+# its noise brought to a third of FROXEL_ERR by ref()) and one CSV with every
+# technique's sweep against it (rmse, --mode recompute: the shadow map redone
+# every frame): froxel's grid (slices along each curve, tile per curve,
+# min_rows off so the tile is what it says) and its defaults, toth's samples
+# at its defaults otherwise, mitchell's and sousa's taps where the scene has
+# their variant. froxel_<scene>.png: one Pareto plot per scene.
+# froxel_vs_toth.md: frame time (median of FRAMES, strahl render --stats,
+# point filter) of both at their defaults at FROXEL_TIME_SIZE, and their
+# ratio, from this one run, beside the rmse of both from the CSV.
+if [ "$ONLY" = all ] || [ "$ONLY" = froxel ]; then
+rm -f "$OUT"/froxel_*.csv "$OUT"/froxel_vs_toth.md
+for s in window colonnade hidden_hole light_front colonnade_sun spot_fog; do
+    base=scenes/godrays_$s
+    case $s in colonnade_sun | spot_fog) base=scenes/$s ;; esac
+    r=$OUT/froxel_ref_${s}_$FROXEL_SIZE.exr csv=$OUT/froxel_$s.csv
+    ref "$base.json" "$FROXEL_SIZE" "$r" --bounces 0 --spp 8 --filter point
+    bench "${base}_froxel.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute \
+        --set froxel.min_rows=0 --sweep froxel.slices=32,64,128,256 --sweep froxel.tile=16,8,4
+    bench "${base}_froxel.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep froxel.slices=128
+    bench "$base.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep toth.samples=16,32,64,128
+    if [ -f "${base}_mitchell.json" ]; then
+        bench "${base}_mitchell.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep mitchell.n=16,32,64,128
+        bench "${base}_sousa.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep sousa.taps=4,8,12
+    fi
+    "$S" plot "$csv" -o "$OUT/froxel_$s.png" --title "froxel, toth, mitchell, sousa on $s ($FROXEL_SIZE)"
+    for m in froxel toth; do
+        sc=${base}_froxel.json; [ $m = toth ] && sc=$base.json
+        ms=$("$S" render "$sc" -o "$OUT/froxel_tmp.exr" --size "$FROXEL_TIME_SIZE" --filter point \
+            --frames "$FRAMES" --warmup 1 --stats 2>&1 | sed -n 's/.*median frame \([0-9.]*\) ms.*/\1/p')
+        echo "$s $m $ms" >> "$OUT/froxel_times.txt.tmp"
+    done
+    rm -f "$OUT/froxel_tmp.exr"
+done
+# rmse at the defaults from the CSVs ($9; froxel: slices=128 without tile,
+# toth: samples=64), frame medians from the renders above.
+{
+    echo "| scene | toth defaults: frame ms, rmse | froxel defaults: frame ms, rmse | frame time froxel / toth |"
+    echo "|---|---|---|---:|"
+    while read -r s m ms; do
+        if [ "$m" = froxel ]; then tf=$ms; continue; fi
+        e=$(awk -F, '$2 == "froxel.slices=128" { f = $9 } $2 ~ /^toth.samples=64( |$)/ { t = $9 } END { print f, t }' "$OUT/froxel_$s.csv")
+        awk -v s="$s" -v tf="$tf" -v tt="$ms" -v e="$e" 'BEGIN { split(e, x, " ")
+            printf "| %s | %.0f, %.3g | %.0f, %.3g | %.2f |\n", s, tt, x[2], tf, x[1], tf / tt }'
+    done < "$OUT/froxel_times.txt.tmp"
+} > "$OUT/froxel_vs_toth.md"
+rm -f "$OUT/froxel_times.txt.tmp"
+log "froxel: $OUT/froxel_vs_toth.md, $OUT/froxel_*.png"
+fi
+
 # ---- screen-space god rays (mitchell, sousa) against the CPU reference --------
 if [ "$ONLY" = all ] || [ "$ONLY" = godrays ]; then
 rm -f "$OUT"/mitchell.csv "$OUT"/sousa.csv
@@ -304,6 +362,13 @@ table() { # csv -> markdown rows: scene, setting, frame ms, module gpu ms, error
         for p in "$OUT"/${m}_*.png; do [ -f "$p" ] && echo "![$(basename "$p" .png)](bench/$(basename "$p"))"; done
     done
 } > "$OUT/tables.md"
+# froxel (issue 24): the comparison at the defaults, then every scene's CSV.
+if [ -f "$OUT/froxel_vs_toth.md" ]; then
+    { echo; echo "### froxel beside toth, mitchell and sousa (rmse against strahl reference --bounces 0)"
+      echo; cat "$OUT/froxel_vs_toth.md"
+      for c in "$OUT"/froxel_*.csv; do echo; table "$c"; echo; echo "![$(basename "$c" .csv)](bench/$(basename "$c" .csv).png)"; done
+    } >> "$OUT/tables.md"
+fi
 log "done: $OUT/tables.md and plots"
 
 # Splice the tables into docs/benchmarks.md between its markers.

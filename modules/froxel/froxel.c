@@ -1,0 +1,324 @@
+// froxel: volumetric fog in a camera-aligned grid (Hillaire 2015, "Physically
+// based and unified volumetric rendering in Frostbite"; the method of
+// Unreal's volumetric fog and Bevy's). Three passes per frame:
+//   inject    (compute, one thread per froxel)  the density and the
+//             in-scattered radiance per metre at the froxel's sample point:
+//             every light, its shadow_map visibility, the phase function and
+//             the light's transmittance to the point (docs/physics.md)
+//   integrate (compute, one thread per column)  front to back along the
+//             column's ray with Hillaire's energy-conserving step:
+//             in-scattered light and optical depth from the camera to the end
+//             of every slice
+//   compose   (full resolution)  each pixel looks its own depth up: the
+//             integral to the start of its slice plus the partial step to
+//             the surface (or, where it sees none, to the far plane), added
+//             to the image the regular pass attenuated by the view ray's
+//             transmittance (docs/physics.md: froxel only adds light)
+// The grid covers the screen in x and y (image / tile, or grid_x x grid_y)
+// and the view depth [0, far] in `slices` exponential slices. Without a
+// scattering medium or without lights no pass runs.
+#include "st_world.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum {
+    P_TILE,
+    P_MIN_ROWS,
+    P_GRID_X,
+    P_GRID_Y,
+    P_SLICES,
+    P_FAR,
+    P_EXPONENT,
+    P_NEAR_FIELD,
+    P_NEAR_RADIUS,
+    P_JITTER,
+    P_TEMPORAL,
+    P_HISTORY,
+    P_COUNT
+};
+
+static const st_param_def params[P_COUNT] = {
+    {"tile", ST_PARAM_INT, 8, 1, 64, NULL,
+     "froxel footprint in pixels: the grid is the image divided by it, rounded up (unless "
+     "grid_x / grid_y are set)"},
+    {"min_rows", ST_PARAM_INT, 64, 0, 256, NULL,
+     "the tile shrinks until the grid has at least this many rows (small images keep the "
+     "shafts' resolution; 0 = tile as set)"},
+    {"grid_x", ST_PARAM_INT, 0, 0, 256, NULL, "froxel columns (0 = image width / tile)"},
+    {"grid_y", ST_PARAM_INT, 0, 0, 256, NULL, "froxel rows (0 = image height / tile)"},
+    {"slices", ST_PARAM_INT, 128, 1, 256, NULL, "depth slices between the camera and far"},
+    {"far", ST_PARAM_FLOAT, 0, 0, 1e6, NULL,
+     "view depth the grid ends at (0 = the camera's far plane); no in-scattering beyond it"},
+    {"exponent", ST_PARAM_FLOAT, 3, 0, 30, NULL,
+     "depth distribution: slice boundary z(u) = far (e^(k u) - 1) / (e^k - 1), u = k / slices "
+     "(0 = linear; larger = thinner slices near the camera)"},
+    {"near_field", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "point and spot lights: the part of 1/d^2 within about a froxel of the light, which the grid "
+     "cannot resolve, integrated along each pixel's ray (unshadowed); off: the plain method"},
+    {"near_radius", ST_PARAM_FLOAT, 2, 0.25, 16, NULL,
+     "the near field's radius in froxels (the larger of a froxel's width and its slice's length "
+     "at the light's depth)"},
+    {"jitter", ST_PARAM_BOOL, 0, 0, 1, NULL,
+     "each frame samples the froxels at another depth inside their slices (a Halton sequence); "
+     "the box filter's accumulation averages the frames (temporal integration for stills; "
+     "off: slice midpoints)"},
+    {"temporal", ST_PARAM_BOOL, 0, 0, 1, NULL,
+     "temporal reprojection (Hillaire 2015): each frame samples its froxels at another depth in "
+     "their slices and blends them with the previous frame's grid, reprojected (off for stills: "
+     "the first frame is the plain one, later ones converge to the slice average)"},
+    {"history", ST_PARAM_FLOAT, 0.9, 0, 0.99, NULL,
+     "temporal: the reprojected history's weight in the blend"},
+};
+
+enum { PASS_INJECT, PASS_INTEGRATE, PASS_COMPOSE, PASS_COUNT };
+
+typedef struct froxel {
+    st_world *w;
+    const double *p;
+    st_shader *inject, *integrate, *compose;
+    st_pass_info info;
+    int gx, gy, gz; // the grid the targets were declared for
+    // temporal: the previous frame's matrices, and whether froxel.history
+    // holds that frame's grid
+    float prev_view_proj[16], prev_view[16];
+    bool has_history;
+    int history_frames; // frames blended since the history was last reset
+} froxel;
+
+// The grid for an image of w x h pixels: square tiles of `tile` pixels, made
+// smaller where that would give fewer than min_rows rows (a 96 x 96 image
+// gets the 64 x 64 columns a 512 x 512 one has), unless given explicitly.
+static void grid_size(const froxel *x, int w, int h, int *gx, int *gy) {
+    double tile = x->p[P_TILE], rows = x->p[P_MIN_ROWS];
+    if (rows > 0 && h / tile < rows) tile = fmax(h / rows, 1e-3);
+    *gx = x->p[P_GRID_X] > 0 ? (int)x->p[P_GRID_X] : (int)ceil(w / tile - 1e-9);
+    *gy = x->p[P_GRID_Y] > 0 ? (int)x->p[P_GRID_Y] : (int)ceil(h / tile - 1e-9);
+    *gx = *gx < 1 ? 1 : *gx > 1024 ? 1024 : *gx;
+    *gy = *gy < 1 ? 1 : *gy > 1024 ? 1024 : *gy;
+}
+
+// Two world-owned volumes as 2D arrays (one layer per slice): `inject` holds
+// the source and density per froxel, `integrated` the integral to the end of
+// each slice. Linear in x and y (the compose pass interpolates columns), the
+// slices are read one by one.
+static bool declare_targets(froxel *x, int w, int h, st_err *err) {
+    if (w < 1 || h < 1) { // before the world's first resize: the scene's size
+        w = st_world_scene(x->w)->width;
+        h = st_world_scene(x->w)->height;
+    }
+    grid_size(x, w, h, &x->gx, &x->gy);
+    x->gz = (int)x->p[P_SLICES];
+    const st_target_desc d = {GL_RGBA32F, .type = GL_TEXTURE_2D_ARRAY, .width = x->gx,
+                              .height = x->gy, .layers = x->gz};
+    x->has_history = false;
+    x->history_frames = 0;
+    return st_world_declare_target(x->w, "froxel.inject", &d, err) &&
+           st_world_declare_target(x->w, "froxel.integrated", &d, err) &&
+           st_world_declare_target(x->w, "froxel.history", x->p[P_TEMPORAL] != 0 ? &d : NULL, err);
+}
+
+static void destroy_shaders(froxel *x) {
+    st_shader_destroy(x->inject);
+    st_shader_destroy(x->integrate);
+    st_shader_destroy(x->compose);
+    x->inject = x->integrate = x->compose = NULL;
+}
+
+static bool load_shaders(froxel *x, st_err *err) {
+    const char *defines = st_world_light_defines(x->w);
+    x->inject = st_shader_load_compute("froxel/inject.comp", defines, err);
+    x->integrate = x->inject ? st_shader_load_compute("froxel/integrate.comp", defines, err) : NULL;
+    x->compose = x->integrate
+                     ? st_shader_load("common/fullscreen.vert", "froxel/compose.frag", defines, err)
+                     : NULL;
+    if (x->compose) return true;
+    destroy_shaders(x);
+    return false;
+}
+
+static void *create(st_world *w, const double *p, st_err *err) {
+    froxel *x = st_calloc(sizeof *x, err);
+    if (!x) return NULL;
+    x->w = w;
+    x->p = p;
+    const st_camera *c = st_world_camera(w);
+    if (!declare_targets(x, c->width, c->height, err) || !load_shaders(x, err)) {
+        free(x);
+        return NULL;
+    }
+    return x;
+}
+
+static void destroy(void *self) {
+    destroy_shaders(self);
+    free(self);
+}
+
+static int num_passes(void *self) {
+    (void)self;
+    return PASS_COUNT;
+}
+
+static const st_pass_info *pass_info(void *self, int pass) {
+    froxel *x = self;
+    switch (pass) {
+    case PASS_INJECT:
+        x->info = (st_pass_info){"inject", ST_STAGE_POST, "shadow_map", "froxel.inject", 0};
+        break;
+    case PASS_INTEGRATE:
+        x->info =
+            (st_pass_info){"integrate", ST_STAGE_POST, "froxel.inject", "froxel.integrated", 0};
+        break;
+    default:
+        x->info =
+            (st_pass_info){"compose", ST_STAGE_POST, "hdr,gbuffer,froxel.inject,froxel.integrated",
+                           "hdr", ST_PASS_FULLSCREEN};
+        break;
+    }
+    return &x->info;
+}
+
+static bool medium_scatters(const st_scene *sc) {
+    const st_medium_desc *m = &sc->medium;
+    return m->present && (m->sigma_s[0] > 0 || m->sigma_s[1] > 0 || m->sigma_s[2] > 0);
+}
+
+// needed() runs before the world binds targets: a new image size that moves
+// an automatic grid re-declares the volumes here.
+static bool needed(void *self, int pass, const st_frame *f) {
+    froxel *x = self;
+    int gx, gy;
+    grid_size(x, f->width, f->height, &gx, &gy);
+    if (pass == 0 && (gx != x->gx || gy != x->gy)) {
+        st_err ignore = {0}; // only fails for a bad name, which create already caught
+        declare_targets(x, f->width, f->height, &ignore);
+    }
+    return medium_scatters(f->scene) && f->scene->num_lights > 0;
+}
+
+// Where inside its slice a froxel is sampled this frame: the midpoint, or
+// with jitter the base-2 radical inverse of the frame index (accumulated
+// stills average them).
+static float slice_offset(const froxel *x, uint64_t frame) {
+    if (x->p[P_JITTER] == 0 && x->p[P_TEMPORAL] == 0) return 0.5f;
+    double r = 0, f = 0.5;
+    for (uint64_t n = frame; n; n >>= 1, f *= 0.5)
+        r += f * (double)(n & 1);
+    return (float)fmod(r + 0.5, 1.0);
+}
+
+static void set_grid(const froxel *x, st_shader *sh, const st_frame *f) {
+    float far = x->p[P_FAR] > 0 ? (float)x->p[P_FAR] : f->far_z;
+    glUniform3i(st_shader_loc(sh, "froxel_grid"), x->gx, x->gy, x->gz);
+    st_shader_set_float(sh, "froxel_far", far);
+    st_shader_set_float(sh, "froxel_exponent", (float)x->p[P_EXPONENT]);
+    st_shader_set_float(sh, "froxel_offset", slice_offset(x, f->index));
+    st_shader_set_int(sh, "froxel_near_field", x->p[P_NEAR_FIELD] != 0);
+    st_shader_set_float(sh, "froxel_near_scale", (float)x->p[P_NEAR_RADIUS]);
+}
+
+static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
+    const st_target *in = st_world_get_target(x->w, "froxel.inject", err);
+    const st_target *out = in ? st_world_get_target(x->w, "froxel.integrated", err) : NULL;
+    if (!out) return false;
+    st_shader *sh = pass == PASS_INJECT ? x->inject : x->integrate;
+    set_grid(x, sh, f);
+    glBindImageTexture(0, in->color[0], 0, GL_TRUE, 0,
+                       pass == PASS_INJECT ? GL_WRITE_ONLY : GL_READ_ONLY, GL_RGBA32F);
+    if (pass == PASS_INJECT) {
+        const st_target *hist = NULL;
+        if (x->p[P_TEMPORAL] != 0 && !(hist = st_world_get_target(x->w, "froxel.history", err)))
+            return false;
+        st_shader_set_int(sh, "froxel_temporal", hist && x->has_history);
+        st_shader_set_float(sh, "froxel_history", (float)x->p[P_HISTORY]);
+        st_shader_set_mat4(sh, "froxel_prev_view_proj", x->prev_view_proj);
+        st_shader_set_mat4(sh, "froxel_prev_view", x->prev_view);
+        if (hist) glBindImageTexture(2, hist->color[0], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glDispatchCompute((GLuint)(x->gx + 3) / 4, (GLuint)(x->gy + 3) / 4,
+                          (GLuint)(x->gz + 3) / 4);
+        if (hist) { // this frame's grid becomes the next one's history
+            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            glCopyImageSubData(in->color[0], GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, hist->color[0],
+                               GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, x->gx, x->gy, x->gz);
+            memcpy(x->prev_view_proj, f->view_proj, sizeof x->prev_view_proj);
+            memcpy(x->prev_view, f->view, sizeof x->prev_view);
+            x->history_frames += x->has_history;
+            x->has_history = true;
+        }
+    } else {
+        glBindImageTexture(1, out->color[0], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute((GLuint)(x->gx + 7) / 8, (GLuint)(x->gy + 7) / 8, 1);
+    }
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    return st_gl_check(pass == PASS_INJECT ? "froxel inject" : "froxel integrate", err);
+}
+
+static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
+    froxel *x = self;
+    if (pass != PASS_COMPOSE) return dispatch(x, pass, f, err);
+    const st_target *in = st_world_get_target(x->w, "froxel.inject", err);
+    const st_target *vol = in ? st_world_get_target(x->w, "froxel.integrated", err) : NULL;
+    if (!vol) return false;
+    set_grid(x, x->compose, f);
+    st_shader_texture(x->compose, "froxel_inject_tex", GL_TEXTURE_2D_ARRAY, in->color[0]);
+    st_shader_texture(x->compose, "froxel_integrated_tex", GL_TEXTURE_2D_ARRAY, vol->color[0]);
+    return st_gl_check("froxel compose", err);
+}
+
+// temporal: frames until the first frame's weight in the blend, history^n,
+// is below 1%; a still runs at least that many (the box filter starts
+// accumulating after them). Without temporal froxel is exact for its grid
+// at once and reports nothing.
+static int history_need(const froxel *x) {
+    double h = x->p[P_HISTORY];
+    return h <= 0 ? 0 : (int)ceil(log(0.01) / log(h));
+}
+
+static bool progress(void *self, st_progress *out) {
+    froxel *x = self;
+    if (x->p[P_TEMPORAL] == 0) return false;
+    out->converged = x->history_frames >= history_need(x);
+    out->frames = (uint32_t)x->history_frames;
+    out->error = pow(x->p[P_HISTORY], x->history_frames);
+    snprintf(out->info, sizeof out->info, "temporal: %d of %d frames blended (%dx%dx%d froxels)",
+             x->history_frames, history_need(x), x->gx, x->gy, x->gz);
+    return true;
+}
+
+static st_shader *shader(void *self, int pass) {
+    froxel *x = self;
+    return pass == PASS_INJECT ? x->inject : pass == PASS_INTEGRATE ? x->integrate : x->compose;
+}
+
+static void param_changed(void *self, int index) {
+    froxel *x = self;
+    st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_TILE || index == P_MIN_ROWS || index == P_TEMPORAL || index == P_GRID_X ||
+        index == P_GRID_Y || index == P_SLICES) {
+        const st_camera *c = st_world_camera(x->w);
+        declare_targets(x, c->width, c->height, &ignore);
+    }
+}
+
+static bool reload(void *self, st_err *err) {
+    froxel *x = self;
+    froxel fresh = *x;
+    if (!load_shaders(&fresh, err)) return false;
+    destroy_shaders(x);
+    x->inject = fresh.inject;
+    x->integrate = fresh.integrate;
+    x->compose = fresh.compose;
+    return true;
+}
+
+ST_PLUGIN(.name = "froxel",
+          .description = "volumetric fog in a camera-aligned froxel grid (Hillaire 2015): "
+                         "per-froxel density and in-scattering from every light with shadow-map "
+                         "visibility, front-to-back energy-conserving integration, looked up "
+                         "per pixel",
+          ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
+          .num_passes = num_passes, .pass_info = pass_info, .needed = needed, .on_pass = on_pass,
+          .shader = shader, .param_changed = param_changed, .reload = reload, .progress = progress,
+          .light_types = ST_LIGHT_BITS_ALL)

@@ -1,0 +1,91 @@
+// froxel pass 3: adds the in-scattered light at full resolution to what the
+// camera sees (hdr_in, already the surface's radiance times the view ray's
+// transmittance: the regular pass owns that, docs/physics.md). A pixel at
+// view depth z inside slice k takes the integral to the slice's start and
+// the partial step of the slice's source over the rest of its own ray,
+// interpolated bilinearly between the columns around it. Where no surface
+// is seen the ray ends at the far plane (far / cos), as the reference
+// marches it; nothing is added beyond the grid's far.
+#include "common/uniforms.glsl"
+#include "common/medium.glsl"
+#include "shadow_map/visibility.glsl"
+#include "froxel/grid.glsl"
+uniform sampler2D st_hdr_in;
+uniform sampler2D st_gbuffer;
+uniform sampler2DArray froxel_inject_tex;
+uniform sampler2DArray froxel_integrated_tex;
+layout(location = 0) out vec4 o_radiance;
+
+// The near field of positioned light l along the pixel's ray [0, s]: the
+// integral of sigma_s phase I f e^(-sigma_t (t + d)) R^2 / (d^2 (d^2 + R^2))
+// (grid.glsl), unshadowed, by Gauss-Legendre in the angle theta seen from
+// the light (t - foot = h tan theta; dt / (h^2 + t^2) = dtheta / h), where
+// the kernel is R^2 / (h (H^2 + h^2 tan^2 theta)), H^2 = h^2 + R^2: smooth
+// in theta, exact as R -> 0. Its mass lies within about max(h, R) of the
+// ray's point nearest the light, whose shadow_map visibility it takes (one
+// lookup: a wall between the ray and a light just behind it still shadows).
+const float FROXEL_GL_X[4] = float[4](0.1834346425, 0.5255324099, 0.7966664774, 0.9602898565);
+const float FROXEL_GL_W[4] = float[4](0.3626837834, 0.3137066459, 0.2223810345, 0.1012285363);
+
+// Density times the view's and the light's transmittance at x, t along
+// the view ray dir and d from the light (exact for every density: the near
+// field is small, 8 points a pixel).
+vec3 froxel_near_medium(vec3 dir, float t, vec3 x, vec3 to_light, float d) {
+#if ST_DENSITY_VARIES
+    float tau = st_optical_depth(st_cam_pos, dir, 0.0, t) + st_optical_depth(x, to_light, 0.0, d);
+    return st_density(x) * st_depth_transmittance(tau);
+#else
+    return exp(-st_medium_sigma_t() * (t + d));
+#endif
+}
+
+vec3 froxel_near(int l, vec3 dir, float s) {
+    float R = froxel_near_radius(l);
+    vec3 v = st_light_pos[l] - st_cam_pos;
+    float foot = dot(v, dir);
+    float h = max(length(v - foot * dir), 1e-4 * R);
+    float H2 = h * h + R * R;
+    float ta = atan(-foot / h), tb = atan((s - foot) / h);
+    float mid = 0.5 * (ta + tb), half_len = 0.5 * (tb - ta);
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < 8; k++) {
+        float th = mid + half_len * (k < 4 ? -FROXEL_GL_X[k] : FROXEL_GL_X[k - 4]);
+        float tr = h * tan(th), t = foot + tr;
+        vec3 x = st_cam_pos + t * dir;
+        vec3 to_light = st_light_pos[l] - x;
+        float d = length(to_light);
+        to_light /= max(d, 1e-30);
+        float f = 1.0;
+        if (ST_LIGHT_IS(l, 2)) { // spot: glTF's falloff (common/lighting.glsl)
+            float a = clamp(-dot(to_light, st_light_dir[l]) * st_light_shape[l].x + st_light_shape[l].y, 0.0, 1.0);
+            f = a * a;
+        }
+        float kern = R * R / (h * (H2 + tr * tr));
+        float w = FROXEL_GL_W[k < 4 ? k : k - 4] * half_len;
+        sum += w * kern * f * st_phase(st_phase_kind, dot(to_light, dir), st_phase_g) * froxel_near_medium(dir, t, x, to_light, d);
+    }
+    vec3 nearest = st_cam_pos + clamp(foot, 0.0, s) * dir;
+    if (all(equal(sum, vec3(0.0)))) return sum;
+    return st_sigma_s * st_light_intensity[l] * sum * st_visibility_point(l, nearest);
+}
+
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec4 base = texelFetch(st_hdr_in, px, 0);
+    vec4 gb = texelFetch(st_gbuffer, px, 0);
+    vec2 uv = gl_FragCoord.xy / st_resolution;
+    float c = froxel_cos(froxel_ndc_dir(uv * 2.0 - 1.0));
+    float s = gb.w >= 0.0 ? gb.w : st_far / c;
+    float z = min(s * c, froxel_far);
+    float n = float(froxel_grid.z);
+    float k = clamp(floor(froxel_slice(z) * n), 0.0, n - 1.0);
+    vec4 prev = k > 0.0 ? texture(froxel_integrated_tex, vec3(uv, k - 1.0)) : vec4(0.0);
+    vec4 src = texture(froxel_inject_tex, vec3(uv, k));
+    float dt = max(z - froxel_depth(k / n), 0.0) / c;
+    vec3 sigma_t = st_medium_sigma_t();
+    vec3 L = prev.rgb + exp(-sigma_t * prev.a) * st_step_inscatter(src.rgb, src.a * sigma_t, dt);
+    if (froxel_near_field != 0)
+        for (int l = 0; l < st_num_lights; l++)
+            if (ST_LIGHT_POSITIONED(l)) L += froxel_near(l, froxel_ndc_dir(uv * 2.0 - 1.0), s);
+    o_radiance = vec4(base.rgb + L, base.a);
+}
