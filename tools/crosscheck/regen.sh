@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the Cycles side of the cross-check suite (tests/data/crosscheck):
 # the glTF test scenes (gltf_scene.glb; the user-made ones of
-# make_user_scenes.py: ds_cornell, meshes, dense, fog_room), then for every case in cases.txt NAME.cycles.exr (mean
+# make_user_scenes.py: ds_cornell, meshes, dense, fog_room, spot_room), then for every case in cases.txt NAME.cycles.exr (mean
 # of seeds 1 and 2), NAME.cycles_se.exr (per-pixel standard error of that
 # mean) and NAME.cycles.json (settings, render times, noise summary).
 # Needs Blender 3.4 and numpy (apt-get install blender python3-numpy); CI
@@ -18,10 +18,10 @@ if [ $# -eq 0 ] || [[ " $* " == *" gltf_scene "* ]]; then
 fi
 # The user-made scenes' glTF files, made when a case that uses one is asked for.
 user=()
-for g in ds_cornell meshes dense fog_room; do
+for g in ds_cornell meshes dense fog_room spot_room; do
   for n in "$@"; do if grep -q "\"$g.glb\"" "$data/$n.json" 2>/dev/null; then user+=("$g"); break; fi; done
 done
-if [ $# -eq 0 ]; then user=(ds_cornell meshes dense fog_room); fi
+if [ $# -eq 0 ]; then user=(ds_cornell meshes dense fog_room spot_room); fi
 if [ ${#user[@]} -gt 0 ]; then
   blender -b --factory-startup --python "$py/make_user_scenes.py" -- "$data" "${user[@]}" 2>&1 |
     grep -E '^make_user_scenes|Error|error:' || true
