@@ -26,9 +26,16 @@ void main() {
     vec3 p = v_world;
     vec3 n = normalize(v_normal);
     vec3 to_cam = st_cam_pos - p;
-    // Front side = the side the shading normal points to; the back side of a
-    // one-sided surface is black but still occludes.
-    bool front = dot(n, to_cam) >= 0.0;
+    // Front side = the side of the facet that the shading normal is on; the
+    // back side of a one-sided surface is black but still occludes. The
+    // facet's own normal (from the position's derivatives, which stay in
+    // the triangle) decides which side is seen, as the reference's winding
+    // does: at a smooth mesh's silhouette the interpolated normal turns away
+    // from a camera that sees the facet's front, and a lit point there would
+    // come out black (issue 20, meshes_direct: 12 pixels on Suzanne's head).
+    vec3 ng = cross(dFdx(p), dFdy(p));
+    if (dot(ng, n) < 0.0) ng = -ng;
+    bool front = dot(ng, to_cam) >= 0.0;
     if (!front && st_double_sided != 0) {
         n = -n;
         front = true;

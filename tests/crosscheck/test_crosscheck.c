@@ -42,7 +42,10 @@
 //    relMSE <= 0.005 and NRMSE <= 0.05, also on fog cases (a medium of
 //    varying density, issue 24's bound for toth); bounce cases (atlas_gi at its
 //    default, the precomputed transfer): the atlas_gi issue's relMSE <= 0.005
-//    and NRMSE <= 0.03, and the image mean within a factor 2.
+//    and NRMSE <= 0.03, and the image mean within a factor 2. The NRMSE
+//    bounds are asserted on the NRMSE with Cycles' own variance removed,
+//    sqrt(max(0, mean((a-b)^2 - e^2))) / mean(b) (E[e^2] = var(b)): the error
+//    against what Cycles converges to; the raw NRMSE is printed beside it.
 // A "crosscheck CASE METHOD ..." line per comparison goes to stdout.
 #include "st_test.h"
 #include "st_image.h"
@@ -59,19 +62,18 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // Issue 20's box-filtered cases (docs/accuracy.md). shadow_map's own
-    // error on the smooth sphere's and Suzanne's shadows: the reference
-    // against Cycles is at NRMSE 0.0087 (noise statistic within bound).
-    {"meshes_direct", "shadow_map", "nrmse", 0.0216},
-    // Cycles' own noise is 0.055 of the mean at 1024 spp on this case: the
-    // reference itself, within its noise statistic, shows NRMSE 0.13, so
-    // toth's 0.078 is mostly Cycles' noise; a longer Cycles render is due.
-    {"fog_room", "toth", "nrmse", 0.0779},
     // Issue 24's VDB cloud: image means within 0.03%, NRMSE 0.043 (0.022
     // with the reference at 256 spp, where the statistic stays at 1.61), so
     // a small systematic difference between Cycles' ray-marched volume
     // object and the exact trilinear grid remains (docs/accuracy.md).
     {"vdb_cloud", "reference", "noise-statistic", 1.585},
+    // spot_room (issue 20's Blender-made god rays under a spot): against a
+    // 1024-spp reference toth's still is at NRMSE 0.10, 0.054 with 256 frames
+    // accumulated instead of the box filter's cap of 64 (bright edge pixels on
+    // Suzanne), and the rest mostly a few pixels of Suzanne's face that the
+    // shadow map lights at grazing incidence where the exact ray (reference,
+    // Cycles) finds the mesh's own facets (docs/accuracy.md).
+    {"spot_room", "toth", "nrmse-debiased", 0.101},
     {NULL, NULL, NULL, 0},
 };
 
@@ -167,6 +169,24 @@ static bool compare(const st_image *a, const st_image *b, double *relmse, double
     return true;
 }
 
+// NRMSE with Cycles' own variance taken out (st_image_compare_noisy, its
+// standard error s = e = |a - b| / 2 per pixel, E[e^2] = var(c)):
+// sqrt(max(0, mean((x - c)^2 - e^2))) / mean(c), the error against what Cycles
+// converges to, which the NRMSE bounds are about; *noise = Cycles' RMS standard
+// error over its mean (the raw NRMSE a perfect method would show).
+static bool nrmse_debiased(const st_image *x, const st_image *cyc, const st_image *se,
+                           double *nrmse, double *noise) {
+    st_metrics m;
+    st_err err = {0};
+    if (!st_image_compare_noisy(x, cyc, se, &m, &err) || !(m.mean_b[3] > 0)) {
+        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : "Cycles image is black");
+        return false;
+    }
+    *nrmse = m.rmse_debiased[3] / m.mean_b[3];
+    *noise = m.ref_noise_rms[3] / m.mean_b[3];
+    return true;
+}
+
 int main(int argc, char **argv) {
     if (argc != 3 && argc != 4) {
         fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium|fog [point|box]\n");
@@ -228,6 +248,9 @@ int main(int argc, char **argv) {
     CHECK(compare(&ref_rgb, &cyc, &s.relmse, &s.nrmse), "compare reference");
     printf("crosscheck %s reference: relmse %.6g nrmse %.6g noise-statistic %.4f bound %.4f\n",
            name, s.relmse, s.nrmse, s.m, s.bound);
+    double ref_db = INFINITY, noise = INFINITY;
+    CHECK(nrmse_debiased(&ref_rgb, &cyc, &se, &ref_db, &noise), "debias reference");
+    printf("crosscheck %s reference: nrmse-debiased %.6g cycles-noise %.4g\n", name, ref_db, noise);
     check_le(name, "reference", "noise-statistic", s.m, s.bound);
     // The GPU plugins of the scene, every parameter at its default.
     CHECK(st_test_sh("%s render %s -o %s --filter %s", ST_TEST_STRAHL, scene, gpu_path, filter) ==
@@ -238,16 +261,21 @@ int main(int argc, char **argv) {
         CHECK(st_image_count_nonfinite(&gpu) == 0, "NaN/Inf in the GPU image");
         CHECK(compare(&gpu, &cyc, &relmse, &nrmse), "compare GPU");
         const char *method = direct ? "shadow_map" : bounce ? "atlas_gi" : "toth";
-        printf("crosscheck %s %s: relmse %.6g nrmse %.6g\n", name, method, relmse, nrmse);
+        double db = INFINITY;
+        CHECK(nrmse_debiased(&gpu, &cyc, &se, &db, &noise), "debias GPU");
+        printf("crosscheck %s %s: relmse %.6g nrmse %.6g nrmse-debiased %.6g\n", name, method,
+               relmse, nrmse, db);
+        // The NRMSE bounds hold for the debiased NRMSE: Cycles' noise is the
+        // reference's error, not the method's (fog_room's is 0.019 of its mean).
         if (direct) {
             check_le(name, method, "relmse", relmse, 0.001);
-            if (box) check_le(name, method, "nrmse", nrmse, 0.02); // issue 20's bound
+            if (box) check_le(name, method, "nrmse-debiased", db, 0.02); // issue 20's bound
         } else if (medium || fog) { // fog: toth marching the varying density
             check_le(name, method, "relmse", relmse, 0.005);
-            check_le(name, method, "nrmse", nrmse, 0.05);
+            check_le(name, method, "nrmse-debiased", db, 0.05);
         } else {
             check_le(name, method, "relmse", relmse, 0.005);
-            check_le(name, method, "nrmse", nrmse, 0.03);
+            check_le(name, method, "nrmse-debiased", db, 0.03);
             st_metrics m;
             if (st_image_compare(&gpu, &cyc, &m, &err)) {
                 double ratio = m.mean_a[3] / m.mean_b[3];

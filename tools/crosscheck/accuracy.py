@@ -9,10 +9,12 @@ committed Cycles image (relMSE, NRMSE) and timed.
 Uses only the strahl binaries of a release build and the committed files;
 Blender is not needed. Applicable plugins: the scene's own module list, and
 for the bounce cases also ssgi in place of atlas_gi (the same bounce from
-screen space). Box-filtered cases (cases.txt's fourth column) are measured by
-the test itself (build/tests/crosscheck/test_crosscheck, which renders both
-with `--filter box`); their time is that of a frame at the case's own size.
-Point cases run with `--filter point` (Cycles' 0.01 px Gaussian)."""
+screen space). The reference's and the modules' errors are those the test
+prints (build/tests/crosscheck/test_crosscheck CASE KIND FILTER, each case
+with its filter from cases.txt), so the table is what the suite asserts; ssgi
+is a `strahl render` still compared by `strahl compare`. Times: the median
+frame of a 9-frame `strahl render --stats` at the case's size and filter.
+Cases marked `manual` run only when named."""
 import argparse
 import json
 import os
@@ -29,6 +31,11 @@ REF_OPTS = {"direct": ["--bounces", "0", "--spp", "1"],
             "bounce": ["--bounces", "1", "--spp", "256"],
             "medium": ["--bounces", "0", "--spp", "64", "--steps", "16"],
             "fog": ["--bounces", "0", "--spp", "64", "--steps", "16"]}
+# Box-filtered cases: as the test renders them (stratified over the pixel).
+REF_OPTS_BOX = {"direct": ["--bounces", "0", "--spp", "64", "--filter", "box"],
+                "bounce": ["--bounces", "1", "--spp", "256", "--filter", "box"],
+                "medium": ["--bounces", "0", "--spp", "64", "--steps", "16", "--filter", "box"],
+                "fog": ["--bounces", "0", "--spp", "64", "--steps", "16", "--filter", "box"]}
 FRAMES = 9
 
 
@@ -68,6 +75,7 @@ def main():
                     cases.append((name, kind, filt))
     rows = []
     renderer = "?"
+    test = os.path.join(args.build, "tests", "crosscheck", "test_crosscheck")
     with tempfile.TemporaryDirectory() as tmp:
         for name, kind, filt in cases:
             scene = os.path.join(DATA, name + ".json")
@@ -76,58 +84,53 @@ def main():
                 info = json.load(f)
             cyinfo = "%.0f s (2 seeds x %d spp), noise NRMSE %.2g" % (
                 sum(info["render_seconds"]), info["spp"], info["relative_rms_standard_error"])
-            if filt == "box":
-                test = os.path.join(args.build, "tests", "crosscheck", "test_crosscheck")
-                p = subprocess.run([test, name, kind, "box"], capture_output=True, text=True, env=env)
-                out = p.stdout
-                m = re.search(r"crosscheck %s reference: relmse (\S+) nrmse (\S+)" % name, out)
-                t = re.search(r"strahl reference: .*?, ([0-9.]+) s\)", out)
-                if not m:
-                    sys.exit("accuracy: %s: no reference line in\n%s%s" % (name, out, p.stderr))
-                label = "strahl reference --filter box"
-                rows.append((name, kind + ", box", label, float(m.group(1)), float(m.group(2)),
-                             float(t.group(1)) * 1000.0 if t else float("nan"), cyinfo))
-                with open(scene) as f:
-                    sc = json.load(f)
-                method = {"direct": "shadow_map", "bounce": "atlas_gi", "medium": "toth"}[kind]
-                m = re.search(r"crosscheck %s %s: relmse (\S+) nrmse (\S+)" % (name, method), out)
-                img = os.path.join(tmp, name + ".gpu.exr")
-                stats = json.loads(run([strahl, "render", scene, "-o", img, "--frames", str(FRAMES),
-                                        "--stats=json"], env))
-                renderer = stats["renderer"]
-                rows.append((name, kind + ", box", " + ".join(x["name"] for x in sc["modules"]),
-                             float(m.group(1)) if m else float("nan"),
-                             float(m.group(2)) if m else float("nan"), stats["frame_ms_median"], ""))
-                print("accuracy: %s done" % name, file=sys.stderr)
-                continue
-            ref = os.path.join(tmp, name + ".ref.exr")
-            out = run([strahl, "reference", scene, "-o", ref, "--filter", "point"] + REF_OPTS[kind], env)
-            secs = float(re.search(r", ([0-9.]+) s\)", out).group(1))
-            rel, nrmse = compare(strahl, ref, cyc, env)
-            rows.append((name, kind, "strahl reference " + " ".join(REF_OPTS[kind]), rel, nrmse, secs * 1000.0,
-                         cyinfo))
             with open(scene) as f:
                 sc = json.load(f)
-            # fog: a varying density, which no GPU technique models yet (render refuses it).
-            variants = [] if kind == "fog" else [(" + ".join(m["name"] for m in sc["modules"]), scene)]
+            # The reference and the scene's own modules: the test's own
+            # numbers (test_crosscheck renders both as the suite asserts them).
+            p = subprocess.run([test, name, kind, filt], capture_output=True, text=True, env=env)
+            out = p.stdout
+            m = re.search(r"crosscheck %s reference: relmse (\S+) nrmse (\S+)" % name, out)
+            d = re.search(r"crosscheck %s reference: nrmse-debiased (\S+)" % name, out)
+            t = re.search(r"strahl reference: .*?, ([0-9.]+) s\)", out)
+            if not m or not d:
+                sys.exit("accuracy: %s: no reference line in\n%s%s" % (name, out, p.stderr))
+            kind_label = kind + (", box" if filt == "box" else "")
+            ref_opts = REF_OPTS_BOX[kind] if filt == "box" else REF_OPTS[kind]
+            rows.append((name, kind_label, "strahl reference " + " ".join(ref_opts), float(m.group(1)),
+                         float(m.group(2)), float(d.group(1)),
+                         float(t.group(1)) * 1000.0 if t else float("nan"), cyinfo))
+            # The scene's own technique (fog: toth marching the varying density).
+            method = {"direct": "shadow_map", "bounce": "atlas_gi", "medium": "toth",
+                      "fog": "toth"}[kind]
+            m = re.search(r"crosscheck %s %s: relmse (\S+) nrmse (\S+) nrmse-debiased (\S+)"
+                          % (name, method), out)
+            if not m:
+                sys.exit("accuracy: %s: no %s line in\n%s%s" % (name, method, out, p.stderr))
+            img = os.path.join(tmp, name + ".gpu.exr")
+            stats = json.loads(run([strahl, "render", scene, "-o", img, "--frames", str(FRAMES),
+                                    "--filter", filt, "--stats=json"], env))
+            renderer = stats["renderer"]
+            rows.append((name, kind_label, " + ".join(x["name"] for x in sc["modules"]),
+                         float(m.group(1)), float(m.group(2)), float(m.group(3)),
+                         stats["frame_ms_median"], ""))
             if kind == "bounce":
+                # ssgi in place of atlas_gi (not asserted by the suite): the
+                # error of its still as render makes it, and its frame time.
                 alt = dict(sc)
-                alt["modules"] = [m if m["name"] != "atlas_gi" else {"name": "ssgi"} for m in sc["modules"]]
-                alt["geometry"] = sc["geometry"]
+                alt["modules"] = [x if x["name"] != "atlas_gi" else {"name": "ssgi"} for x in sc["modules"]]
+                alt["geometry"] = [dict(g, gltf=os.path.join(DATA, g["gltf"])) if "gltf" in g else g
+                                   for g in sc["geometry"]]  # the copy lives in tmp
                 path = os.path.join(tmp, name + ".ssgi.json")
                 with open(path, "w") as f:
                     json.dump(alt, f)
-                variants.append((" + ".join(m["name"] for m in alt["modules"]), path))
-            for label, path in variants:
-                # The error of the first frame (as the test renders it), the
-                # time over FRAMES frames of a separate run.
-                img = os.path.join(tmp, name + ".gpu.exr")
-                run([strahl, "render", path, "-o", img, "--filter", "point"], env)
+                img = os.path.join(tmp, name + ".ssgi.exr")
+                run([strahl, "render", path, "-o", img, "--filter", filt], env)
                 rel, nrmse = compare(strahl, img, cyc, env)
                 stats = json.loads(run([strahl, "render", path, "-o", img, "--frames", str(FRAMES),
-                                        "--filter", "point", "--stats=json"], env))
-                renderer = stats["renderer"]
-                rows.append((name, kind, label, rel, nrmse, stats["frame_ms_median"], ""))
+                                        "--filter", filt, "--stats=json"], env))
+                rows.append((name, kind_label, " + ".join(x["name"] for x in alt["modules"]), rel, nrmse,
+                             float("nan"), stats["frame_ms_median"], ""))
             print("accuracy: %s done" % name, file=sys.stderr)
 
     lines = [
@@ -142,7 +145,14 @@ def main():
         "pixels and channels, of `strahl render` as the test runs it (a still",
         "runs until every progressive module has converged). Cycles' own",
         "noise is part of these numbers; its RMS",
-        "standard error is in each case's `.cycles.json`.",
+        "standard error is in each case's `.cycles.json`. NRMSE debiased takes",
+        "it out: sqrt(max(0, mean((a-b)^2 - e^2))) / mean(b), e = |b1 - b2| / 2",
+        "of Cycles' two seeds (E[e^2] = var(b)), the error against what Cycles",
+        "converges to; the test asserts its NRMSE bounds on this one. Every row",
+        "is measured by the script: the reference and the scene's own modules",
+        "are the numbers `test_crosscheck` prints (the suite's own renders and",
+        "options), ssgi is a still of `strahl render` compared by `strahl",
+        "compare` (not asserted, no debiased value).",
         "",
         "Time: the reference's whole render (CPU, all cores); for the GPU plugins",
         "the median frame time over %d frames of `strahl render --stats` (a static" % FRAMES,
@@ -180,9 +190,11 @@ def main():
         "- shadow_map at its defaults: relMSE <= 0.001 on the direct cases, and",
         "  (issue 20) NRMSE <= 0.02 on the box-filtered direct cases.",
         "- toth at its defaults: relMSE <= 0.005 and NRMSE <= 0.05 on the medium cases.",
-        "- fog cases (a medium of varying density): the reference only; `strahl",
-        "  render` must refuse the scene (exit 2, no image) until a GPU technique",
-        "  models the density.",
+        "- Every NRMSE bound is asserted on the debiased NRMSE (Cycles' own",
+        "  variance taken out, above); the raw one is printed beside it.",
+        "- fog cases (a medium of varying density, issue 24): toth at its defaults",
+        "  marching the density, relMSE <= 0.005 and NRMSE <= 0.05 as on the medium",
+        "  cases.",
         "- atlas_gi at its defaults (the precomputed transfer): relMSE <= 0.005 and",
         "  NRMSE <= 0.03 on the bounce cases (the atlas_gi issue's bound), and its",
         "  image mean within a factor 2.",
@@ -202,19 +214,52 @@ def main():
         "meshes_direct and meshes_bounce (a smooth UV sphere and a smooth, rotated",
         "and tilted Suzanne on open double-sided walls), dense_bounce (26 linked",
         "duplicates of a smooth Suzanne subdivided once: 102,338 triangles in a",
-        "98 KB file) and fog_room (a room of closed wall boxes with a window, HG",
-        "g = 0.5, volume bounces 0). strahl renders them with its default 1 px box",
+        "98 KB file), fog_room (a room of closed wall boxes with a window, HG",
+        "g = 0.5, volume bounces 0; Cycles at 8192 spp per seed, noise 0.019 of",
+        "the mean, where 1024 gave 0.055) and spot_room (god rays under a spot:",
+        "a room of closed wall boxes, the spot just above the frame, a grille of",
+        "three bars cutting its cone into shafts onto a smooth Suzanne and a",
+        "block). strahl renders them with its default 1 px box",
         "filter (`--filter box`), the reference spreading its samples over the pixel.",
         "",
+        "Where the misses come from (measured by hand, 96 x 72, box filter):",
+        "",
+        "- fog_room, toth: NRMSE 0.052 raw, 0.048 debiased (bound 0.05: passes).",
+        "  `strahl reference fog_room.json --bounces 0 --spp 1024 --steps 16",
+        "  --filter box` against Cycles: 0.0276, where the two noises alone give",
+        "  0.0265: the model agrees. toth's still against that reference: 0.052",
+        "  (64 frames, the box filter's cap), 0.029 with `--frames 256`: most of",
+        "  toth's error is the still's sub-pixel sampling of the bright window",
+        "  pixels, which stops at the cap of 64 frames (`ST_FILTER_MAX_FRAMES`)",
+        "  while its estimate of the remaining error (relative per pixel, 0.027)",
+        "  says nothing of an NRMSE that those few pixels dominate.",
+        "- spot_room, toth: NRMSE 0.101 debiased (bound 0.05: listed as an",
+        "  expected failure). The reference at 1024 spp against Cycles: 0.041 (its",
+        "  noise statistic passes). toth's still against that reference: 0.10 at",
+        "  64 frames, 0.054 at 256 (again the frame cap: bright edge pixels on",
+        "  Suzanne's head, 50 times the image mean); the rest is a few isolated",
+        "  pixels at Suzanne's ear that the shadow map lights (0.57) where the",
+        "  exact reference is black (direct light alone, no medium, 480 x 360,",
+        "  point filter). A refine trigger for grazing incidence did not change",
+        "  them; they are still to be explained.",
+        "- meshes_direct, shadow_map: was 0.0216; the regular pass took the side",
+        "  of a smooth mesh's silhouette from the interpolated normal, which turns",
+        "  away from the camera there (black or flipped pixels on Suzanne's head),",
+        "  where the reference and Cycles use the facet's side. Fixed: 0.0079.",
+        "",
         "dense_bounce (102,338 triangles, atlas_size 1024: at the default 512 its",
-        "13,362 charts do not fit) is marked `manual` in cases.txt: its test took",
-        "14 min 49 s on this shared machine (4 min 39 s CPU), too slow for the",
-        "suite. Measured once with `build/tests/crosscheck/test_crosscheck",
-        "dense_bounce bounce box`: atlas_gi relMSE 0.000145, NRMSE 0.0235 (within",
-        "issue 20's bounds); the reference against Cycles relMSE 0.000156, NRMSE",
-        "0.0244, noise statistic 2.96 over its bound 1.57 (the 4 x 4 grid against",
-        "Cycles' box at the many edges of 26 Suzannes: not a noise-only",
-        "comparison until the reference integrates over the pixel).",
+        "13,362 charts do not fit) is marked `manual` in cases.txt: too slow for",
+        "the suite (its test took 14 min 49 s on this shared machine, 4 min 39 s",
+        "CPU). Re-measured with the real box filter (`build/tests/crosscheck/",
+        "test_crosscheck dense_bounce bounce box`, 39 min 43 s at a load of",
+        "18-20): the reference against Cycles relMSE 5.6e-05, NRMSE 0.0153",
+        "(debiased 0.0149), noise statistic 1.29 within its bound 1.42 (with the",
+        "4 x 4 grid that stood in for the box before, 2.96 over 1.57). atlas_gi",
+        "was not re-measured: under that load the first frame (atlas_gi's",
+        "transfer precompute) took 39 min, past `strahl render`'s 600 s cap, so",
+        "the still stopped after its first frame (relMSE 0.0084, NRMSE 0.18",
+        "of one unaccumulated frame, not of atlas_gi). Its last valid measurement,",
+        "with the 4 x 4 grid: relMSE 0.000145, NRMSE 0.0235.",
         "",
         "## The floor of a point-sampled image",
         "",
@@ -232,6 +277,20 @@ def main():
         "own noise. toth's NRMSE on these cases includes that floor; the bound",
         "0.05 leaves 0.037, 0.034 and 0.040 for toth's own error.",
         "",
+        "Heterogeneous media (issue 24, kind fog): height_fog (exponential height",
+        "fog, Cycles' world volume) and vdb_cloud (an OpenVDB cloud as a Blender",
+        "volume object with a Principled Volume, lit by a spot; tools/crosscheck",
+        "README.md has the mapping, including Cycles' half-voxel offset). toth at",
+        "its defaults marches the density: NRMSE 0.030 and 0.039 (bound 0.05).",
+        "The reference agrees with Cycles on height_fog (noise statistic 1.035,",
+        "bound 1.359) and, on vdb_cloud, to 0.03% in the image mean with NRMSE",
+        "0.043 (0.022 with 256 reference spp), but its noise statistic is 1.585",
+        "against a bound of 1.556 (1.61 at 256 spp, so not the reference's noise):",
+        "a small systematic difference between Cycles' ray-marched volume object",
+        "(steps of a quarter voxel, its density clipping at 0.001 near the cloud's",
+        "rim) and the exact trilinear grid remains unexplained; the case lists it",
+        "as an expected failure.",
+        "",
         "## Table",
         "",
         "The Cycles column gives its render time (both seeds, on the same shared",
@@ -241,11 +300,13 @@ def main():
         "medium) or the few pixels whose centre lies on an edge (direct); its",
         "noise statistic, which accounts for both, is in the ctest output.",
         "",
-        "| case | kind | method | relMSE | NRMSE | time (ms) | Cycles |",
-        "|------|------|--------|-------:|------:|----------:|--------|",
+        "| case | kind | method | relMSE | NRMSE | NRMSE debiased | time (ms) | Cycles |",
+        "|------|------|--------|-------:|------:|---------------:|----------:|--------|",
     ]
-    for name, kind, label, rel, nrmse, ms, cy in rows:
-        lines.append("| %s | %s | %s | %.3g | %.3g | %.1f | %s |" % (name, kind, label, rel, nrmse, ms, cy))
+    for name, kind, label, rel, nrmse, db, ms, cy in rows:
+        dbs = "-" if db != db else "%.3g" % db  # NaN: not measured (ssgi)
+        lines.append("| %s | %s | %s | %.3g | %.3g | %s | %.1f | %s |" % (name, kind, label, rel, nrmse, dbs,
+                                                                        ms, cy))
     lines += ["", "Command: `tools/crosscheck/accuracy.py` (%s)." % platform.machine(), ""]
     with open(args.out, "w") as f:
         f.write("\n".join(lines))

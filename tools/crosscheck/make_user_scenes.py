@@ -7,7 +7,7 @@
 #
 #   blender -b --factory-startup --python tools/crosscheck/make_user_scenes.py -- OUTDIR [NAME...]
 #
-# NAME: ds_cornell, meshes, dense, fog_room, cloud_room (default: all). Coordinates below
+# NAME: ds_cornell, meshes, dense, fog_room, cloud_room, spot_room (default: all). Coordinates below
 # are strahl's (y up, metres); Blender is z up, and the exporter maps Blender
 # (x, y, z) to glTF (x, z, -y).
 import math
@@ -25,7 +25,7 @@ args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 if not args:
     sys.stderr.write("usage: ... -- OUTDIR [NAME...]\n")
     sys.exit(2)
-outdir, names = args[0], args[1:] or ["ds_cornell", "meshes", "dense", "fog_room", "cloud_room"]
+outdir, names = args[0], args[1:] or ["ds_cornell", "meshes", "dense", "fog_room", "cloud_room", "spot_room"]
 
 
 def reset():
@@ -194,7 +194,31 @@ def cloud_room():
     export("cloud_room")
 
 
+def spot_room():
+    # A room of closed wall boxes lit by a spot under its ceiling (the light
+    # is in the case's JSON), for god rays in the spot's cone: a slatted
+    # grille of three bars below the spot cuts the cone into shafts, which
+    # fall on a smooth Suzanne and a block on the floor.
+    reset()
+    wall, t = (0.6, 0.6, 0.6), 0.2
+    box("floor", (-3.2, -t, -3.2), (3.2, 0, 3.2), (0.6, 0.55, 0.5))
+    box("ceiling", (-3.2, 3, -3.2), (3.2, 3 + t, 3.2), (0.7, 0.7, 0.7))
+    box("back", (-3.2, 0, -3.2), (3.2, 3, -3), wall)
+    box("left", (-3.2, 0, -3), (-3, 3, 3.2), wall)
+    box("right", (3, 0, -3), (3.2, 3, 3.2), wall)
+    for k, x in enumerate((-0.75, -0.35, 0.05)):
+        box("bar%d" % k, (x, 2.2, -1.6), (x + 0.14, 2.28, -0.2), (0.4, 0.3, 0.2), 10.0)
+    box("block", (0.3, 0, -1.9), (1.0, 0.7, -1.2), (0.3, 0.4, 0.5), -20.0)
+    bpy.ops.mesh.primitive_monkey_add(size=0.9)
+    m = bpy.context.active_object
+    m.name = "suzanne"
+    place(m, (-0.6, 0.45, -0.7), rot_y_deg=25.0, tilt_x_deg=-10.0)
+    m.data.materials.append(material("suzanne", (0.8, 0.55, 0.2)))
+    smooth(m)
+    export("spot_room")
+
+
 os.makedirs(outdir, exist_ok=True)
 for n in names:
     {"ds_cornell": ds_cornell, "meshes": meshes, "dense": dense, "fog_room": fog_room,
-     "cloud_room": cloud_room}[n]()
+     "cloud_room": cloud_room, "spot_room": spot_room}[n]()

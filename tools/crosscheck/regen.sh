@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates the Cycles side of the cross-check suite (tests/data/crosscheck):
 # the glTF test scenes (gltf_scene.glb; the user-made ones of
-# make_user_scenes.py: ds_cornell, meshes, dense, fog_room, cloud_room; the
-# OpenVDB cloud cloud.vdb, written by the build's tests/toth/make_cloud_vdb),
-# then for every case in cases.txt NAME.cycles.exr (mean
+# make_user_scenes.py: ds_cornell, meshes, dense, fog_room, cloud_room,
+# spot_room; the OpenVDB cloud cloud.vdb, written by the build's
+# tests/toth/make_cloud_vdb), then for every case in cases.txt NAME.cycles.exr (mean
 # of seeds 1 and 2), NAME.cycles_se.exr (per-pixel standard error of that
 # mean) and NAME.cycles.json (settings, render times, noise summary).
 # Needs Blender 3.4 and numpy (apt-get install blender python3-numpy); CI
@@ -20,10 +20,10 @@ if [ $# -eq 0 ] || [[ " $* " == *" gltf_scene "* ]]; then
 fi
 # The user-made scenes' glTF files, made when a case that uses one is asked for.
 user=()
-for g in ds_cornell meshes dense fog_room cloud_room; do
+for g in ds_cornell meshes dense fog_room cloud_room spot_room; do
   for n in "$@"; do if grep -q "\"$g.glb\"" "$data/$n.json" 2>/dev/null; then user+=("$g"); break; fi; done
 done
-if [ $# -eq 0 ]; then user=(ds_cornell meshes dense fog_room cloud_room); fi
+if [ $# -eq 0 ]; then user=(ds_cornell meshes dense fog_room cloud_room spot_room); fi
 if [ $# -eq 0 ] || [[ " $* " == *" vdb_cloud "* ]]; then
   "${BUILD:-$root/build}/tests/toth/make_cloud_vdb" "$data/cloud.vdb"
 fi
