@@ -244,8 +244,9 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < sizeof imgs / sizeof imgs[0]; i++)
         st_image_free(imgs[i]);
     // A spot light: mitchell and sousa refuse it, so G skips them (with
-    // the reason) and lands on toth; G goes on cycling (off, toth again)
-    // instead of sticking on a refused technique.
+    // the reason) and lands on toth (after froxel, which takes spots); G goes
+    // on cycling (off, the first again) instead of sticking on a refused
+    // technique.
     if (st_view_installed("mitchell") || st_view_installed("sousa")) {
         char *json = st_read_file(scene, NULL, &(st_err){0});
         char *at = json ? strstr(json, "{\"type\": \"point\",") : NULL;
@@ -262,9 +263,16 @@ int main(int argc, char **argv) {
             f = fopen(path, "w");
             CHECK(f != NULL, "spot script");
             if (f) {
-                fprintf(f, "key G\nexpect-module toth on\nexpect-message does not support spot\n"
-                           "expect-ok\nkey G\nexpect-module toth off\nexpect-message god rays: "
-                           "off\nkey G\nexpect-module toth on\nframes 1\n");
+                // froxel (first in the cycle when installed) supports spots:
+                // G lands on it, then skips mitchell and sousa to toth.
+                const char *first = st_view_installed("froxel") ? "froxel" : "toth";
+                if (strcmp(first, "toth"))
+                    fprintf(f, "key G\nexpect-module froxel on\nexpect-ok\n");
+                fprintf(f,
+                        "key G\nexpect-module toth on\nexpect-message does not support spot\n"
+                        "expect-ok\nkey G\nexpect-module toth off\nexpect-message god rays: "
+                        "off\nkey G\nexpect-module %s on\nframes 1\n",
+                        first);
                 fclose(f);
                 rc = st_view_run(tmp, path, NULL, log, sizeof log);
                 CHECK(rc == 0, "spot scene: strahl view --script exit code %d\n%s", rc, log);

@@ -77,7 +77,7 @@ static inline int st_view_godray_modules(char out[][ST_NAME_MAX], int max, const
         bool godray = !(p->regular_include && p->regular_include[0]) &&
                       !(p->provides && p->provides[0]) && !display;
         st_plugin_close(lib);
-        if (godray) snprintf(out[k++], ST_NAME_MAX, "%s", names[i]);
+        if (godray) snprintf(out[k++], ST_NAME_MAX, "%.*s", ST_NAME_MAX - 1, names[i]);
     }
     return k;
 }
