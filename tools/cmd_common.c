@@ -38,6 +38,30 @@ bool st_cmd_scene_option(const char *arg) {
     return true;
 }
 
+bool st_cmd_walk_args(const st_argv_spec *spec, void *ctx, int argc, char **argv,
+                      const char **scene, bool *help, st_err *err) {
+    *help = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        bool known = false;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            fputs(spec->help, stdout);
+            *help = true;
+            return true;
+        } else if (i + 1 < argc && !spec->value(ctx, a, argv[i + 1], &known, err)) {
+            return false;
+        } else if (known) {
+            i++;
+        } else if (spec->flag(ctx, a) || st_cmd_scene_option(a)) {
+        } else if (a[0] == '-' || *scene) {
+            return st_fail(err, ST_ERR_INPUT, "unexpected argument '%s'%s", a, spec->usage);
+        } else {
+            *scene = a;
+        }
+    }
+    return true;
+}
+
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
                         st_scene *scene, st_err *err) {
     if (!st_scene_load_ex(path, &scene_opts, scene, err)) return false;

@@ -13,6 +13,19 @@ bool st_parse_int(const char *s, long lo, long hi, long *out);
 // view (--allow-outside-assets: glTF URIs may leave the glTF's folder);
 // false when arg is not one.
 bool st_cmd_scene_option(const char *arg);
+// How a subcommand's arguments are read by st_cmd_walk_args: -h/--help
+// prints `help`; `value` consumes "OPTION VALUE" pairs (sets *known when it
+// took OPTION); `flag` takes an option without a value (false: not one); the
+// one argument that is not an option is the scene. `usage` follows the
+// message for an unexpected argument ("" for none).
+typedef struct st_argv_spec {
+    const char *help, *usage;
+    bool (*value)(void *ctx, const char *opt, const char *v, bool *known, st_err *err);
+    bool (*flag)(void *ctx, const char *opt);
+} st_argv_spec;
+// Walks argv[1..argc) for spec into ctx and *scene; *help: -h was given.
+bool st_cmd_walk_args(const st_argv_spec *spec, void *ctx, int argc, char **argv,
+                      const char **scene, bool *help, st_err *err);
 // Loads a scene (with the options above) and applies --set assignments and a
 // --size override.
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,

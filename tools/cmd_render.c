@@ -149,7 +149,8 @@ typedef struct render_args {
 } render_args;
 
 // Options with a checked value; *known says whether `a` is one of them.
-static bool parse_value(render_args *r, const char *a, const char *v, bool *known, st_err *err) {
+static bool parse_value(void *ctx, const char *a, const char *v, bool *known, st_err *err) {
+    render_args *r = ctx;
     char *e;
     *known = true;
     if (!strcmp(a, "-o")) {
@@ -190,32 +191,19 @@ static bool parse_value(render_args *r, const char *a, const char *v, bool *know
     return true;
 }
 
+static bool render_flag(void *ctx, const char *a) {
+    render_args *r = ctx;
+    if (!strcmp(a, "--stats")) return r->stats = 1, true;
+    if (!strcmp(a, "--stats=json")) return r->stats = 2, true;
+    return false;
+}
+
 // Fills r from argv and settles frames and warm-up; *help: -h was given
 // (the text is printed).
 static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err *err) {
-    *help = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool known = false;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            fputs(help_text, stdout);
-            *help = true;
-            return true;
-        } else if (i + 1 < argc && !parse_value(r, a, argv[i + 1], &known, err)) {
-            return false;
-        } else if (known) {
-            i++;
-        } else if (!strcmp(a, "--stats")) {
-            r->stats = 1;
-        } else if (!strcmp(a, "--stats=json")) {
-            r->stats = 2;
-        } else if (st_cmd_scene_option(a)) {
-        } else if (a[0] == '-' || r->scene_path) {
-            return st_fail(err, ST_ERR_INPUT, "unexpected argument '%s'", a);
-        } else {
-            r->scene_path = a;
-        }
-    }
+    static const st_argv_spec spec = {help_text, "", parse_value, render_flag};
+    if (!st_cmd_walk_args(&spec, r, argc, argv, &r->scene_path, help, err)) return false;
+    if (*help) return true;
     if (!r->scene_path || !r->out)
         return st_fail(err, ST_ERR_INPUT,
                        "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)");

@@ -64,7 +64,8 @@ typedef struct view_args {
 } view_args;
 
 // Options with a checked value; *known says whether `a` is one of them.
-static bool parse_value(view_args *o, const char *a, const char *v, bool *known, st_err *err) {
+static bool parse_value(void *ctx, const char *a, const char *v, bool *known, st_err *err) {
+    view_args *o = ctx;
     char *e;
     *known = true;
     if (!strcmp(a, "--size")) {
@@ -99,34 +100,22 @@ static bool parse_value(view_args *o, const char *a, const char *v, bool *known,
     return true;
 }
 
+static bool view_flag(void *ctx, const char *a) {
+    view_args *o = ctx;
+    if (strcmp(a, "--hide-panel")) return false;
+    o->hide_panel = true;
+    return true;
+}
+
 // Fills o from argv; *help: -h was given (the text is printed).
 static bool parse_args(view_args *o, int argc, char **argv, bool *help, st_err *err) {
-    *help = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool known = false;
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            fputs(help_text, stdout);
-            *help = true;
-            return true;
-        } else if (i + 1 < argc && !parse_value(o, a, argv[i + 1], &known, err)) {
-            return false;
-        } else if (known) {
-            i++;
-        } else if (!strcmp(a, "--hide-panel")) {
-            o->hide_panel = true;
-        } else if (st_cmd_scene_option(a)) {
-        } else if (a[0] == '-' || o->scene_path) {
-            return st_fail(err, ST_ERR_INPUT,
-                           "unexpected argument '%s' (usage: strahl view SCENE.json [--script "
-                           "FILE] [--size WxH] "
-                           "[--window WxH] [--set MODULE.PARAM=VALUE]... [--exposure EV] "
-                           "[--ui-scale S] [--shots DIR] [--hide-panel])",
-                           a);
-        } else {
-            o->scene_path = a;
-        }
-    }
+    static const st_argv_spec spec = {
+        help_text,
+        " (usage: strahl view SCENE.json [--script FILE] [--size WxH] [--window WxH] [--set "
+        "MODULE.PARAM=VALUE]... [--exposure EV] [--ui-scale S] [--shots DIR] [--hide-panel])",
+        parse_value, view_flag};
+    if (!st_cmd_walk_args(&spec, o, argc, argv, &o->scene_path, help, err)) return false;
+    if (*help) return true;
     if (!o->scene_path)
         return st_fail(err, ST_ERR_INPUT,
                        "usage: strahl view SCENE.json [--script FILE] [options]");
