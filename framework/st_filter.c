@@ -77,8 +77,7 @@ static bool accum_error(st_world *w, const st_target *t, st_err *err) {
     if (!w->acc_read && !(w->acc_read = malloc(2 * bytes)))
         return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width,
                        t->height);
-    float *sum = w->acc_read, *diff = w->acc_read + px * 3;
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    float *sum = w->acc_read, *diff = w->acc_read + px * 3; // rows of 12 w bytes: aligned
     glGetTextureImage(t->color[0], 0, GL_RGB, GL_FLOAT, (GLsizei)bytes, sum);
     glGetTextureImage(t->color[2], 0, GL_RGB, GL_FLOAT, (GLsizei)bytes, diff);
     double sum_s = 0, sum_d2 = 0;
