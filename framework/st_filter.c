@@ -1,6 +1,8 @@
 // The box pixel filter (st_world_opts.filter): each frame shifts the
-// camera by a Halton sub-pixel offset and the world accumulates the frames'
-// mean until its relative standard error is below the tolerance.
+// camera by a sub-pixel offset from one of two interleaved, differently
+// shifted Halton sequences, and the world accumulates the frames' mean until
+// the difference of the two halves says the mean image's NRMSE is below the
+// tolerance.
 #include "st_world_priv.h"
 #include <cglm/cglm.h>
 #include <math.h>
@@ -15,7 +17,20 @@ static double radical_inverse(uint32_t k, uint32_t base) {
 }
 
 void st_jitter_offset(uint32_t k, float out[2]) {
-    double x = radical_inverse(k, 2) + 0.5, y = radical_inverse(k, 3) + 0.5;
+    // Even frames: Halton (2, 3) shifted by half a pixel, so k = 0 is the
+    // centre. Odd frames: Halton (3, 2) under an irrational toroidal shift
+    // (the R2 sequence's step), stratified as well but otherwise unrelated:
+    // on the emitter of tests/render/test_filter.c the difference of the two
+    // halves predicts the NRMSE of their mean within 0.9-1.3x, where the same
+    // Halton (2, 3) points merely shifted for the odd frames gave 0.65-0.85x
+    // (their errors correlate) and the R2 sequence converged more slowly.
+    uint32_t j = k >> 1;
+    double x, y;
+    if (!(k & 1))
+        x = radical_inverse(j, 2) + 0.5, y = radical_inverse(j, 3) + 0.5;
+    else
+        x = radical_inverse(j, 3) + 0.5 + 0.7548776662466927,
+        y = radical_inverse(j, 2) + 0.5 + 0.5698402909980532;
     out[0] = (float)(x - floor(x) - 0.5);
     out[1] = (float)(y - floor(y) - 0.5);
 }
@@ -47,33 +62,28 @@ static bool modules_settled(const st_world *w) {
     return true;
 }
 
-// The convergence test: the relative standard error of the mean image,
-// E = sqrt(mean over pixels of (s_p^2 / n) / (m_p^2 + M^2)), with m_p and
-// s_p^2 the mean and sample variance of pixel p's luminance over n frames and
-// M the image's mean luminance: atlas_gi's rule for its gather (the RMS
-// standard error relative to the mean), with each pixel relative to its own
-// value where that is brighter, so a few very bright pixels (a light's hot
-// spot) do not hold up the whole image, and dark ones count against M.
-static bool accum_error(st_world *w, const st_target *t, uint32_t n, st_err *err) {
-    size_t px = (size_t)t->width * t->height;
-    if (!w->acc_read && !(w->acc_read = malloc(px * 4 * sizeof(float))))
+// The convergence test, at an even frame count n: the even frames' mean A
+// and the odd frames' mean B each integrate the pixel with their own
+// stratified sequence, so (A - B) / 2 is a sample of the error of the mean
+// (A + B) / 2, and E = rms over pixels and channels of (A - B) / 2 over the
+// image's mean estimates the NRMSE of the image against the converged one:
+// the error the cross-check reports, dominated as it is by whatever pixels
+// (a window, a lit silhouette) carry the most of it. E = sqrt(mean(D^2)) /
+// mean(S) with D the halves' summed difference and S the summed image (n
+// cancels). The difference also sees the sequences' quasi-random
+// convergence, which an iid variance estimate overstates.
+static bool accum_error(st_world *w, const st_target *t, st_err *err) {
+    size_t px = (size_t)t->width * t->height, bytes = px * 3 * sizeof(float);
+    if (!w->acc_read && !(w->acc_read = malloc(2 * bytes)))
         return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width,
                        t->height);
-    glGetTextureImage(t->color[0], 0, GL_RGBA, GL_FLOAT, (GLsizei)(px * 4 * sizeof(float)),
-                      w->acc_read);
-    double sum_m = 0, sum_e = 0;
-    for (size_t k = 0; k < px; k++) {
-        const float *a = w->acc_read + 4 * k;
-        sum_m += ((double)a[0] + a[1] + a[2]) / 3.0 / n;
-    }
-    double M2 = (sum_m / px) * (sum_m / px);
-    for (size_t k = 0; k < px; k++) {
-        const float *a = w->acc_read + 4 * k;
-        double m = ((double)a[0] + a[1] + a[2]) / 3.0 / n;
-        double var_mean = fmax(0.0, (a[3] - n * m * m) / (n - 1)) / n;
-        sum_e += var_mean / (m * m + M2);
-    }
-    w->acc_err = M2 > 0 ? sqrt(sum_e / px) : 0;
+    float *sum = w->acc_read, *diff = w->acc_read + px * 3; // rows of 12 w bytes: aligned
+    glGetTextureImage(t->color[0], 0, GL_RGB, GL_FLOAT, (GLsizei)bytes, sum);
+    glGetTextureImage(t->color[2], 0, GL_RGB, GL_FLOAT, (GLsizei)bytes, diff);
+    double sum_s = 0, sum_d2 = 0;
+    for (size_t k = 0; k < px * 3; k++)
+        sum_s += sum[k], sum_d2 += (double)diff[k] * diff[k];
+    w->acc_err = sum_s > 0 ? sqrt(sum_d2 / (px * 3)) / (sum_s / (px * 3)) : 0;
     if (!isfinite(w->acc_err)) w->acc_err = INFINITY;
     return st_gl_check("accumulation read back", err);
 }
@@ -90,6 +100,8 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     st_shader_use(w->accumulate);
     st_shader_texture(w->accumulate, "st_hdr_in", GL_TEXTURE_2D, c->current);
     st_shader_texture(w->accumulate, "st_acc_prev", GL_TEXTURE_2D, c->accum[w->acc_cur].color[0]);
+    st_shader_texture(w->accumulate, "st_acc_pdiff", GL_TEXTURE_2D, c->accum[w->acc_cur].color[2]);
+    st_shader_set_float(w->accumulate, "st_acc_sign", w->acc_n & 1 ? -1.0f : 1.0f);
     st_shader_set_int(w->accumulate, "st_acc_first", w->acc_n == 0);
     st_shader_set_float(w->accumulate, "st_acc_n", (float)(w->acc_n + 1));
     st_draw_fullscreen();
@@ -97,17 +109,22 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     w->acc_n++;
     c->current = c->accum[next].color[1];
     if (!st_gl_check("accumulate", err)) return false;
-    w->acc_err = INFINITY;
     if (!modules_settled(w)) {
         w->acc_n = 0; // the next frame starts again (at the centre)
+        w->acc_err = INFINITY;
     } else {
         uint32_t cap = w->opts.filter_max_frames > 0 ? (uint32_t)w->opts.filter_max_frames
                                                      : ST_FILTER_MAX_FRAMES;
         double tol = w->opts.filter_tolerance != 0 ? w->opts.filter_tolerance : ST_FILTER_TOLERANCE;
-        if (w->acc_n >= 4 || (w->acc_n >= cap && w->acc_n >= 2))
-            if (!accum_error(w, &c->accum[next], w->acc_n, err)) return false;
-        if (w->acc_n == 1 && cap == 1) w->acc_err = 0;
-        w->acc_done = w->acc_n >= cap || (w->acc_n >= 4 && w->acc_err <= tol);
+        if (w->acc_n == 1) w->acc_err = cap == 1 ? 0 : INFINITY, w->acc_below = 0;
+        // Even counts only (both halves equal); the last estimate stands between.
+        if (w->acc_n % 2 == 0) {
+            if (!accum_error(w, &c->accum[next], err)) return false;
+            w->acc_below = w->acc_err <= tol ? w->acc_below + 1 : 0;
+        }
+        // Two estimates in a row within the tolerance, so that a chance
+        // agreement of the halves at a few bright pixels does not stop it.
+        w->acc_done = w->acc_n >= cap || (w->acc_n >= ST_FILTER_MIN_FRAMES && w->acc_below >= 2);
     }
     st_pass_stats *ps = &w->stats[w->acc_stats];
     ps->runs++;

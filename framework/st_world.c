@@ -55,7 +55,7 @@ static bool create_targets(st_world *w, st_err *err) {
     free(w->acc_read);
     w->acc_read = NULL;
     for (int i = 0; w->opts.filter == ST_FILTER_BOX && i < 2; i++) {
-        if (!st_target_create(&c->accum[i], c->width, c->height, 2, GL_RGBA32F, false, err))
+        if (!st_target_create(&c->accum[i], c->width, c->height, 3, GL_RGBA32F, false, err))
             return false;
         char name[32];
         snprintf(name, sizeof name, "camera.accum%d", i);

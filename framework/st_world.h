@@ -25,18 +25,22 @@ typedef struct st_world_opts {
     // lights, size, modules) restarts it, and while a progressive module is
     // still converging each frame replaces the image instead.
     st_pixel_filter filter;
-    double filter_tolerance; // box: relative standard error to stop at (0: ST_FILTER_TOLERANCE)
+    double filter_tolerance; // box: estimated NRMSE to stop at (0: ST_FILTER_TOLERANCE; < 0: cap)
     int filter_max_frames;   // box: cap on accumulated frames (0: ST_FILTER_MAX_FRAMES)
 } st_world_opts;
 
-#define ST_FILTER_TOLERANCE 0.005
-#define ST_FILTER_MAX_FRAMES 64
+#define ST_FILTER_TOLERANCE 0.01
+#define ST_FILTER_MIN_FRAMES 8
+#define ST_FILTER_MAX_FRAMES 1024
 
 // Sub-pixel offset of accumulated frame k of the box filter, in pixels from
-// the centre, each in [-0.5, 0.5): the Halton (2, 3) point k shifted by half a
-// pixel (toroidally), so k = 0 is the centre and the first 2^a 3^b offsets
-// put one point in each cell of a 2^a x 3^b grid (shifted with them). x to
-// the right, y down the image.
+// the centre, each in [-0.5, 0.5). Two interleaved sequences: even k = 2j
+// takes the Halton (2, 3) point j shifted by half a pixel (toroidally), so
+// k = 0 is the centre; odd k = 2j + 1 the same point under a further
+// irrational shift. Each sequence's first 2^a 3^b offsets put one point in
+// each cell of a 2^a x 3^b grid (shifted with them), so the even and the odd
+// frames' means are two stratified estimates of the pixel whose difference
+// is the convergence test's error estimate. x to the right, y down.
 void st_jitter_offset(uint32_t k, float out[2]);
 
 // Creates GL resources for the scene and loads its modules (in dependency

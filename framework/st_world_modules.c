@@ -290,8 +290,8 @@ bool st_world_progress(const st_world *w, st_progress *out) {
         if (w->acc_err > out->error || isnan(w->acc_err)) out->error = w->acc_err;
         size_t n = strlen(out->info);
         snprintf(out->info + n, sizeof out->info - n,
-                 "%sfilter: box, %u frame(s) accumulated, relative standard error %.4g",
-                 n ? "; " : "", w->acc_n, w->acc_err);
+                 "%sfilter: box, %u frame(s) accumulated, estimated NRMSE %.4g", n ? "; " : "",
+                 w->acc_n, w->acc_err);
     }
     return any;
 }

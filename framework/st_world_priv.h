@@ -100,7 +100,8 @@ struct st_world {
     int acc_cur;                                 // accum target holding the sums
     uint32_t acc_n;                              // frames in the sums (0: restart)
     bool acc_done;                               // converged or capped: later frames add nothing
-    double acc_err;                              // relative standard error of the mean image
+    double acc_err;                              // estimated NRMSE of the mean image
+    int acc_below;                               // consecutive estimates within the tolerance
     float *acc_read;                             // read-back buffer for the convergence test
     int acc_stats;                               // stats entry "world/accumulate"
 };

@@ -166,10 +166,35 @@ float st_shadow_exact(int light, vec3 p, vec3 n) {
     return st_bvh_occluded_back(o, q, 1e-6, back) ? 0.0 : 1.0;
 }
 
+// Whether p's own facet turns its back on the light, on the side whose
+// shading normal is n: then the exact ray (the reference's, Cycles') leaves
+// through the facet itself and p is in shadow, although a smooth mesh's
+// interpolated normal may still face the light near the terminator; the
+// shadow map, biased, sees nothing there (issue 20, spot_room: pixels at
+// Suzanne's ear lit at 0.57 where the reference is black). The facet normal
+// comes from p's derivatives, which stay in p's triangle: fragment shaders
+// rasterising surfaces only (the regular pass, atlas_gi's G-buffer). GLSL
+// leaves derivatives in non-uniform control flow (the lights' loop)
+// undefined; llvmpipe takes them from all four lanes of the quad, where p,
+// the interpolated input, holds its value before any branch (a port to a
+// GPU should compute the facet normal before the loop). Where they vanish
+// (atlas_gi's points) nothing is known.
+bool st_shadow_facet_away(vec3 p, vec3 n, vec3 to_light) {
+#ifdef ST_FRAGMENT
+    vec3 ng = cross(dFdx(p), dFdy(p));
+    if (dot(ng, ng) <= 0.0) return false;
+    return dot(ng, n) < 0.0 ? dot(ng, to_light) >= 0.0 : dot(ng, to_light) <= 0.0;
+#else
+    return false;
+#endif
+}
+
 // Surfaces: the bias grows with the slope, since a texel covers a longer
 // stretch of distance the more obliquely it sees the surface.
 float st_visibility(int light, vec3 p, vec3 n) {
     bool probe = st_shadow_refine != 0, ambiguous = false;
+    vec3 to_light = ST_LIGHT_IS(light, 1) ? -st_light_dir[light] : st_light_pos[light] - p;
+    if (st_shadow_facet_away(p, n, to_light)) return 0.0;
     float vis = 1.0;
     if (ST_LIGHT_IS(light, 1)) { // directional
         float c = clamp(dot(n, -st_light_dir[light]), 1e-3, 1.0);

@@ -67,13 +67,6 @@ static const struct {
     // a small systematic difference between Cycles' ray-marched volume
     // object and the exact trilinear grid remains (docs/accuracy.md).
     {"vdb_cloud", "reference", "noise-statistic", 1.585},
-    // spot_room (issue 20's Blender-made god rays under a spot): against a
-    // 1024-spp reference toth's still is at NRMSE 0.10, 0.054 with 256 frames
-    // accumulated instead of the box filter's cap of 64 (bright edge pixels on
-    // Suzanne), and the rest mostly a few pixels of Suzanne's face that the
-    // shadow map lights at grazing incidence where the exact ray (reference,
-    // Cycles) finds the mesh's own facets (docs/accuracy.md).
-    {"spot_room", "toth", "nrmse-debiased", 0.101},
     {NULL, NULL, NULL, 0},
 };
 
