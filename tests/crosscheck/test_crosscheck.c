@@ -74,6 +74,12 @@ static const struct {
     // shadow map lights at grazing incidence where the exact ray (reference,
     // Cycles) finds the mesh's own facets (docs/accuracy.md).
     {"spot_room", "toth", "nrmse-debiased", 0.101},
+    // spot_direct against box-filtered Cycles: the box filter stops at its
+    // 64-frame cap with pixels on the edge of the unlit green quad against
+    // the spot-lit floor (~40x the image mean) 3-6 % off; shadow_map itself
+    // is right: 0.0117 with 256 frames accumulated, 0.0051 with 1024 (the
+    // filter's stopping rule is issue 20's other part).
+    {"spot_direct", "shadow_map", "nrmse-debiased", 0.0317},
     {NULL, NULL, NULL, 0},
 };
 
