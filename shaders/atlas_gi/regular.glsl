@@ -8,6 +8,7 @@
 #ifndef AG_REGULAR_GLSL
 #define AG_REGULAR_GLSL
 #include "common/uniforms.glsl"
+#include "common/facet.glsl"
 #define ST_HAS_INDIRECT 1
 #define ST_HAS_COMPOSE 1
 uniform sampler2D ag_indirect_tex; // mean indirect, dilated
@@ -45,8 +46,10 @@ vec3 st_compose(vec3 direct, vec3 emission, vec3 indirect, vec3 p, vec3 n, vec2 
     if (ag_display == 1) return direct + emission;
     if (ag_display == 2) return indirect;
     if (ag_display == 3) {
-        // The thesis' display: the combined atlas textured onto the scene.
-        bool front = dot(n, st_cam_pos - p) >= 0.0;
+        // The thesis' display: the combined atlas textured onto the scene,
+        // on the side the camera sees (the facet's side, as the regular pass
+        // decides it: the interpolated normal turns away at a silhouette).
+        bool front = st_facet_front(p, n, st_cam_pos);
         return front ? texture(ag_combined_tex, ag_atlas_uv(p, n, uv1)).rgb : vec3(0.0);
     }
     return direct + emission + indirect;

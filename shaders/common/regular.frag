@@ -5,6 +5,7 @@
 // (whichever volumetric module runs, or none; they add in-scattered light). Modules hook in through their
 // regular_include, which the world expands before this file.
 #include "common/lighting.glsl"
+#include "common/facet.glsl"
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv1;
@@ -28,14 +29,9 @@ void main() {
     vec3 to_cam = st_cam_pos - p;
     // Front side = the side of the facet that the shading normal is on; the
     // back side of a one-sided surface is black but still occludes. The
-    // facet's own normal (from the position's derivatives, which stay in
-    // the triangle) decides which side is seen, as the reference's winding
-    // does: at a smooth mesh's silhouette the interpolated normal turns away
-    // from a camera that sees the facet's front, and a lit point there would
-    // come out black (issue 20, meshes_direct: 12 pixels on Suzanne's head).
-    vec3 ng = cross(dFdx(p), dFdy(p));
-    if (dot(ng, n) < 0.0) ng = -ng;
-    bool front = dot(ng, to_cam) >= 0.0;
+    // facet's own normal decides which side is seen (common/facet.glsl;
+    // meshes_direct: 12 pixels on Suzanne's head were black).
+    bool front = st_facet_front(p, n, st_cam_pos);
     if (!front && st_double_sided != 0) {
         n = -n;
         front = true;

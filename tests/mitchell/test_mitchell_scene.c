@@ -1,7 +1,8 @@
 // The mitchell plugin in scenes (in-process worlds, 33x33 images; the
 // god-ray term is the image minus the same scene rendered without medium):
 // - occlusion image content: emitters at their emission radiance, occluders
-//   and back sides black, the light's disc in its tint, the sky colour;
+//   and back sides black, the light's disc in its tint, the sky colour; a
+//   closed smooth emitter the same single- or double-sided;
 // - the light's own pixel: exposure tint (1 + weight sum decay^i);
 // - several lights add up;
 // - off screen and behind the camera: the shafts fade continuously to 0,
@@ -135,6 +136,43 @@ static void test_occlusion_content(void) {
         CHECK(worst[c] < 1e-4, "%s: max error %g", names[c], worst[c]);
     }
     gt_pair_free(&r);
+}
+
+// A closed smooth emitter (a coarse sphere: near its silhouette the
+// interpolated normal turns away from the camera, which sees the facets'
+// front) is the same single- or double-sided in the occlusion image: the
+// facet decides the side (common/facet.glsl), as in the regular pass.
+static void test_occlusion_smooth(void) {
+    const char *light =
+        "{\"type\": \"point\", \"position\": [1.5, 1.5, 0], \"intensity\": [1, 1, 1]}";
+    const char *params = "\"n\": 4, \"density\": 1000, \"decay\": 1, \"weight\": 1, "
+                         "\"exposure\": 0.2, \"resolution\": 1, \"light_radius\": 0.05";
+    const char *fmt = "{\"sphere\": {\"center\": [0, 0, 2.5], \"radius\": 0.8, \"rings\": 4, "
+                      "\"segments\": 6}, \"emission\": [1, 0.5, 0.25], \"double_sided\": %s}";
+    char geo[2][256];
+    gt_pair r[2];
+    bool ok = true;
+    for (int d = 0; d < 2; d++) {
+        snprintf(geo[d], sizeof geo[d], fmt, d ? "true" : "false");
+        ok &= render_effect(light, geo[d], params, NULL, &r[d]);
+    }
+    if (!ok) return;
+    int emitting = 0, differ = 0;
+    double worst = 0;
+    for (int j = 0; j < RES; j++)
+        for (int i = 0; i < RES; i++) {
+            const float *a = st_image_px(&r[0].effect, i, j), *b = st_image_px(&r[1].effect, i, j);
+            emitting += fabs(b[0] - 1) < 1e-3 && fabs(b[1] - 0.5) < 1e-3;
+            double e = fmax(fabs(a[0] - b[0]), fmax(fabs(a[1] - b[1]), fabs(a[2] - b[2])));
+            worst = fmax(worst, e), differ += e >= 1e-5;
+        }
+    printf("smooth emitter: %d emitting pixels; single- and double-sided differ in %d, by at "
+           "most %.3g\n",
+           emitting, differ, worst);
+    CHECK(emitting > 400, "smooth emitter: %d emitting pixels", emitting);
+    CHECK(worst < 1e-5, "smooth emitter: single- and double-sided differ by %g", worst);
+    gt_pair_free(&r[0]);
+    gt_pair_free(&r[1]);
 }
 
 // ---- the light's own pixel ---------------------------------------------------
@@ -395,6 +433,7 @@ static void test_stress(void) {
 int main(void) {
     st_context *ctx = st_test_context();
     test_occlusion_content();
+    test_occlusion_smooth();
     test_light_pixel();
     test_additive();
     test_fade();
