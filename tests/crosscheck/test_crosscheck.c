@@ -62,11 +62,6 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // Issue 24's VDB cloud: image means within 0.03%, NRMSE 0.043 (0.022
-    // with the reference at 256 spp, where the statistic stays at 1.61), so
-    // a small systematic difference between Cycles' ray-marched volume
-    // object and the exact trilinear grid remains (docs/accuracy.md).
-    {"vdb_cloud", "reference", "noise-statistic", 1.585},
     // spot_room (issue 20's Blender-made god rays under a spot): against a
     // 1024-spp reference toth's still is at NRMSE 0.10, 0.054 with 256 frames
     // accumulated instead of the box filter's cap of 64 (bright edge pixels on
