@@ -12,13 +12,13 @@ extern "C" {
 typedef struct st_world st_world;
 
 // One row of the GPU memory table: a target, a tracked object, a camera
-// target or the scene's geometry.
+// target, the scene's geometry or the medium's density grid.
 typedef struct st_mem_entry {
     char name[ST_NAME_MAX];
     char owner[ST_NAME_MAX]; // the module; "camera", "world" for the world's own
     char format[32];         // "RGBA32F", "3xRGBA32F+D32F" (colour textures, depth); "-"
-    const char *kind;        // "2D", "1D", "2D array", "cube array", "buffer", "buffer texture"
-    int width, height, layers, levels; // 0 for buffers
+    const char *kind; // "2D", "1D", "2D array", "cube array", "3D", "buffer", "buffer texture"
+    int width, height, layers, levels; // 0 for buffers; a 3D texture's depth is its layers
     size_t bytes;                      // 0 for a target not allocated yet
 } st_mem_entry;
 // The world's GPU memory, every row: fills at most max of them (out may be

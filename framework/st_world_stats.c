@@ -119,6 +119,18 @@ int st_world_memory(st_world *w, st_mem_entry *out, int max) {
         e.bytes = geo[i]->size;
         n = add_row(out, max, n, &e);
     }
+    // The medium's density grid (st_medium_gpu.c): one R32F texel per voxel.
+    if (w->medium.grid) {
+        memset(&e, 0, sizeof e);
+        snprintf(e.name, sizeof e.name, "medium.density"); // its GL label
+        snprintf(e.owner, sizeof e.owner, "world");
+        snprintf(e.format, sizeof e.format, "R32F");
+        e.kind = "3D";
+        e.width = w->medium.size[0], e.height = w->medium.size[1], e.layers = w->medium.size[2];
+        e.levels = 1;
+        e.bytes = (size_t)e.width * e.height * e.layers * sizeof(float);
+        n = add_row(out, max, n, &e);
+    }
     for (int m = 0; m < w->num_mods; m++)
         n = module_rows(w, w->mods[m]->p->name, out, max, n);
     return n;

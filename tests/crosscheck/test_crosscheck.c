@@ -62,11 +62,6 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // Issue 24's VDB cloud: image means within 0.03%, NRMSE 0.043 (0.022
-    // with the reference at 256 spp, where the statistic stays at 1.61), so
-    // a small systematic difference between Cycles' ray-marched volume
-    // object and the exact trilinear grid remains (docs/accuracy.md).
-    {"vdb_cloud", "reference", "noise-statistic", 1.585},
     {NULL, NULL, NULL, 0},
 };
 

@@ -14,7 +14,10 @@
 //   at 512 and at 2048);
 // - after a resize, switching toth off and switching to mode=transfer (its
 //   SSBOs tracked) the GL total still equals the table's; so it does for
-//   mitchell and sousa in a second world (nothing of the first left over).
+//   mitchell and sousa in a second world (nothing of the first left over);
+// - a scene whose medium is an OpenVDB grid (the cross-check's cloud, a
+//   26^3 block with its ring of zero voxels) counts the grid's 3D texture
+//   as the world's row medium.density, 26^3 x 4 bytes, and GL agrees.
 #include "st_test_render.h"
 #include "st_test_support.h"
 #include "st_world.h"
@@ -38,6 +41,19 @@ static const char *scene_json =
     "  {\"name\": \"toth\", \"params\": {\"resolution\": \"quarter\", \"min_rows\": 0, "
     "\"interleave\": 2}},\n"
     "  {\"name\": \"ssgi\", \"params\": {\"samples\": 8}}]}\n";
+
+static const char *vdb_json =
+    "{\"image\": {\"width\": 40, \"height\": 30},\n"
+    " \"camera\": {\"position\": [0, 1, 3.4], \"target\": [0, 1, 0], \"up\": [0, 1, 0], "
+    "\"fov_y\": 40, \"near\": 0.05, \"far\": 20},\n"
+    " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.9, 0], \"intensity\": [3, 3, 3]}],\n"
+    " \"geometry\": [\n" ST_TEST_CORNELL_WALLS
+    "  {\"box\": {\"min\": [0.1, 0, -0.1], \"max\": [0.7, 0.6, 0.5]}}],\n"
+    " \"medium\": {\"sigma_s\": [0.9, 0.9, 0.9], \"sigma_a\": [0.1, 0.1, 0.1], \"density\": "
+    "{\"vdb\": \"" ST_TEST_SOURCE_DIR "/tests/data/crosscheck/cloud.vdb\", \"transform\": "
+    "{\"translate\": [0, 1, 0]}}},\n"
+    " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 32}},\n"
+    "  {\"name\": \"toth\"}]}\n";
 
 static const char *godray_json =
     "{\"image\": {\"width\": 40, \"height\": 30},\n"
@@ -254,6 +270,26 @@ int main(void) {
         st_world_destroy(w);
     }
     st_scene_free(&sc2);
+
+    // A density grid: its 3D texture is the world's row (and the only
+    // texture of its kind, so GL's total checks its bytes too).
+    st_scene sc3 = {0};
+    CHECK(st_scene_parse(vdb_json, strlen(vdb_json), ST_TEST_SCRATCH "/vdb.json", &sc3, &err), "%s",
+          err.msg);
+    w = st_world_create(&sc3, NULL, &err);
+    CHECK(w != NULL, "world: %s", err.msg);
+    if (w) {
+        frame(w, "vdb grid");
+        check_complete(w, "vdb grid");
+        const st_mem_entry *g = row("medium.density");
+        CHECK(g && !strcmp(g->owner, "world") && g->width == 26 && g->height == 26 &&
+                  g->layers == 26 && g->bytes == 26 * 26 * 26 * 4,
+              "medium.density: owner %s, %dx%dx%d, %zu bytes; want world, 26x26x26, %d bytes",
+              g ? g->owner : "-", g ? g->width : 0, g ? g->height : 0, g ? g->layers : 0,
+              g ? g->bytes : 0, 26 * 26 * 26 * 4);
+        st_world_destroy(w);
+    }
+    st_scene_free(&sc3);
     st_context_destroy(ctx);
     return st_test_summary("test_gpu_memory");
 }

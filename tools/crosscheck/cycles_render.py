@@ -40,7 +40,7 @@
 #    Cycles' sigma_s = colour x density and sigma_a = (1 - colour) x
 #    density; anisotropy g; the object shifted by half a voxel (Cycles
 #    samples voxel i at index i + 0.5, OpenVDB and strahl at i); the grid
-#    trilinear, marched at a quarter voxel
+#    trilinear, in full precision, not clipped, marched at a quarter voxel
 #    (volume_step_rate 0.25), transparent bounces allowed (the volume's
 #    bounding mesh is a transparent surface to Cycles);
 #  - bounces: K diffuse bounces (max bounces K) where K is atlas_gi's or
@@ -555,6 +555,14 @@ def vdb_volume(scene, base, med):
     half = Matrix.Translation(g3 @ Vector((-0.5, -0.5, -0.5)))
     ob.matrix_world = to_z_up @ m @ half
     scene.cycles.volume_step_rate = 0.25
+    # The grid as read, not as Blender's defaults prepare it for speed: full
+    # float precision (default half) and no clipping of small densities out
+    # of the volume's bounding mesh (default 0.001). Measured on vdb_cloud
+    # (512 spp, with steps of 0.05 voxel): where the cloud contributes the
+    # reference's mean z^2 was 0.96 against 0.99 with the defaults (README.md),
+    # so these rule two suspects out rather than fix anything.
+    vol.render.precision = "FULL"
+    vol.render.clipping = 0.0
     # The volume's bounding mesh is a transparent surface to Cycles: with no
     # transparent bounces every path meeting it ends (the image came out
     # black). Diffuse and volume bounces stay as set.

@@ -44,6 +44,109 @@ static void rtc_error_message(RTCDevice dev, st_err *err, const char *what) {
     st_fail(err, ST_ERR_RUNTIME, "embree: %s failed (error %d)", what, (int)rtcGetDeviceError(dev));
 }
 
+// The per-mesh and per-triangle arrays (freed by st_ref_geometry_free).
+static bool alloc_arrays(st_ref_geometry *g, st_err *err) {
+    size_t nm = (size_t)(g->num_meshes > 0 ? g->num_meshes : 1);
+    g->pos = calloc(nm, sizeof *g->pos);
+    g->nrm = calloc(nm, sizeof *g->nrm);
+    g->ng = calloc(nm, sizeof *g->ng);
+    size_t nt = (size_t)(g->num_tris > 0 ? g->num_tris : 1);
+    g->cdf = malloc(nt * sizeof *g->cdf);
+    g->tri_mesh = malloc(nt * sizeof *g->tri_mesh);
+    g->tri_prim = malloc(nt * sizeof *g->tri_prim);
+    if (!g->pos || !g->nrm || !g->ng || !g->cdf || !g->tri_mesh || !g->tri_prim)
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for %llu triangles",
+                       (unsigned long long)g->num_tris);
+    return true;
+}
+
+// Mesh i in world space (double), checked: its indices and model matrix.
+static bool load_mesh(st_ref_geometry *g, const st_mesh *m, int i, st_err *err) {
+    g->pos[i] = malloc((size_t)m->num_vertices * 3 * sizeof(double) + 1);
+    g->nrm[i] = malloc((size_t)m->num_vertices * 3 * sizeof(double) + 1);
+    g->ng[i] = malloc((size_t)m->num_triangles * 3 * sizeof(double) + 1);
+    if (!g->pos[i] || !g->nrm[i] || !g->ng[i])
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for mesh '%s'", m->name);
+    for (uint32_t k = 0; k < 3 * m->num_triangles; k++)
+        if (m->indices[k] >= m->num_vertices)
+            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): vertex index %u out of range", i,
+                           m->name, m->indices[k]);
+    if (!transform_mesh(m, g->pos[i], g->nrm[i]))
+        return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is not finite", i, m->name);
+    return true;
+}
+
+// The running state of the triangle loop: the next triangle's index in the
+// area CDF, the area so far and the world bounds of all vertices.
+typedef struct build_state {
+    uint64_t tri;
+    double area, lo[3], hi[3];
+} build_state;
+
+// Mesh i's Embree geometry (float), its facet normals and its triangles'
+// entries in the area CDF.
+static bool add_mesh(st_ref_geometry *g, const st_mesh *m, int i, build_state *b, st_err *err) {
+    RTCGeometry geo = rtcNewGeometry(g->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), m->num_vertices);
+    unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), m->num_triangles);
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geo);
+        rtc_error_message(g->device, err, "vertex buffer");
+        return false;
+    }
+    for (uint32_t v = 0; v < 3 * m->num_vertices; v++) {
+        vb[v] = (float)g->pos[i][v];
+        b->lo[v % 3] = fmin(b->lo[v % 3], g->pos[i][v]);
+        b->hi[v % 3] = fmax(b->hi[v % 3], g->pos[i][v]);
+    }
+    for (uint32_t t = 0; t < m->num_triangles; t++) {
+        const uint32_t *ix = m->indices + 3 * t;
+        for (int k = 0; k < 3; k++)
+            ib[3 * t + k] = ix[k];
+        const double *p0 = g->pos[i] + 3 * ix[0], *p1 = g->pos[i] + 3 * ix[1],
+                     *p2 = g->pos[i] + 3 * ix[2];
+        double e1[3], e2[3], *n = g->ng[i] + 3 * t;
+        for (int k = 0; k < 3; k++)
+            e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
+        st_cross3(n, e1, e2);
+        b->area += 0.5 * st_normalize3(n); // degenerate triangles add nothing and are never picked
+        g->cdf[b->tri] = b->area;
+        g->tri_mesh[b->tri] = i;
+        g->tri_prim[b->tri] = t;
+        b->tri++;
+    }
+    rtcCommitGeometry(geo);
+    rtcAttachGeometryByID(g->scene, geo, (unsigned)i); // geomID == mesh index
+    rtcReleaseGeometry(geo);
+    return true;
+}
+
+// What the bounds give (ray offset, centre, radius), the medium's sigma_t
+// and each sun's entry into the medium.
+static bool finish(st_ref_geometry *g, const st_scene *scene, const build_state *b, st_err *err) {
+    g->total_area = b->area;
+    double diag = 0.0;
+    for (int k = 0; k < 3; k++)
+        diag += (b->hi[k] - b->lo[k]) * (b->hi[k] - b->lo[k]);
+    diag = sqrt(diag);
+    // Offsets for secondary rays: far above float rounding of positions
+    // (~1e-7 relative) and far below any feature a test measures.
+    g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
+    st_medium_sigma_t(&scene->medium, g->sigma_t);
+    for (int k = 0; k < 3; k++)
+        g->center[k] = 0.5 * (b->lo[k] + b->hi[k]);
+    g->radius = 0.5 * diag;
+    g->light_entry =
+        calloc(scene->num_lights ? (size_t)scene->num_lights : 1, sizeof *g->light_entry);
+    if (!g->light_entry) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    for (int i = 0; i < scene->num_lights; i++)
+        if (scene->lights[i].type == ST_LIGHT_DIRECTIONAL)
+            g->light_entry[i] = st_directional_entry(scene, scene->lights[i].direction);
+    return true;
+}
+
 bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *err) {
     memset(g, 0, sizeof *g);
     g->desc = scene;
@@ -55,107 +158,24 @@ bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *er
     // Robust mode: rays through shared edges of closed boxes must not leak.
     rtcSetSceneFlags(g->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(g->scene, RTC_BUILD_QUALITY_HIGH);
-    size_t nm = (size_t)(g->num_meshes > 0 ? g->num_meshes : 1);
-    g->pos = calloc(nm, sizeof *g->pos);
-    g->nrm = calloc(nm, sizeof *g->nrm);
-    g->ng = calloc(nm, sizeof *g->ng);
-    size_t nt = (size_t)(g->num_tris > 0 ? g->num_tris : 1);
-    g->cdf = malloc(nt * sizeof *g->cdf);
-    g->tri_mesh = malloc(nt * sizeof *g->tri_mesh);
-    g->tri_prim = malloc(nt * sizeof *g->tri_prim);
-    if (!g->pos || !g->nrm || !g->ng || !g->cdf || !g->tri_mesh || !g->tri_prim) {
-        st_ref_geometry_free(g);
-        return st_fail(err, ST_ERR_RUNTIME, "out of memory for %llu triangles",
-                       (unsigned long long)g->num_tris);
-    }
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    uint64_t tri = 0;
-    double area = 0.0;
-    for (int i = 0; i < g->num_meshes; i++) {
+    build_state b = {0, 0.0, {INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    bool ok = alloc_arrays(g, err);
+    for (int i = 0; ok && i < g->num_meshes; i++) {
         const st_mesh *m = &scene->meshes[i];
-        g->pos[i] = malloc((size_t)m->num_vertices * 3 * sizeof(double) + 1);
-        g->nrm[i] = malloc((size_t)m->num_vertices * 3 * sizeof(double) + 1);
-        g->ng[i] = malloc((size_t)m->num_triangles * 3 * sizeof(double) + 1);
-        if (!g->pos[i] || !g->nrm[i] || !g->ng[i]) {
-            st_ref_geometry_free(g);
-            return st_fail(err, ST_ERR_RUNTIME, "out of memory for mesh '%s'", m->name);
-        }
-        for (uint32_t k = 0; k < 3 * m->num_triangles; k++)
-            if (m->indices[k] >= m->num_vertices) {
-                st_ref_geometry_free(g);
-                return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): vertex index %u out of range", i,
-                               m->name, m->indices[k]);
-            }
-        if (!transform_mesh(m, g->pos[i], g->nrm[i])) {
-            st_ref_geometry_free(g);
-            return st_fail(err, ST_ERR_INPUT, "mesh %d ('%s'): model matrix is not finite", i,
-                           m->name);
-        }
-        if (m->num_triangles == 0) continue; // nothing to trace; mesh indices stay geomIDs
-        RTCGeometry geo = rtcNewGeometry(g->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                            3 * sizeof(float), m->num_vertices);
-        unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                               3 * sizeof(unsigned), m->num_triangles);
-        if (!vb || !ib) {
-            rtcReleaseGeometry(geo);
-            rtc_error_message(g->device, err, "vertex buffer");
-            st_ref_geometry_free(g);
-            return false;
-        }
-        for (uint32_t v = 0; v < 3 * m->num_vertices; v++) {
-            vb[v] = (float)g->pos[i][v];
-            lo[v % 3] = fmin(lo[v % 3], g->pos[i][v]);
-            hi[v % 3] = fmax(hi[v % 3], g->pos[i][v]);
-        }
-        for (uint32_t t = 0; t < m->num_triangles; t++) {
-            const uint32_t *ix = m->indices + 3 * t;
-            for (int k = 0; k < 3; k++)
-                ib[3 * t + k] = ix[k];
-            const double *p0 = g->pos[i] + 3 * ix[0], *p1 = g->pos[i] + 3 * ix[1],
-                         *p2 = g->pos[i] + 3 * ix[2];
-            double e1[3], e2[3], *n = g->ng[i] + 3 * t;
-            for (int k = 0; k < 3; k++)
-                e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
-            st_cross3(n, e1, e2);
-            area += 0.5 * st_normalize3(n); // degenerate triangles add nothing and are never picked
-            g->cdf[tri] = area;
-            g->tri_mesh[tri] = i;
-            g->tri_prim[tri] = t;
-            tri++;
-        }
-        rtcCommitGeometry(geo);
-        rtcAttachGeometryByID(g->scene, geo, (unsigned)i); // geomID == mesh index
-        rtcReleaseGeometry(geo);
+        ok = load_mesh(g, m, i, err);
+        // A mesh without triangles has nothing to trace; mesh indices stay geomIDs.
+        if (ok && m->num_triangles > 0) ok = add_mesh(g, m, i, &b, err);
     }
-    rtcCommitScene(g->scene);
-    if (rtcGetDeviceError(g->device) != RTC_ERROR_NONE) {
-        rtc_error_message(g->device, err, "scene build");
-        st_ref_geometry_free(g);
-        return false;
+    if (ok) {
+        rtcCommitScene(g->scene);
+        if (rtcGetDeviceError(g->device) != RTC_ERROR_NONE) {
+            rtc_error_message(g->device, err, "scene build");
+            ok = false;
+        }
     }
-    g->total_area = area;
-    double diag = 0.0;
-    for (int k = 0; k < 3; k++)
-        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    diag = sqrt(diag);
-    // Offsets for secondary rays: far above float rounding of positions
-    // (~1e-7 relative) and far below any feature a test measures.
-    g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
-    st_medium_sigma_t(&scene->medium, g->sigma_t);
-    for (int k = 0; k < 3; k++)
-        g->center[k] = 0.5 * (lo[k] + hi[k]);
-    g->radius = 0.5 * diag;
-    g->light_entry =
-        calloc(scene->num_lights ? (size_t)scene->num_lights : 1, sizeof *g->light_entry);
-    if (!g->light_entry) {
-        st_ref_geometry_free(g);
-        return st_fail(err, ST_ERR_RUNTIME, "out of memory");
-    }
-    for (int i = 0; i < scene->num_lights; i++)
-        if (scene->lights[i].type == ST_LIGHT_DIRECTIONAL)
-            g->light_entry[i] = st_directional_entry(scene, scene->lights[i].direction);
-    return true;
+    if (ok) ok = finish(g, scene, &b, err);
+    if (!ok) st_ref_geometry_free(g);
+    return ok;
 }
 
 void st_ref_geometry_free(st_ref_geometry *g) {
