@@ -55,18 +55,18 @@ enum { COMPOSE_TABLE, COMPOSE_QUADRATURE };
 
 // Defaults (the Pareto front against the CPU reference, docs/benchmarks.md,
 // tools/bench_all.sh ONLY=truth): equi-angular sampling, the visible
-// fraction marched at half resolution (at least 48 rows) in 128 steps with
+// fraction marched at half resolution (at least 48 rows) in 64 steps with
 // 4 halvings per shadow boundary, pixels whose upsampling taps disagree by
 // more than 0.2 (or show another surface) marched at full resolution, the
 // unshadowed integral per full-resolution pixel from the airlight table.
-// Half resolution and 128 steps, not quarter and 64: a shaft crossed at a
-// grazing angle leaves lit slivers between lookups and quarter-resolution
-// upsampling smears them (godrays_window 256x192 against the reference:
-// quarter/64 1.35e-4, half/64 7.8e-5, half/128 6.3e-5, the 1024-step
-// full-resolution march 9.5e-5; godrays_hidden_hole 2.04e-4, 1.14e-4,
-// 9.0e-5 and 8.2e-5).
+// Half resolution, not quarter: a shaft crossed at a grazing angle leaves
+// lit slivers and kinks in the visible fraction that quarter-resolution
+// upsampling smears (256x192 against the reference, rmse: godrays_window
+// quarter 1.35e-4, half 7.8e-5, the 1024-step full-resolution march 9.5e-5;
+// godrays_hidden_hole 2.04e-4, 1.14e-4, 8.2e-5). 128 steps take window and
+// hidden_hole to 6.3e-5 and 9.0e-5 for twice the march's time.
 static const st_param_def params[P_COUNT] = {
-    {"samples", ST_PARAM_INT, 128, 1, 1024, NULL,
+    {"samples", ST_PARAM_INT, 64, 1, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved)"},
     {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
