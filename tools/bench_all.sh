@@ -7,8 +7,8 @@
 #   GI_REF_SPP (1024), ONLY (godrays, toth, gi, or plots: run one part;
 #   godrays is toth, mitchell and sousa), TOTH_MODE (steady), LIGHT_VIEW_SIZE (384x256),
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
-#   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5): toth against the CPU
-#   reference (ONLY=truth, also part of toth and all).
+#   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5), TRUTH_RUNS, TRUTH_APPEND:
+#   toth against the CPU reference (ONLY=truth, also part of toth and all).
 #   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4):
 #   froxel beside toth, mitchell and sousa against the CPU reference (ONLY=froxel,
 #   also part of all).
@@ -169,29 +169,35 @@ fi
 # ---- toth against ground truth (issue 21) --------------------------------------
 # The defaults and the brute-force uniform full-resolution march (128..1024
 # steps, no interleave) in one strahl bench run per scene and size (--append:
-# the brute force first, then the defaults and 32 steps), both scored against
+# the brute force first, then the defaults, the former defaults (quarter
+# resolution, 64 steps) and cheaper settings), both scored against
 # `strahl reference --bounces 0` (single scattering with exact visibility),
 # whose noise ref() brings to a third of TRUTH_ERR (bench removes what remains
 # and warns where it cannot). --mode recompute: the shadow map is redone every
 # frame for both. truth_summary.md: per scene and size the 1024-step march's
 # rmse, the defaults' rmse and their ratio, and the cheapest brute-force
 # setting with no higher rmse than the defaults against the defaults' time.
+# TRUTH_RUNS ("scene:size ...", default every scene at every TRUTH_SIZES;
+# empty: none) picks the runs; TRUTH_APPEND=1 keeps truth.csv's rows of
+# earlier runs (with TRUTH_RUNS="" only the summary and plots are redone).
 if [ "$ONLY" = all ] || [ "$ONLY" = toth ] || [ "$ONLY" = truth ]; then
-rm -f "$OUT"/truth.csv
-for s in window hidden_hole colonnade; do
+[ "${TRUTH_APPEND:-0}" = 1 ] || rm -f "$OUT"/truth.csv
+runs=${TRUTH_RUNS-$(for s in window hidden_hole colonnade; do for z in $TRUTH_SIZES; do echo "$s:$z"; done; done)}
+for run in $runs; do
+    s=${run%%:*} size=${run#*:}
     scene=scenes/godrays_$s.json
-    for size in $TRUTH_SIZES; do
-        # Pixel centres (--filter point; bench follows the reference's filter): a
-        # box-filtered 8-spp reference is 2.9e-3 noisy at shaft and silhouette
-        # edges (320x240 window), so ref() would ask the 65536-spp cap; at
-        # the point filter 16 spp leave 1.2e-5 to 3.2e-5 (256x192).
-        ref "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" --bounces 0 --spp 8 --steps 1024 --filter point
-        bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
-            --set toth.interleave=1 --set toth.resolution=full \
-            --sweep toth.samples=128,256,512,1024 --sweep toth.sampling=uniform
-        bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
-            --sweep toth.samples=32,64 --sweep toth.sampling=equiangular
-    done
+    # Pixel centres (--filter point; bench follows the reference's filter): a
+    # box-filtered 8-spp reference is 2.9e-3 noisy at shaft and silhouette
+    # edges (320x240 window), so ref() would ask the 65536-spp cap; at
+    # the point filter 16 spp leave 1.2e-5 to 3.2e-5 (256x192).
+    ref "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" --bounces 0 --spp 8 --steps 1024 --filter point
+    bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+        --set toth.interleave=1 --set toth.resolution=full \
+        --sweep toth.samples=128,256,512,1024 --sweep toth.sampling=uniform
+    # The defaults (half resolution, 64 steps) beside the former ones
+    # (quarter, 64), 128 steps and 32.
+    bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+        --sweep toth.samples=32,64,128 --sweep toth.sampling=equiangular --sweep toth.resolution=quarter,half
 done
 # Rows: scene,params,...: frame ms $6, module GPU ms $7, rmse $9 (as toth.csv);
 # the size is not a column, so rows are taken in the order they were written.
@@ -200,7 +206,7 @@ awk -F, 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json
         if (u && $2 ~ /samples=128( |$)/) { r++; name[r] = sc; k[r] = 0 }
         if (u) { k[r]++; bt[r, k[r]] = $6; be[r, k[r]] = $9; bs[r, k[r]] = $2 }
         if (u && $2 ~ /samples=1024( |$)/) { b1024[r] = $9; t1024[r] = $6 }
-        if (!u && $2 ~ /samples=64( |$)/) { dt[r] = $6; dg[r] = $7; de[r] = $9 } }
+        if (!u && $2 ~ /samples=64( |$)/ && $2 ~ /resolution=half/) { dt[r] = $6; dg[r] = $7; de[r] = $9 } }
     END {
         print "| scene (run) | 1024-step march: frame ms, rmse | defaults: frame ms, rmse | rmse ratio | cheapest march with rmse <= defaults | speed-up at equal error |"
         print "|---|---|---|---:|---|---:|"

@@ -45,8 +45,11 @@ void main() {
             vec4 r = texelFetch(toth_refined_tex, p, 0);
             if (r.x >= 0.0) frac = r;
         }
+        // One light: its fraction per colour channel (toth_rgb_fraction).
+        bool rgb = st_num_lights == 1;
         for (int l = 0; l < st_num_lights; l++)
-            L += frac[min(l, 3)] * toth_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
+            L += (rgb ? frac.xyz : vec3(frac[min(l, 3)])) *
+                 toth_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
     } else if (toth_has_inscatter != 0) {
         L += up.rgb;
     }

@@ -47,12 +47,13 @@ float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
 }
 
 // The lit part of the step [a, b] whose ends see va and vb, weighted by
-// the integrand: where a boundary is located inside the step, the lit
-// sub-interval's own midpoint weighs it (the integrand varies across a
-// step, most where the phase function peaks); otherwise the step's weight w.
-// x: the boundary located (-1: none).
-float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, int bisect,
-                    float w, vec3 grey, out float x) {
+// the integrand (per channel: sig is sigma_t, or its grey mean): where a
+// boundary is located inside the step, the lit sub-interval's own midpoint
+// weighs it (the integrand varies across a step, most where the phase
+// function peaks); otherwise the step's weight w. x: the boundary located
+// (-1: none).
+vec3 toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, int bisect,
+                   vec3 w, vec3 sig, out float x) {
     x = -1.0;
     if (va == vb) return w * va;
     // Not a clean on/off boundary (PCF): the trapezoid.
@@ -75,7 +76,7 @@ float toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float 
     }
     x = 0.5 * (lo + hi);
     float la = va > vb ? a : x, lb = va > vb ? x : b;
-    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), grey).x * (lb - la) : 0.0;
+    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
 }
 
 // Where the steps go: equal shares of a density in theta that is half
@@ -122,13 +123,23 @@ float toth_cdf_at(toth_cdf d, float y, inout int k) {
 // density; the grid is shifted by u in [0, 1) of a share (the first and last
 // steps are shortened to stay in [0, len]). Returns the fraction per channel
 // (1 where a light adds nothing, so the full-resolution product stays exact).
+// One light: its fraction per colour channel in rgb (w = 1), each weighted by
+// that channel's integrand: with sigma_t differing by colour, the lit part
+// nearer the camera weighs more in the channel that is extinguished faster
+// (grey weights put godrays_window's red and blue 0.6% off where a view ray
+// crosses the shaft, 1.5e-4 rmse at 1024 steps against 4.6e-5 in green).
+// More lights: one grey fraction each (lights 3.. share the fourth).
+bool toth_rgb_fraction() { return st_num_lights == 1; }
+
 vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stride, float u, int bisect,
                            vec3 sigma_t) {
     n = max(n, 1);
     stride = max(stride, 1);
-    // One weight for all channels: visibility is grey, and the channels'
-    // extinctions differ little.
+    // The steps' placement: one density for all channels (visibility is
+    // grey; the channels' extinctions differ little).
     vec3 grey = vec3((sigma_t.x + sigma_t.y + sigma_t.z) / 3.0);
+    bool rgb = toth_rgb_fraction();
+    vec3 sig = rgb ? sigma_t : grey;
     vec4 num = vec4(0.0), den = vec4(0.0);
     for (int l = 0; l < st_num_lights; l++) {
         toth_eq e = toth_light_frame(o, dir, s, l);
@@ -142,13 +153,19 @@ vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stri
             float a = toth_cdf_at(cdf, (float(i) - 1.0 + u) / float(n), ka);
             float b = toth_cdf_at(cdf, (float(i) + u) / float(n), kb);
             if (!(b > a)) continue;
-            float w = toth_eq_integrand(e, 0.5 * (a + b), grey).x * (b - a);
-            if (!(w > 0.0)) continue;
+            vec3 w = toth_eq_integrand(e, 0.5 * (a + b), sig) * (b - a);
+            if (!(w.x > 0.0)) continue;
             float va = a == prev_b ? vprev : toth_vis_at(l, e, o, dir, a);
             float vb = toth_vis_at(l, e, o, dir, b);
             float x;
-            num[c] += toth_vis_step(l, e, o, dir, a, b, va, vb, bisect, w, grey, x);
-            den[c] += w;
+            vec3 lit = toth_vis_step(l, e, o, dir, a, b, va, vb, bisect, w, sig, x);
+            if (rgb) {
+                num.xyz += lit;
+                den.xyz += w;
+            } else {
+                num[c] += lit.x;
+                den[c] += w.x;
+            }
             prev_b = b;
             vprev = vb;
         }

@@ -15,9 +15,9 @@ int main(void) {
     fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_"
                "median,error_rmse,"
                "rmse\n");
-    // toth defaults: samples 64, interleave 1, resolution quarter.
+    // toth defaults: samples 64, interleave 1, resolution half.
     const int samples[3] = {8, 64, 256};
-    const char *res[2] = {"full", "quarter"};
+    const char *res[2] = {"full", "half"};
     for (int r = 0; r < 2; r++)
         for (int il = 1; il <= 2; il++)
             for (int s = 0; s < 3; s++)
@@ -38,7 +38,7 @@ int main(void) {
     char *svg = st_read_file(path, NULL, &err);
     CHECK(svg != NULL, "%s", err.msg);
     const char *want[] = {"interleave 1, full",
-                          "interleave 2, quarter",
+                          "interleave 2, half",
                           "Pareto front",
                           "baseline (toth.samples=256",
                           "plugin defaults",

@@ -68,9 +68,9 @@ int main(void) {
     t = stats("--frames 2");
     CHECK(t.passes == 3 && t.march == 2 && t.compose == 2 && t.gather == 0,
           "interleave 1: %d passes", t.passes);
-    // At quarter resolution the edges pass runs every frame.
+    // Below full resolution the edges pass runs every frame.
     t = stats("--frames 2 --set toth.min_rows=0");
-    CHECK(t.edges == 2 && t.compose == 2, "quarter resolution: edges %d runs", t.edges);
+    CHECK(t.edges == 2 && t.compose == 2, "reduced resolution: edges %d runs", t.edges);
     // Fewer samples than M^2 pixels to share them: interleaving is limited.
     t = stats("--set toth.samples=3 --set toth.interleave=4");
     CHECK(t.passes == 3, "3 samples cannot be split over 2x2 pixels: %d passes", t.passes);

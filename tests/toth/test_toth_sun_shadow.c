@@ -28,7 +28,9 @@
 
 enum { W = 64, H = 48 };
 static const double CAM[3] = {6, 2.5, 4}, TGT[3] = {3.5, 2.2, 1}, UP[3] = {0, 1, 0}, FOV = 60;
-static const double SS = 0.04, SA = 0.01, G = 0.3, E = 2.0;
+static const double G = 0.3, E = 2.0;
+// sigma_s, sigma_a per channel: grey first, then coloured (see main).
+static double SS[3] = {0.04, 0.04, 0.04}, SA[3] = {0.01, 0.01, 0.01};
 static const double SUN[3] = {0.3, -1, -0.2};
 static const double SLAB_MIN[3] = {-40, 6, -40}, SLAB_MAX[3] = {0, 6.2, 40};
 static double L[3], entry;
@@ -60,8 +62,8 @@ static int ray_hit(const double o[3], const double d[3], double *s) {
     return id;
 }
 
-// The closed form over the lit part of [0, s].
-static double oracle(const double o[3], const double d[3], double s) {
+// The closed form over the lit part of [0, s], channel ch.
+static double oracle(const double o[3], const double d[3], double s, int ch) {
     // Shadowed: y(t) < 6.2 and X(t) = x_x + (6.2 - x_y) L_x / L_y <= 0, both linear.
     double lo = 0, hi = s; // the shadowed interval, clipped below
     double y0 = o[1], y1 = d[1];
@@ -80,8 +82,8 @@ static double oracle(const double o[3], const double d[3], double s) {
         lo = fmax(lo, -X0 / X1);
     else if (X0 > 0)
         hi = -1;
-    double st = SS + SA, c = dot3(d, L), k = st * (1 - c);
-    double A = SS * (1 - G * G) / (4 * M_PI * pow(1 + G * G - 2 * G * c, 1.5)) * E *
+    double st = SS[ch] + SA[ch], c = dot3(d, L), k = st * (1 - c);
+    double A = SS[ch] * (1 - G * G) / (4 * M_PI * pow(1 + G * G - 2 * G * c, 1.5)) * E *
                exp(-st * (entry - dot3(o, L)));
     double lit[2][2] = {{0, s}, {0, 0}};
     if (hi > lo) { // [0, lo] and [hi, s] are lit
@@ -113,9 +115,9 @@ static double integrand(double t, void *ctx) {
     if (tb > 0 ||
         (x[0] >= SLAB_MIN[0] && x[0] <= SLAB_MAX[0] && x[1] >= SLAB_MIN[1] && x[1] <= SLAB_MAX[1]))
         return 0;
-    double st = SS + SA, c = dot3(r->d, L);
+    double st = SS[0] + SA[0], c = dot3(r->d, L);
     double path = fmax(0.0, entry - dot3(x, L));
-    return exp(-st * t) * SS * (1 - G * G) / (4 * M_PI * pow(1 + G * G - 2 * G * c, 1.5)) * E *
+    return exp(-st * t) * SS[0] * (1 - G * G) / (4 * M_PI * pow(1 + G * G - 2 * G * c, 1.5)) * E *
            exp(-st * path);
 }
 
@@ -143,8 +145,8 @@ static void write_scene(const char *path, const char *params) {
              " \"modules\": [{\"name\": \"shadow_map\"}, {\"name\": \"toth\", \"params\": "
              "{%s}}]}\n",
              W, H, CAM[0], CAM[1], CAM[2], TGT[0], TGT[1], TGT[2], FOV, SUN[0], SUN[1], SUN[2], E,
-             E, E, SLAB_MIN[0], SLAB_MIN[1], SLAB_MIN[2], SLAB_MAX[0], SLAB_MAX[1], SLAB_MAX[2], SS,
-             SS, SS, SA, SA, SA, G, params);
+             E, E, SLAB_MIN[0], SLAB_MIN[1], SLAB_MIN[2], SLAB_MAX[0], SLAB_MAX[1], SLAB_MAX[2],
+             SS[0], SS[1], SS[2], SA[0], SA[1], SA[2], G, params);
     st_test_write(path, json);
 }
 
@@ -158,6 +160,61 @@ static int hit_at(const st_test_cam *c, double x, double y) {
     return ray_hit(c->pos, d, &s);
 }
 
+static double ref[3][H][W], mx[3];
+static int keep[H][W];
+
+// The oracle per pixel and channel for the current SS, SA.
+static void fill_ref(const st_test_cam *c) {
+    mx[0] = mx[1] = mx[2] = 0;
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            double d[3], s;
+            st_test_ray(c, i, j, d);
+            int id = ray_hit(c->pos, d, &s);
+            for (int ch = 0; ch < 3; ch++) {
+                ref[ch][j][i] = id < 0 ? 0 : oracle(c->pos, d, s, ch);
+                mx[ch] = fmax(mx[ch], ref[ch][j][i]);
+            }
+        }
+}
+
+typedef struct {
+    const char *params;
+    double worst, mean, within;
+} setting;
+
+// Renders one setting and checks it against the oracle, every channel.
+static void check_setting(const char *scene, const char *out, const char *label, setting st) {
+    write_scene(scene, st.params);
+    st_image img = {0};
+    if (!toth_render(scene, out, NULL, &img)) return;
+    double worst = 0, mean = 0;
+    int counted = 0, within = 0, wi = 0, wj = 0, wc = 0;
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            if (!keep[j][i] || ref[0][j][i] <= 0.02 * mx[0]) continue;
+            counted++;
+            double pw = 0;
+            for (int ch = 0; ch < 3; ch++) {
+                double r = fabs(st_image_px(&img, i, j)[ch] - ref[ch][j][i]) / ref[ch][j][i];
+                mean += r / 3;
+                pw = fmax(pw, r);
+                if (r > worst) worst = r, wi = i, wj = j, wc = ch;
+            }
+            within += pw <= 0.01;
+        }
+    mean /= counted > 0 ? counted : 1;
+    printf("  %-60s %d px: mean %.4f, %.1f%% within 1%%, worst %.4f at (%d, %d) channel %d: %.5f "
+           "vs %.5f\n",
+           label, counted, mean, 100.0 * within / (counted > 0 ? counted : 1), worst, wi, wj, wc,
+           st_image_px(&img, wi, wj)[wc], ref[wc][wj][wi]);
+    CHECK(counted > W * H / 2, "%d pixels compared", counted);
+    CHECK(worst <= st.worst, "%s: worst pixel %.4f > %g", label, worst, st.worst);
+    CHECK(mean <= st.mean, "%s: mean %.4f > %g", label, mean, st.mean);
+    CHECK(within >= st.within * counted, "%s: %d of %d pixels within 1%%", label, within, counted);
+    st_image_free(&img);
+}
+
 int main(void) {
     double sl = sqrt(dot3(SUN, SUN));
     for (int k = 0; k < 3; k++)
@@ -169,9 +226,8 @@ int main(void) {
         entry = fmax(entry, dot3(b, L));
     }
     st_test_cam c = st_test_camera(CAM, TGT, UP, FOV, W, H);
-    static double ref[H][W];
-    static int keep[H][W];
-    double mx = 0, oracle_err = 0;
+    fill_ref(&c);
+    double oracle_err = 0;
     int crossing = 0, missed = 0;
     for (int j = 0; j < H; j++)
         for (int i = 0; i < W; i++) {
@@ -179,8 +235,6 @@ int main(void) {
             st_test_ray(&c, i, j, d);
             int id = ray_hit(c.pos, d, &s);
             missed += id < 0;
-            ref[j][i] = id < 0 ? 0 : oracle(c.pos, d, s);
-            mx = fmax(mx, ref[j][i]);
             // Away from silhouettes: the same surface 1.5 pixels around.
             keep[j][i] = id >= 0;
             for (int k = 0; k < 8 && keep[j][i]; k++)
@@ -197,7 +251,8 @@ int main(void) {
                     q += st_integrate(integrand, &r, a, b, 1e-300, 1e-9);
                     a = b;
                 }
-                if (ref[j][i] > 0) oracle_err = fmax(oracle_err, fabs(q - ref[j][i]) / ref[j][i]);
+                if (ref[0][j][i] > 0)
+                    oracle_err = fmax(oracle_err, fabs(q - ref[0][j][i]) / ref[0][j][i]);
             }
             // Does the ray cross the shadow boundary (lit at one end, dark at the other)?
             if (id >= 0) {
@@ -220,50 +275,31 @@ int main(void) {
     // upsampled: most pixels are within 1%; without crease refinement
     // (refine_taps=2) pixels beside a crease whose remaining taps agree are
     // off by up to ~12%; at full resolution every pixel is within 1%.
-    const struct {
-        const char *params;
-        double worst, mean, within;
-    } settings[6] = {
+    const setting settings[6] = {
         {"", 0.01, 0.002, 1.0},
         {"\"resolution\": \"full\"", 0.01, 0.002, 1.0},
         {"\"sampling\": \"uniform\", \"samples\": 512, \"resolution\": \"full\"", 0.015, 0.002,
          0.99},
-        {"\"min_rows\": 0", 0.05, 0.002, 0.98},
-        {"\"min_rows\": 0, \"refine_taps\": 2", 0.15, 0.012, 0.8},
-        {"\"min_rows\": 0, \"refine\": 0.02", 0.015, 0.002, 0.995},
+        {"\"resolution\": \"quarter\", \"min_rows\": 0", 0.05, 0.002, 0.98},
+        {"\"resolution\": \"quarter\", \"min_rows\": 0, \"refine_taps\": 2", 0.15, 0.012, 0.8},
+        {"\"resolution\": \"quarter\", \"min_rows\": 0, \"refine\": 0.02", 0.015, 0.002, 0.995},
     };
-    for (int k = 0; k < 6; k++) {
-        write_scene(scene, settings[k].params);
-        st_image img = {0};
-        if (!toth_render(scene, out, NULL, &img)) continue;
-        double worst = 0, mean = 0;
-        int counted = 0, within = 0, wi = 0, wj = 0;
-        for (int j = 0; j < H; j++)
-            for (int i = 0; i < W; i++) {
-                if (!keep[j][i] || ref[j][i] <= 0.02 * mx) continue;
-                counted++;
-                double pw = 0;
-                for (int ch = 0; ch < 3; ch++) {
-                    double r = fabs(st_image_px(&img, i, j)[ch] - ref[j][i]) / ref[j][i];
-                    mean += r / 3;
-                    pw = fmax(pw, r);
-                    if (r > worst) worst = r, wi = i, wj = j;
-                }
-                within += pw <= 0.01;
-            }
-        mean /= counted > 0 ? counted : 1;
-        printf(
-            "  %-60s %d px: mean %.4f, %.1f%% within 1%%, worst %.4f at (%d, %d): %.5f vs %.5f\n",
-            k ? settings[k].params : "defaults", counted, mean, 100.0 * within / counted, worst, wi,
-            wj, st_image_px(&img, wi, wj)[0], ref[wj][wi]);
-        const char *name = k ? settings[k].params : "defaults";
-        CHECK(counted > W * H / 2, "%d pixels compared", counted);
-        CHECK(worst <= settings[k].worst, "%s: worst pixel %.4f > %g", name, worst,
-              settings[k].worst);
-        CHECK(mean <= settings[k].mean, "%s: mean %.4f > %g", name, mean, settings[k].mean);
-        CHECK(within >= settings[k].within * counted, "%s: %d of %d pixels within 1%%", name,
-              within, counted);
-        st_image_free(&img);
-    }
+    for (int k = 0; k < 6; k++)
+        check_setting(scene, out, k ? settings[k].params : "defaults", settings[k]);
+
+    // A coloured medium: sigma_t 0.042, 0.07 and 0.16 per channel. The lit
+    // part of a ray weighs differently in each channel (the near part more
+    // where extinction is stronger), so one light's visible fraction is kept
+    // per channel. Measured: worst 0.80%, mean 0.05%; with grey weights (the
+    // channels' mean sigma_t, before) mean 6.3%, worst 60%, 44.6% of the
+    // pixels within 1%.
+    SA[0] = 0.002, SA[1] = 0.03, SA[2] = 0.12;
+    fill_ref(&c);
+    const setting coloured[2] = {
+        {"", 0.01, 0.002, 1.0},
+        {"\"resolution\": \"full\"", 0.01, 0.002, 1.0},
+    };
+    check_setting(scene, out, "coloured medium, defaults", coloured[0]);
+    check_setting(scene, out, "coloured medium, resolution full", coloured[1]);
     return st_test_summary("test_toth_sun_shadow");
 }
