@@ -36,6 +36,7 @@ enum {
     P_JITTER,
     P_TEMPORAL,
     P_HISTORY,
+    P_TAPS,
     P_COUNT
 };
 
@@ -60,7 +61,7 @@ static const st_param_def params[P_COUNT] = {
     {"near_radius", ST_PARAM_FLOAT, 2, 0.25, 16, NULL,
      "the near field's radius in froxels (the larger of a froxel's width and its slice's length "
      "at the light's depth)"},
-    {"jitter", ST_PARAM_BOOL, 0, 0, 1, NULL,
+    {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "each frame samples the froxels at another depth inside their slices (a Halton sequence); "
      "the box filter's accumulation averages the frames (temporal integration for stills; "
      "off: slice midpoints)"},
@@ -70,6 +71,11 @@ static const st_param_def params[P_COUNT] = {
      "the first frame is the plain one, later ones converge to the slice average)"},
     {"history", ST_PARAM_FLOAT, 0.9, 0, 0.99, NULL,
      "temporal: the reprojected history's weight in the blend"},
+    {"taps", ST_PARAM_ENUM, 1, 0, 1, "center|footprint",
+     "where a froxel's source is evaluated: at its sample point (center), or the mean of 4 "
+     "points spread over the froxel (footprint: the slice's Gauss nodes on the ray, each "
+     "moved across the cell), each with the density, shadow_map visibility and the light's "
+     "transmittance there"},
 };
 
 enum { PASS_INJECT, PASS_INTEGRATE, PASS_COMPOSE, PASS_COUNT };
@@ -88,11 +94,15 @@ typedef struct froxel {
 } froxel;
 
 // The grid for an image of w x h pixels: square tiles of `tile` pixels, made
-// smaller where that would give fewer than min_rows rows (a 96 x 96 image
-// gets the 64 x 64 columns a 512 x 512 one has), unless given explicitly.
+// smaller where that would give fewer than min_rows rows, unless given
+// explicitly. A shrunk tile stays a whole number of pixels (1 at most sizes
+// under 2 min_rows: a 96 x 96 image gets 96 x 96 columns): with a fractional
+// tile the columns fall on a pixel centre, then between two, in a repeating
+// pattern, and the bilinear lookup's error beats with it into blocks (on
+// vdb_cloud at 96 x 72, 64 rows: NRMSE 0.092; 72 rows: see README).
 static void grid_size(const froxel *x, int w, int h, int *gx, int *gy) {
     double tile = x->p[P_TILE], rows = x->p[P_MIN_ROWS];
-    if (rows > 0 && h / tile < rows) tile = fmax(h / rows, 1e-3);
+    if (rows > 0 && h / tile < rows) tile = fmax(floor(h / rows), 1.0);
     *gx = x->p[P_GRID_X] > 0 ? (int)x->p[P_GRID_X] : (int)ceil(w / tile - 1e-9);
     *gy = x->p[P_GRID_Y] > 0 ? (int)x->p[P_GRID_Y] : (int)ceil(h / tile - 1e-9);
     *gx = *gx < 1 ? 1 : *gx > 1024 ? 1024 : *gx;
@@ -202,7 +212,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
 // with jitter the base-2 radical inverse of the frame index (accumulated
 // stills average them).
 static float slice_offset(const froxel *x, uint64_t frame) {
-    if (x->p[P_JITTER] == 0 && x->p[P_TEMPORAL] == 0) return 0.5f;
+    if (x->p[P_TEMPORAL] == 0) return 0.5f;
     double r = 0, f = 0.5;
     for (uint64_t n = frame; n; n >>= 1, f *= 0.5)
         r += f * (double)(n & 1);
@@ -215,8 +225,10 @@ static void set_grid(const froxel *x, st_shader *sh, const st_frame *f) {
     st_shader_set_float(sh, "froxel_far", far);
     st_shader_set_float(sh, "froxel_exponent", (float)x->p[P_EXPONENT]);
     st_shader_set_float(sh, "froxel_offset", slice_offset(x, f->index));
+    st_shader_set_int(sh, "froxel_jitter", x->p[P_JITTER] != 0 && x->p[P_TEMPORAL] == 0);
     st_shader_set_int(sh, "froxel_near_field", x->p[P_NEAR_FIELD] != 0);
     st_shader_set_float(sh, "froxel_near_scale", (float)x->p[P_NEAR_RADIUS]);
+    st_shader_set_int(sh, "froxel_taps", x->p[P_TAPS] != 0 ? 4 : 1);
 }
 
 static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
