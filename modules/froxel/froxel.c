@@ -88,7 +88,7 @@ typedef struct froxel {
     int gx, gy, gz; // the grid the targets were declared for
     // temporal: the previous frame's matrices, and whether froxel.history
     // holds that frame's grid
-    float prev_view_proj[16], prev_view[16];
+    float prev_view_proj[16], prev_view[16], prev_cam[3];
     bool has_history;
     int history_frames; // frames blended since the history was last reset
 } froxel;
@@ -136,8 +136,12 @@ static void destroy_shaders(froxel *x) {
     x->inject = x->integrate = x->compose = NULL;
 }
 
+// The taps are a compile-time choice: llvmpipe runs both sides of a branch
+// on a uniform, so the 4 taps' lookups would cost the single-tap program too.
 static bool load_shaders(froxel *x, st_err *err) {
-    const char *defines = st_world_light_defines(x->w);
+    char defines[4096];
+    snprintf(defines, sizeof defines, "%sFROXEL_TAPS %d\n", st_world_light_defines(x->w),
+             x->p[P_TAPS] != 0 ? 4 : 1);
     x->inject = st_shader_load_compute("froxel/inject.comp", defines, err);
     x->integrate = x->inject ? st_shader_load_compute("froxel/integrate.comp", defines, err) : NULL;
     x->compose = x->integrate
@@ -228,7 +232,6 @@ static void set_grid(const froxel *x, st_shader *sh, const st_frame *f) {
     st_shader_set_int(sh, "froxel_jitter", x->p[P_JITTER] != 0 && x->p[P_TEMPORAL] == 0);
     st_shader_set_int(sh, "froxel_near_field", x->p[P_NEAR_FIELD] != 0);
     st_shader_set_float(sh, "froxel_near_scale", (float)x->p[P_NEAR_RADIUS]);
-    st_shader_set_int(sh, "froxel_taps", x->p[P_TAPS] != 0 ? 4 : 1);
 }
 
 static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
@@ -247,6 +250,7 @@ static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
         st_shader_set_float(sh, "froxel_history", (float)x->p[P_HISTORY]);
         st_shader_set_mat4(sh, "froxel_prev_view_proj", x->prev_view_proj);
         st_shader_set_mat4(sh, "froxel_prev_view", x->prev_view);
+        glUniform3fv(st_shader_loc(sh, "froxel_prev_cam"), 1, x->prev_cam);
         if (hist) glBindImageTexture(2, hist->color[0], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
         glDispatchCompute((GLuint)(x->gx + 3) / 4, (GLuint)(x->gy + 3) / 4,
                           (GLuint)(x->gz + 3) / 4);
@@ -256,6 +260,7 @@ static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
                                GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, x->gx, x->gy, x->gz);
             memcpy(x->prev_view_proj, f->view_proj, sizeof x->prev_view_proj);
             memcpy(x->prev_view, f->view, sizeof x->prev_view);
+            memcpy(x->prev_cam, f->cam_pos, sizeof x->prev_cam);
             x->history_frames += x->has_history;
             x->has_history = true;
         }
@@ -304,9 +309,13 @@ static st_shader *shader(void *self, int pass) {
     return pass == PASS_INJECT ? x->inject : pass == PASS_INTEGRATE ? x->integrate : x->compose;
 }
 
+static bool reload(void *self, st_err *err);
+
 static void param_changed(void *self, int index) {
     froxel *x = self;
     st_err ignore = {0}; // only fails for a bad name, which create already caught
+    if (index == P_TAPS && !reload(x, &ignore))
+        fprintf(stderr, "froxel: taps: %s\n", ignore.msg); // the old program stays
     if (index == P_TILE || index == P_MIN_ROWS || index == P_TEMPORAL || index == P_GRID_X ||
         index == P_GRID_Y || index == P_SLICES) {
         const st_camera *c = st_world_camera(x->w);

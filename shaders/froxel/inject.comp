@@ -26,7 +26,14 @@ vec4 froxel_history_at(ivec3 c) {
     return imageLoad(froxel_history_img, clamp(c, ivec3(0), froxel_grid - 1));
 }
 
-vec4 froxel_reproject(vec3 x, vec4 cur) {
+// The history holds what the froxels scattered toward the previous frame's
+// camera: `to_cur` (per channel) turns it toward this one, the ratio of this
+// frame's source to the same lights seen with the phase function from the
+// previous camera (exact for one light; without it a moved camera sees the
+// old pose's phase function for the blend's frames, a smear).
+uniform vec3 froxel_prev_cam;
+
+vec4 froxel_reproject(vec3 x, vec4 cur, vec3 to_cur) {
     if (froxel_temporal == 0) return cur;
     vec4 p = froxel_prev_view_proj * vec4(x, 1.0);
     if (!(p.w > 0.0)) return cur;
@@ -44,6 +51,7 @@ vec4 froxel_reproject(vec3 x, vec4 cur) {
         vec3 w = mix(1.0 - f, f, vec3(o));
         h += w.x * w.y * w.z * froxel_history_at(i + o);
     }
+    h.rgb *= to_cur;
     return mix(cur, h, froxel_history);
 }
 
@@ -62,7 +70,7 @@ vec4 froxel_reproject(vec3 x, vec4 cur) {
 const float FROXEL_GL4_X[2] = float[2](0.3399810436, 0.8611363116);
 const float FROXEL_GL4_W[2] = float[2](0.6521451549, 0.3478548451);
 
-// The froxel's taps (froxel_taps 4, `taps=footprint`): the Gauss nodes of
+// The froxel's taps (FROXEL_TAPS 4, `taps=footprint`): the Gauss nodes of
 // the slice's stretch of the column's ray (those froxel_positioned weights
 // the light's falloff at), each moved across the ray to a point of a rotated
 // grid over the froxel's cell. The source takes the density, the shadow_map
@@ -70,7 +78,9 @@ const float FROXEL_GL4_W[2] = float[2](0.6521451549, 0.3478548451);
 // mean, not its centre's: a shadow thinner than a froxel (a mullion's)
 // otherwise turns whole froxels on or off, and in a dense cloud the light's
 // transmittance falls by much within one slice.
-uniform int froxel_taps;
+#ifndef FROXEL_TAPS
+#define FROXEL_TAPS 4
+#endif
 const vec2 FROXEL_TAP_XY[4] = vec2[4](vec2(-0.375, -0.125), vec2(0.125, -0.375),
                                       vec2(0.375, 0.125), vec2(-0.125, 0.375));
 
@@ -142,7 +152,7 @@ vec3 froxel_positioned(int l, vec3 dir, float t0, float t1, float width, float c
             f = s * s;
         }
         float g = w * f * st_phase(st_phase_kind, dot(to_light, dir), st_phase_g);
-        if (froxel_taps < 4)
+        if (FROXEL_TAPS < 4)
             num += vec3(g);
         else if (g > 0.0)
             num += g * froxel_medium_at(l, froxel_tap_point(dir, foot + t, c, k));
@@ -173,11 +183,13 @@ void main() {
 #else
     float mean_dens = 1.0;
 #endif
-    vec3 S = vec3(0.0);
+    vec3 S = vec3(0.0), S_prev = vec3(0.0); // S_prev: phase from the previous camera
+    vec3 from_prev = normalize(x - froxel_prev_cam);
     for (int l = 0; l < st_num_lights; l++) {
+        vec3 S_l = S;
         if (ST_LIGHT_IS(l, ST_LIGHT_DIRECTIONAL)) {
             vec3 G = st_light_intensity[l] * st_phase(st_phase_kind, dot(-st_light_dir[l], dir), st_phase_g);
-            if (froxel_taps < 4) {
+            if (FROXEL_TAPS < 4) {
                 S += G * froxel_medium_at(l, x);
             } else {
                 for (int k = 0; k < 4; k++)
@@ -185,9 +197,20 @@ void main() {
             }
         } else {
             vec3 G = froxel_positioned(l, dir, t0, t1, width, c);
-            if (froxel_taps < 4 && any(greaterThan(G, vec3(0.0)))) G *= froxel_medium_at(l, x);
+            if (FROXEL_TAPS < 4 && any(greaterThan(G, vec3(0.0)))) G *= froxel_medium_at(l, x);
             S += G;
         }
+        if (froxel_temporal != 0) {
+            vec3 L = ST_LIGHT_IS(l, ST_LIGHT_DIRECTIONAL) ? -st_light_dir[l] : normalize(st_light_pos[l] - x);
+            float now = st_phase(st_phase_kind, dot(L, dir), st_phase_g);
+            S_prev += (S - S_l) * (st_phase(st_phase_kind, dot(L, from_prev), st_phase_g) / max(now, 1e-30));
+        }
     }
-    imageStore(froxel_inject_img, id, froxel_reproject(x, vec4(st_sigma_s * S, mean_dens)));
+    vec3 to_cur = vec3(1.0);
+    for (int k = 0; k < 3; k++)
+        if (S_prev[k] > 0.0) to_cur[k] = S[k] / S_prev[k];
+    // temporal: the history is read where this frame's value stands, the
+    // sample, or with taps the froxel's centre (the taps' mean is its value).
+    vec3 at_x = FROXEL_TAPS < 4 ? x : st_cam_pos + dir * (0.5 * (t0 + t1));
+    imageStore(froxel_inject_img, id, froxel_reproject(at_x, vec4(st_sigma_s * S, mean_dens), to_cur));
 }
