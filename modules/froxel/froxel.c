@@ -71,7 +71,7 @@ static const st_param_def params[P_COUNT] = {
      "the first frame is the plain one, later ones converge to the slice average)"},
     {"history", ST_PARAM_FLOAT, 0.9, 0, 0.99, NULL,
      "temporal: the reprojected history's weight in the blend"},
-    {"taps", ST_PARAM_ENUM, 1, 0, 1, "center|footprint",
+    {"taps", ST_PARAM_ENUM, 0, 0, 1, "center|footprint",
      "where a froxel's source is evaluated: at its sample point (center), or the mean of 4 "
      "points spread over the froxel (footprint: the slice's Gauss nodes on the ray, each "
      "moved across the cell), each with the density, shadow_map visibility and the light's "

@@ -10,9 +10,6 @@
 #include "common/medium.glsl"
 #include "shadow_map/visibility.glsl"
 #include "froxel/grid.glsl"
-#ifndef FROXEL_NEAREST
-#define FROXEL_NEAREST 1
-#endif
 uniform sampler2D st_hdr_in;
 uniform sampler2D st_gbuffer;
 uniform sampler2DArray froxel_inject_tex;
@@ -84,13 +81,14 @@ void main() {
     float z = min(s * c, froxel_far);
     float n = float(froxel_grid.z);
     float k = clamp(floor(froxel_slice(z) * n), 0.0, n - 1.0);
-    // The columns around the pixel: this frame's grid is shifted by the
-    // sample offset (grid.glsl).
+    // The columns around the pixel, bilinear; in a jittered frame (grid.glsl:
+    // the grid shifted by the sample offset) the one whose cell holds the
+    // pixel, so that the frames' mean is a box over one cell, not a tent over
+    // two.
     vec2 g = vec2(froxel_grid.xy), o = froxel_sample_offset().xy;
     vec2 cuv = uv - o / g;
-#if FROXEL_NEAREST
-    if (froxel_jitter != 0) cuv = (clamp(floor(uv * g - o), vec2(0.0), g - 1.0) + 0.5) / g;
-#endif
+    if (froxel_jitter != 0 && st_filter_sample > 0)
+        cuv = (clamp(floor(uv * g - o), vec2(0.0), g - 1.0) + 0.5) / g;
     vec4 prev = k > 0.0 ? texture(froxel_integrated_tex, vec3(cuv, k - 1.0)) : vec4(0.0);
     vec4 src = texture(froxel_inject_tex, vec3(cuv, k));
     float dt = max(z - froxel_depth(k / n), 0.0) / c;

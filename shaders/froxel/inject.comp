@@ -79,7 +79,7 @@ const float FROXEL_GL4_W[2] = float[2](0.6521451549, 0.3478548451);
 // otherwise turns whole froxels on or off, and in a dense cloud the light's
 // transmittance falls by much within one slice.
 #ifndef FROXEL_TAPS
-#define FROXEL_TAPS 4
+#define FROXEL_TAPS 1
 #endif
 const vec2 FROXEL_TAP_XY[4] = vec2[4](vec2(-0.375, -0.125), vec2(0.125, -0.375),
                                       vec2(0.375, 0.125), vec2(-0.125, 0.375));
