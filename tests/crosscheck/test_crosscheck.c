@@ -76,6 +76,10 @@ static const struct {
     // shadow map lights at grazing incidence where the exact ray (reference,
     // Cycles) finds the mesh's own facets (docs/accuracy.md).
     {"spot_room", "toth", "nrmse-debiased", 0.101},
+    // froxel on spot_room: the same surface pixels as toth above (the
+    // regular pass draws them for both: froxel against toth's still 0.048
+    // raw), plus the light's apex at the image's top edge.
+    {"spot_room", "froxel", "nrmse-debiased", 0.113},
     {NULL, NULL, NULL, 0},
 };
 
