@@ -35,6 +35,12 @@ static void u_res(void *s, st_shader *sh, GLint l, const st_frame *f) {
 static void u_frame(void *s, st_shader *sh, GLint l, const st_frame *f) {
     glUniform1i(l, (int)(f->index & 0x7fffffff));
 }
+// The box filter's sample index: the frame's place in the running mean (0 on
+// the point filter and on a restarted mean), so a module can stratify its own
+// jitter over the frames the still averages (froxel's sample positions).
+static void u_fsample(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, W(s)->opts.filter == ST_FILTER_BOX ? (int)(W(s)->acc_n & 0x7fffffff) : 0);
+}
 static void u_nl(void *s, st_shader *sh, GLint l, const st_frame *f) {
     glUniform1i(l, W(s)->num_lights);
 }
@@ -80,6 +86,7 @@ static const st_uniform builtin_uniforms[] = {
     {"st_fov_y", u_fov},
     {"st_resolution", u_res},
     {"st_frame_index", u_frame},
+    {"st_filter_sample", u_fsample},
     {"st_num_lights", u_nl},
     {"st_light_pos", u_lp},
     {"st_light_intensity", u_li},

@@ -9,7 +9,8 @@
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
 #   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5), TRUTH_RUNS, TRUTH_APPEND:
 #   toth against the CPU reference (ONLY=truth, also part of toth and all).
-#   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4):
+#   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4),
+#   FROXEL_SCENES (the six god-ray scenes; e.g. "spot_fog" for one):
 #   froxel beside toth, mitchell and sousa against the CPU reference (ONLY=froxel,
 #   also part of all).
 # References are converged enough for the tables they serve: a first run with
@@ -37,6 +38,7 @@ TRUTH_ERR=${TRUTH_ERR:-9e-5}
 FROXEL_SIZE=${FROXEL_SIZE:-$GODRAY_SIZE}
 FROXEL_TIME_SIZE=${FROXEL_TIME_SIZE:-512x512}
 FROXEL_ERR=${FROXEL_ERR:-3e-4}
+FROXEL_SCENES=${FROXEL_SCENES:-window colonnade hidden_hole light_front colonnade_sun spot_fog}
 FRAMES=${FRAMES:-5}
 REF_SPP=${REF_SPP:-16}
 [ -x "$S" ] || { cmake --preset release >/dev/null && cmake --build --preset release; }
@@ -232,15 +234,20 @@ fi
 # point filter) of both at their defaults at FROXEL_TIME_SIZE, and their
 # ratio, from this one run, beside the rmse of both from the CSV.
 if [ "$ONLY" = all ] || [ "$ONLY" = froxel ]; then
-rm -f "$OUT"/froxel_*.csv "$OUT"/froxel_vs_toth.md
-for s in window colonnade hidden_hole light_front colonnade_sun spot_fog; do
+rm -f "$OUT"/froxel_vs_toth.md
+for s in $FROXEL_SCENES; do
     base=scenes/godrays_$s
     case $s in colonnade_sun | spot_fog) base=scenes/$s ;; esac
     r=$OUT/froxel_ref_${s}_$FROXEL_SIZE.exr csv=$OUT/froxel_$s.csv
+    rm -f "$csv" # (other scenes' CSVs stay: FROXEL_SCENES may name a few)
     ref "$base.json" "$FROXEL_SIZE" "$r" --bounces 0 --spp 8 --filter point
     bench "${base}_froxel.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute \
         --set froxel.min_rows=0 --sweep froxel.slices=32,64,128,256 --sweep froxel.tile=16,8,4
     bench "${base}_froxel.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep froxel.slices=128
+    # The 4-tap footprint source (single frames; a box-filtered still gets
+    # the footprint from its jittered frames at the defaults' cost).
+    bench "${base}_froxel.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute \
+        --set froxel.taps=footprint --sweep froxel.slices=64,128
     bench "$base.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep toth.samples=16,32,64,128
     if [ -f "${base}_mitchell.json" ]; then
         bench "${base}_mitchell.json" "$FROXEL_SIZE" "$r" "$csv" rmse --mode recompute --sweep mitchell.n=16,32,64,128

@@ -45,7 +45,9 @@ vec3 froxel_near(int l, vec3 dir, float s) {
     float foot = dot(v, dir);
     float h = max(length(v - foot * dir), 1e-4 * R);
     float H2 = h * h + R * R;
-    float ta = atan(-foot / h), tb = atan((s - foot) / h);
+    float lo = 0.0, hi = s;
+    if (ST_LIGHT_IS(l, 2) && !froxel_spot_range(l, st_cam_pos, dir, lo, hi)) return vec3(0.0);
+    float ta = atan((lo - foot) / h), tb = atan((hi - foot) / h);
     float mid = 0.5 * (ta + tb), half_len = 0.5 * (tb - ta);
     vec3 sum = vec3(0.0);
     for (int k = 0; k < 8; k++) {
@@ -64,7 +66,7 @@ vec3 froxel_near(int l, vec3 dir, float s) {
         float w = FROXEL_GL_W[k < 4 ? k : k - 4] * half_len;
         sum += w * kern * f * st_phase(st_phase_kind, dot(to_light, dir), st_phase_g) * froxel_near_medium(dir, t, x, to_light, d);
     }
-    vec3 nearest = st_cam_pos + clamp(foot, 0.0, s) * dir;
+    vec3 nearest = st_cam_pos + clamp(foot, lo, hi) * dir;
     if (all(equal(sum, vec3(0.0)))) return sum;
     return st_sigma_s * st_light_intensity[l] * sum * st_visibility_point(l, nearest);
 }
@@ -79,8 +81,16 @@ void main() {
     float z = min(s * c, froxel_far);
     float n = float(froxel_grid.z);
     float k = clamp(floor(froxel_slice(z) * n), 0.0, n - 1.0);
-    vec4 prev = k > 0.0 ? texture(froxel_integrated_tex, vec3(uv, k - 1.0)) : vec4(0.0);
-    vec4 src = texture(froxel_inject_tex, vec3(uv, k));
+    // The columns around the pixel, bilinear; in a jittered frame (grid.glsl:
+    // the grid shifted by the sample offset) the one whose cell holds the
+    // pixel, so that the frames' mean is a box over one cell, not a tent over
+    // two.
+    vec2 g = vec2(froxel_grid.xy), o = froxel_sample_offset().xy;
+    vec2 cuv = uv - o / g;
+    if (froxel_jitter != 0 && st_filter_sample > 0)
+        cuv = (clamp(floor(uv * g - o), vec2(0.0), g - 1.0) + 0.5) / g;
+    vec4 prev = k > 0.0 ? texture(froxel_integrated_tex, vec3(cuv, k - 1.0)) : vec4(0.0);
+    vec4 src = texture(froxel_inject_tex, vec3(cuv, k));
     float dt = max(z - froxel_depth(k / n), 0.0) / c;
     vec3 sigma_t = st_medium_sigma_t();
     vec3 L = prev.rgb + exp(-sigma_t * prev.a) * st_step_inscatter(src.rgb, src.a * sigma_t, dt);

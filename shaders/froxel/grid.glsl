@@ -9,7 +9,30 @@
 uniform ivec3 froxel_grid;     // columns, rows, slices
 uniform float froxel_far;      // view depth of the last slice's end
 uniform float froxel_exponent; // depth distribution
-uniform float froxel_offset;   // where in its slice a froxel is sampled, [0, 1)
+uniform float froxel_offset;   // temporal: where in its slice a froxel is sampled, [0, 1)
+uniform int froxel_jitter;     // 1: the sample positions move with the box filter's samples
+uniform int st_filter_sample;  // the world's: this frame's index in the box filter's mean
+
+// Where this frame samples its froxels: x, y the columns' offset from their
+// cells' centres in cells, [-0.5, 0.5); z the fraction of the slice's depth.
+// With jitter, filter sample k takes the Halton (5, 7) point k for x, y (the
+// camera's own sub-pixel jitter is Halton (2, 3)) and the golden-ratio
+// sequence for z, all centred at k = 0 (the point filter: cell centres, slice
+// midpoints), so the still the box filter averages integrates each froxel's
+// footprint instead of sampling its centre.
+float froxel_radical_inverse(int k, int base) {
+    float r = 0.0, f = 1.0 / float(base);
+    for (int n = k; n > 0; n /= base, f /= float(base))
+        r += f * float(n % base);
+    return r;
+}
+
+vec3 froxel_sample_offset() {
+    if (froxel_jitter == 0 || st_filter_sample == 0) return vec3(0.0, 0.0, froxel_offset);
+    int k = st_filter_sample;
+    vec2 xy = fract(vec2(froxel_radical_inverse(k, 5), froxel_radical_inverse(k, 7)) + 0.5) - 0.5;
+    return vec3(xy, fract(0.5 + float(k) * 0.61803398875));
+}
 
 // View depth of the slice coordinate u in [0, 1].
 float froxel_depth(float u) {
@@ -45,6 +68,36 @@ float froxel_near_radius(int l) {
     return froxel_near_scale * max(max(width, len), 1e-4);
 }
 
+// The stretch [lo, hi] of the ray origin + t dir that lies inside spot l's
+// outer cone, clipped to the given [lo, hi]; false if none. Where the ray
+// passes the light within a few cone widths the falloff rises and falls
+// within a small part of the ray, which quadrature over the whole ray (the
+// near field, the slice's nodes) would miss: the nodes go to this stretch.
+bool froxel_spot_range(int l, vec3 origin, vec3 dir, inout float lo, inout float hi) {
+    vec3 a = st_light_dir[l], w = origin - st_light_pos[l];
+    float co = -st_light_shape[l].y / st_light_shape[l].x, c2 = co * co;
+    float da = dot(dir, a), wa = dot(w, a);
+    // (v.a)^2 - cos^2 |v|^2 = A t^2 + B t + C along v = w + t dir; inside
+    // the forward cone where it is >= 0 and v.a >= 0.
+    float A = da * da - c2, B = 2.0 * (wa * da - c2 * dot(w, dir)), C = wa * wa - c2 * dot(w, w);
+    float disc = B * B - 4.0 * A * C;
+    if (co <= 0.0 || abs(A) < 1e-7 || disc < 0.0) return true; // wide or degenerate: keep all
+    float q = -0.5 * (B + sign(B) * sqrt(disc));
+    float r1 = q / A, r2 = abs(q) > 0.0 ? C / q : r1;
+    if (r1 > r2) { float t = r1; r1 = r2; r2 = t; }
+    float in0, in1;
+    if (A < 0.0) { // one finite stretch, on one nappe
+        if (wa + 0.5 * (r1 + r2) * da < 0.0) return false;
+        in0 = r1, in1 = r2;
+    } else if (wa + (r2 + 1.0) * da >= 0.0) { // the forward nappe holds [r2, inf)
+        in0 = r2, in1 = 1e30;
+    } else {
+        in0 = -1e30, in1 = r1;
+    }
+    lo = max(lo, in0), hi = min(hi, in1);
+    return hi > lo;
+}
+
 // The camera's unit view axis (world space).
 vec3 froxel_axis() { return -normalize(vec3(st_view[0][2], st_view[1][2], st_view[2][2])); }
 
@@ -56,8 +109,12 @@ vec3 froxel_ndc_dir(vec2 ndc) {
     return normalize(b.xyz / b.w - a.xyz / a.w);
 }
 
-// The ray of column c: through the centre of its cell of the screen.
-vec3 froxel_column_dir(ivec2 c) { return froxel_ndc_dir((vec2(c) + 0.5) / vec2(froxel_grid.xy) * 2.0 - 1.0); }
+// The ray of column c: through its cell of the screen, at the centre shifted
+// by this frame's offset.
+vec3 froxel_column_dir(ivec2 c) {
+    vec2 cell = vec2(c) + 0.5 + froxel_sample_offset().xy;
+    return froxel_ndc_dir(cell / vec2(froxel_grid.xy) * 2.0 - 1.0);
+}
 
 // The cosine between a ray and the view axis: view depth z lies t = z / cos
 // along the ray.

@@ -46,6 +46,8 @@
 //    bounds are asserted on the NRMSE with Cycles' own variance removed,
 //    sqrt(max(0, mean((a-b)^2 - e^2))) / mean(b) (E[e^2] = var(b)): the error
 //    against what Cycles converges to; the raw NRMSE is printed beside it.
+//    Medium and fog cases also render froxel in toth's place, at its
+//    defaults on the case's filter: NRMSE debiased <= 0.10 (issue 24).
 // A "crosscheck CASE METHOD ..." line per comparison goes to stdout.
 #include "st_test.h"
 #include "st_image.h"
@@ -62,6 +64,10 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
+    // froxel on spot_room: the same surface pixels as toth above (the
+    // regular pass draws them for both: froxel against toth's still 0.048
+    // raw), plus the light's apex at the image's top edge.
+    {"spot_room", "froxel", "nrmse-debiased", 0.113},
     {NULL, NULL, NULL, 0},
 };
 
@@ -175,6 +181,60 @@ static bool nrmse_debiased(const st_image *x, const st_image *cyc, const st_imag
     return true;
 }
 
+// froxel in place of toth on the medium and fog cases (issue 24: froxel at its
+// defaults within NRMSE 0.10 of every medium case): the case's scene with its
+// toth entry renamed, written to the scratch folder with the asset paths
+// (glTF, VDB) made absolute. False if the scene names no toth.
+static bool froxel_scene(const char *scene, const char *out) {
+    FILE *f = fopen(scene, "rb");
+    char text[16384];
+    size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    if (f) fclose(f);
+    text[n] = 0;
+    FILE *o = fopen(out, "wb");
+    if (!o) return false;
+    static const char toth[] = "{\"name\": \"toth\"}", gltf[] = "\"gltf\": \"",
+                      vdb[] = "\"vdb\": \"";
+    bool renamed = false;
+    for (const char *p = text; *p;) {
+        if (!strncmp(p, toth, sizeof toth - 1)) {
+            fputs("{\"name\": \"froxel\"}", o), p += sizeof toth - 1, renamed = true;
+        } else if (!strncmp(p, gltf, sizeof gltf - 1) || !strncmp(p, vdb, sizeof vdb - 1)) {
+            size_t k = p[1] == 'g' ? sizeof gltf - 1 : sizeof vdb - 1;
+            fprintf(o, "%.*s%s/", (int)k, p, data_dir), p += k;
+        } else {
+            fputc(*p++, o);
+        }
+    }
+    return fclose(o) == 0 && renamed;
+}
+
+// froxel's still as `strahl render` makes it on the case's filter (box: the
+// jittered frames accumulated until converged) against Cycles.
+static void froxel_check(const char *name, const char *scene, const char *filter,
+                         const st_image *cyc, const st_image *se) {
+    char fx_scene[4096], fx_path[4096];
+    snprintf(fx_scene, sizeof fx_scene, "%s/%s.froxel.json", ST_TEST_SCRATCH, name);
+    snprintf(fx_path, sizeof fx_path, "%s/%s.froxel.exr", ST_TEST_SCRATCH, name);
+    CHECK(froxel_scene(scene, fx_scene), "%s: no toth module for froxel to replace", scene);
+    CHECK(st_test_sh("%s render %s -o %s --filter %s", ST_TEST_STRAHL, fx_scene, fx_path, filter) ==
+              0,
+          "strahl render (froxel) exits 0");
+    st_image fx = {0};
+    double relmse = INFINITY, nrmse = INFINITY, db = INFINITY, noise = INFINITY;
+    if (!read_rgb(fx_path, &fx)) {
+        CHECK(false, "no froxel image %s", fx_path);
+        return;
+    }
+    CHECK(st_image_count_nonfinite(&fx) == 0, "NaN/Inf in the froxel image");
+    CHECK(compare(&fx, cyc, &relmse, &nrmse), "compare froxel");
+    CHECK(nrmse_debiased(&fx, cyc, se, &db, &noise), "debias froxel");
+    printf("crosscheck %s froxel: relmse %.6g nrmse %.6g nrmse-debiased %.6g\n", name, relmse,
+           nrmse, db);
+    check_le(name, "froxel", "nrmse-debiased", db, 0.10);
+    st_image_free(&fx);
+}
+
 int main(int argc, char **argv) {
     if (argc != 3 && argc != 4) {
         fprintf(stderr, "usage: test_crosscheck CASE direct|bounce|medium|fog [point|box]\n");
@@ -274,6 +334,7 @@ int main(int argc, char **argv) {
     } else {
         CHECK(false, "no GPU image %s", gpu_path);
     }
+    if (medium || fog) froxel_check(name, scene, filter, &cyc, &se);
     st_image_free(&cyc), st_image_free(&se), st_image_free(&ref), st_image_free(&ref_rgb),
         st_image_free(&gpu);
     return st_test_summary(name);

@@ -4,9 +4,9 @@
 // the reference's noise removed, over the reference's mean) per scene, and
 // the reference's own noise below a third of it. A point light behind a
 // window (shafts), a point light in view (near field), the low sun behind
-// a colonnade (cascades), a light seen through a hole. The spot in fog
-// (spot_fog: the cone's apex, 1-2 pixels wide, blurred over the froxel
-// columns) is held to what it reaches (0.18 at 64 x 64, 0.32 at 96 x 96), above
+// a colonnade (cascades), a light seen through a hole, a spot in fog (its
+// apex, next to the light: the quadrature nodes go to the stretch of each
+// ray inside the cone; NRMSE 0.175 before they did, 0.039 since). All within
 // the 0.10.
 // The plain method (near_field off) with the light in view must be worse:
 // that is what the near field is for.
@@ -42,7 +42,7 @@ int main(void) {
     snprintf(out, sizeof out, "%s/froxel.exr", ST_TEST_SCRATCH);
     static const scene_case cases[] = {
         {"godrays_window", 0.10},      {"godrays_light_front", 0.10}, {"colonnade_sun", 0.10},
-        {"godrays_hidden_hole", 0.10}, {"godrays_colonnade", 0.10},   {"spot_fog", 0.25},
+        {"godrays_hidden_hole", 0.10}, {"godrays_colonnade", 0.10},   {"spot_fog", 0.10},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         double with = run(cases[k].scene, NULL, cases[k].bound, true);
