@@ -64,10 +64,6 @@ static const struct {
     const char *name, *method, *measure;
     double measured;
 } expected_failures[] = {
-    // froxel on spot_room: the same surface pixels as toth above (the
-    // regular pass draws them for both: froxel against toth's still 0.048
-    // raw), plus the light's apex at the image's top edge.
-    {"spot_room", "froxel", "nrmse-debiased", 0.113},
     {NULL, NULL, NULL, 0},
 };
 
