@@ -7,9 +7,12 @@
 // pixels there black (issue 20). Derivatives: call in uniform control flow.
 #ifndef ST_FACET_GLSL
 #define ST_FACET_GLSL
-bool st_facet_front(vec3 p, vec3 n, vec3 eye) {
+// The facet's normal on the side of n (zero where the derivatives vanish).
+vec3 st_facet_normal(vec3 p, vec3 n) {
     vec3 ng = cross(dFdx(p), dFdy(p));
-    if (dot(ng, n) < 0.0) ng = -ng;
-    return dot(ng, eye - p) >= 0.0;
+    return dot(ng, n) < 0.0 ? -ng : ng;
+}
+bool st_facet_front(vec3 p, vec3 n, vec3 eye) {
+    return dot(st_facet_normal(p, n), eye - p) >= 0.0;
 }
 #endif

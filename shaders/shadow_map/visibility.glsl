@@ -5,6 +5,9 @@
 #define ST_SHADOW_MAP_VISIBILITY_GLSL
 #include "common/uniforms.glsl"
 #include "common/bvh.glsl"
+#ifdef ST_FRAGMENT
+#include "common/facet.glsl"
+#endif
 #define ST_HAS_VISIBILITY 1
 uniform samplerCubeArray st_shadow_cubes;
 uniform float st_shadow_res;     // cube face size in texels
@@ -181,9 +184,8 @@ float st_shadow_exact(int light, vec3 p, vec3 n) {
 // (atlas_gi's points) nothing is known.
 bool st_shadow_facet_away(vec3 p, vec3 n, vec3 to_light) {
 #ifdef ST_FRAGMENT
-    vec3 ng = cross(dFdx(p), dFdy(p));
-    if (dot(ng, ng) <= 0.0) return false;
-    return dot(ng, n) < 0.0 ? dot(ng, to_light) >= 0.0 : dot(ng, to_light) <= 0.0;
+    vec3 ng = st_facet_normal(p, n);
+    return dot(ng, ng) > 0.0 && dot(ng, to_light) <= 0.0;
 #else
     return false;
 #endif
