@@ -41,6 +41,15 @@ static void u_frame(void *s, st_shader *sh, GLint l, const st_frame *f) {
 static void u_fsample(void *s, st_shader *sh, GLint l, const st_frame *f) {
     glUniform1i(l, W(s)->opts.filter == ST_FILTER_BOX ? (int)(W(s)->acc_n & 0x7fffffff) : 0);
 }
+// The box filter's sub-pixel offset of this frame in GL window coordinates
+// (pixels, x right, y up: st_jitter_offset's y points down), the pixel
+// centre's place inside the pixel it stands for; z = 1 with the box filter,
+// 0 (and no offset) with the point filter. A module that integrates a steep
+// term over the pixel itself (toth's glow) needs the footprint.
+static void u_pixel(void *s, st_shader *sh, GLint l, const st_frame *f) {
+    bool box = W(s)->opts.filter == ST_FILTER_BOX;
+    glUniform3f(l, box ? W(s)->jitter[0] : 0.0f, box ? -W(s)->jitter[1] : 0.0f, box ? 1.0f : 0.0f);
+}
 static void u_nl(void *s, st_shader *sh, GLint l, const st_frame *f) {
     glUniform1i(l, W(s)->num_lights);
 }
@@ -87,6 +96,7 @@ static const st_uniform builtin_uniforms[] = {
     {"st_resolution", u_res},
     {"st_frame_index", u_frame},
     {"st_filter_sample", u_fsample},
+    {"st_pixel_jitter", u_pixel},
     {"st_num_lights", u_nl},
     {"st_light_pos", u_lp},
     {"st_light_intensity", u_li},

@@ -48,6 +48,8 @@ enum {
     P_MIN_ROWS,
     P_EXACT,
     P_COMPOSE,
+    P_GLOW,
+    P_GLOW_RADIUS,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -111,6 +113,13 @@ static const st_param_def params[P_COUNT] = {
     {"compose", ST_PARAM_ENUM, COMPOSE_TABLE, 0, 0, "table|quadrature",
      "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
      "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
+    {"glow", ST_PARAM_INT, 4, 1, 16, NULL,
+     "equiangular, box filter: pixels whose ray passes a point or spot light within glow_radius "
+     "pixels integrate its unshadowed in-scattering over their square with glow x glow sub-rays "
+     "(1 = the frame's one jittered ray)"},
+    {"glow_radius", ST_PARAM_FLOAT, 8, 0, 64, NULL,
+     "equiangular, box filter: distance from a light's projection, in pixels, within which "
+     "`glow` applies"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
@@ -372,6 +381,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_float(sh->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(sh->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
         st_shader_set_int(sh->compose, "toth_has_inscatter", src != NULL);
+        st_shader_set_int(sh->compose, "toth_glow", (int)t->p[P_GLOW]);
+        st_shader_set_float(sh->compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);
         if (src) st_shader_texture(sh->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         if (refined)
             st_shader_texture(sh->compose, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);

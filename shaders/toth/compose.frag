@@ -18,6 +18,7 @@
 #define toth_unshadowed toth_eq_unshadowed // compose=quadrature
 #endif
 #include "toth/upsample.glsl"
+#include "toth/glow.glsl" // a light in view under the box filter: the pixel's mean
 uniform sampler2D st_hdr_in;
 uniform sampler2D toth_refined_tex; // the edges pass: fractions of the pixels marched there
 uniform int toth_has_inscatter;
@@ -36,7 +37,6 @@ void main() {
     vec4 up = toth_has_inscatter != 0 ? toth_upsample(p, g, spread) : vec4(0.0);
     if (toth_has_inscatter != 0 && toth_sampling == 1) {
         vec4 frac = up;
-        vec3 dir = toth_view_dir(p);
         float s = toth_ray_length(g, p);
         // Where the taps disagree (a shaft's edge, a silhouette) the
         // interpolated fraction is a guess: the edges pass marched this
@@ -49,7 +49,7 @@ void main() {
         bool rgb = st_num_lights == 1;
         for (int l = 0; l < st_num_lights; l++)
             L += (rgb ? frac.xyz : vec3(frac[min(l, 3)])) *
-                 toth_unshadowed(st_cam_pos, dir, s, l, toth_nodes, st_sigma_s, sigma_t);
+                 toth_glow_unshadowed(p, s, l, toth_nodes, st_sigma_s, sigma_t);
     } else if (toth_has_inscatter != 0) {
         L += up.rgb;
     }

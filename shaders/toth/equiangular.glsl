@@ -34,9 +34,12 @@ struct toth_eq {
 // the light's distance. 1/h averaged over a disk of radius r is 2/r, so a
 // ray through the light reads the average over a half-pixel disk around it
 // and stays finite (also for a light at the camera: near plane).
+// toth_glow's sub-rays each stand for a cell 1/n of a pixel wide: their
+// bound shrinks with it (toth_eq_hmin_pixels = 0.25 / n there).
+float toth_eq_hmin_pixels = 0.25;
 float toth_eq_hmin(float D) {
     float pixel = 2.0 * tan(0.5 * st_fov_y) / st_resolution.y;
-    return 0.25 * pixel * max(D, st_near);
+    return toth_eq_hmin_pixels * pixel * max(D, st_near);
 }
 
 toth_eq toth_eq_frame(vec3 o, vec3 dir, float s, vec3 light) {
