@@ -45,10 +45,11 @@ float toth_glow_prim(float x, float y) {
 // light's image, times the distance (at least r_min, the bound
 // toth_eq_hmin puts on h) of the sub-ray at d + u inside it: the factor
 // that turns the sub-ray's value F / h into the cell's mean F <1/h>, F (the
-// angular integral, smooth in h) taken at the sub-ray. About 1 + (a / r)^2
-// / 6 away from the light: only computed within two cells of it.
+// angular integral, smooth in h) taken at the sub-ray. Within 2 pixels of
+// the light, where 1/r varies across a cell; beyond, the factor is 1 within
+// (a / r)^2 / 6 (and the corners' sum would lose digits).
 float toth_glow_cell(vec2 d, vec2 u, float a, float r_min) {
-    if (length(d) >= 4.0 * a) return 1.0;
+    if (length(d) >= 2.0) return 1.0;
     vec2 lo = d - a, hi = d + a;
     float I = toth_glow_prim(hi.x, hi.y) - toth_glow_prim(lo.x, hi.y) - toth_glow_prim(hi.x, lo.y) +
               toth_glow_prim(lo.x, lo.y);
