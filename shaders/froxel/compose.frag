@@ -86,16 +86,17 @@ vec3 froxel_near(int l, vec3 dir, float s) {
 // the single centre ray (bit-identical).
 vec3 froxel_near_pixel(int l, vec2 uv, float s) {
     vec2 ndc = uv * 2.0 - 1.0;
-    vec3 dir = froxel_ndc_dir(ndc);
-    if (st_filter_sample == 0) return froxel_near(l, dir, s);
-    vec3 v = st_light_pos[l] - st_cam_pos;
-    float foot = max(dot(v, dir), 1e-6);
-    float pixel = foot * 2.0 * tan(0.5 * st_fov_y) / st_resolution.y;
-    float h = length(v - dot(v, dir) * dir) / pixel;
-    int m = h < 2.0 ? 8 : h < 8.0 ? 4 : 1;
-    if (m == 1) return froxel_near(l, dir, s);
+    int m = 1;
+    if (st_filter_sample > 0) {
+        vec3 dir = froxel_ndc_dir(ndc), v = st_light_pos[l] - st_cam_pos;
+        float pixel = max(dot(v, dir), 1e-6) * 2.0 * tan(0.5 * st_fov_y) / st_resolution.y;
+        float h = length(v - dot(v, dir) * dir) / pixel;
+        m = h < 2.0 ? 8 : h < 8.0 ? 4 : 1;
+    }
     // The frame's sample offset from the pixel centre in pixels (NDC axes):
-    // the jittered projection's shift (st_filter.c's jitter_matrices).
+    // the jittered projection's shift (st_filter.c's jitter_matrices; 0 on
+    // the point filter, where the one ray is the centre's). One loop, so
+    // that llvmpipe runs the near field once where no pixel needs more.
     vec2 jit = vec2(st_proj[2][0], st_proj[2][1]) * st_resolution * 0.5;
     vec3 sum = vec3(0.0);
     for (int k = 0; k < m * m; k++) {
