@@ -76,8 +76,8 @@ vec3 froxel_near(int l, vec3 dir, float s) {
 // the near field grows like 1/h (h the ray's distance from the light), so one
 // jittered point per frame has a huge, slowly shrinking variance there (at
 // the light's own pixel a log-divergent one): the still hit the 1024-frame
-// cap on spot_fog at 128 x 128 with the apex's 3 pixels holding 95 % of the
-// error. Within 8 pixels of the light (h at the light's distance) the frame
+// cap on spot_fog at 128 x 128, the apex's pixel holding half the squared
+// error against a 4096-spp box reference (now 380 frames). Within 8 pixels of the light (h at the light's distance) the frame
 // takes m x m points, one per stratum of the pixel, all at the frame's own
 // offset inside its stratum (the camera's jitter, Halton), so the frames
 // still cover the square uniformly and each returns nearly the mean;
