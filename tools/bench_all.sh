@@ -12,7 +12,9 @@
 #   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4),
 #   FROXEL_SCENES (the six god-ray scenes; e.g. "spot_fog" for one):
 #   froxel beside toth, mitchell and sousa against the CPU reference (ONLY=froxel,
-#   also part of all).
+#   also part of all); FROXEL_STILL_SIZE (512x512), FROXEL_STILL_SPP (128),
+#   FROXEL_STILL_FRAMES (1024, the cap of the still's frames): froxel's box
+#   still at its defaults against a box reference (ONLY=froxel_still: only that).
 # References are converged enough for the tables they serve: a first run with
 # REF_SPP (GI_REF_SPP) samples measures the reference's own noise (rms of its
 # per-pixel standard error), and a second shard with another seed, merged in,
@@ -39,6 +41,9 @@ FROXEL_SIZE=${FROXEL_SIZE:-$GODRAY_SIZE}
 FROXEL_TIME_SIZE=${FROXEL_TIME_SIZE:-512x512}
 FROXEL_ERR=${FROXEL_ERR:-3e-4}
 FROXEL_SCENES=${FROXEL_SCENES:-window colonnade hidden_hole light_front colonnade_sun spot_fog}
+FROXEL_STILL_SIZE=${FROXEL_STILL_SIZE:-512x512}
+FROXEL_STILL_SPP=${FROXEL_STILL_SPP:-128}
+FROXEL_STILL_FRAMES=${FROXEL_STILL_FRAMES:-1024}
 FRAMES=${FRAMES:-5}
 REF_SPP=${REF_SPP:-16}
 [ -x "$S" ] || { cmake --preset release >/dev/null && cmake --build --preset release; }
@@ -278,6 +283,47 @@ rm -f "$OUT/froxel_times.txt.tmp"
 log "froxel: $OUT/froxel_vs_toth.md, $OUT/froxel_*.png"
 fi
 
+# ---- froxel: the box-filtered still at its defaults against a box reference --
+# What `strahl render` hands back (jittered frames averaged until the
+# stopping rule's estimated NRMSE <= 0.01, or FROXEL_STILL_FRAMES) against
+# `strahl reference --filter box --bounces 0` at FROXEL_STILL_SIZE with
+# FROXEL_STILL_SPP samples (--steps 32: unbiased, 6.5x cheaper per sample
+# than 256 at equal noise on spot_fog, where the pixel position's variance
+# dominates). froxel_still.md: per scene the still's frames and estimated
+# NRMSE, its NRMSE (debiased, and the reference's noise, both over the
+# reference's mean), and the frame time (median of FRAMES, point filter) of
+# froxel and toth at their defaults, back to back. ONLY=froxel_still runs
+# this block alone and stops (no tables spliced).
+if [ "$ONLY" = all ] || [ "$ONLY" = froxel ] || [ "$ONLY" = froxel_still ]; then
+{
+    echo "| scene | still: frames, estimated NRMSE | froxel NRMSE: debiased, raw (reference noise) | frame ms froxel, toth | froxel / toth |"
+    echo "|---|---|---:|---|---:|"
+    for s in $FROXEL_SCENES; do
+        base=scenes/godrays_$s
+        case $s in colonnade_sun | spot_fog) base=scenes/$s ;; esac
+        r=$OUT/froxel_still_ref_${s}_$FROXEL_STILL_SIZE.exr
+        ref "$base.json" "$FROXEL_STILL_SIZE" "$r" --bounces 0 --spp "$FROXEL_STILL_SPP" --filter box --steps 32
+        progress "still ${base}_froxel.json"
+        st=$("$S" render "${base}_froxel.json" -o "$OUT/froxel_tmp.exr" --size "$FROXEL_STILL_SIZE" \
+            --max-frames "$FROXEL_STILL_FRAMES" 2>&1 | sed -n 's/.*after \([0-9]*\) frame.*error \([0-9.]*\).*/\1 \2/p')
+        js=$("$S" compare "$OUT/froxel_tmp.exr" "$r" --json 2>/dev/null)
+        e=$(sed 's/.*"rmse_debiased":{[^}]*"all":\([^,}]*\)}.*/\1/' <<<"$js")
+        raw=$(sed 's/.*"rmse":{[^}]*"all":\([^,}]*\)}.*/\1/' <<<"$js")
+        n=$(sed 's/.*"ref_noise_rms":{[^}]*"all":\([^,}]*\)}.*/\1/' <<<"$js")
+        m=$(sed 's/.*"mean_b":{[^}]*"all":\([^,}]*\)}.*/\1/' <<<"$js")
+        for x in froxel toth; do
+            sc=${base}_froxel.json; [ $x = toth ] && sc=$base.json
+            "$S" render "$sc" -o "$OUT/froxel_tmp.exr" --size "$FROXEL_STILL_SIZE" --filter point \
+                --frames "$FRAMES" --warmup 1 --stats 2>&1 | sed -n 's/.*median frame \([0-9.]*\) ms.*/\1/p'
+        done | paste -sd' ' | awk -v s="$s" -v st="$st" -v e="$e" -v r="$raw" -v n="$n" -v m="$m" '{ split(st, f, " ")
+            printf "| %s | %d, %.4f | %.3f, %.3f (%.3f) | %.0f, %.0f | %.2f |\n", s, f[1], f[2], e / m, r / m, n / m, $1, $2, $1 / $2 }'
+    done
+} > "$OUT/froxel_still.md"
+rm -f "$OUT/froxel_tmp.exr"
+log "froxel stills: $OUT/froxel_still.md"
+[ "$ONLY" = froxel_still ] && exit 0
+fi
+
 # ---- screen-space god rays (mitchell, sousa) against the CPU reference --------
 if [ "$ONLY" = all ] || [ "$ONLY" = godrays ]; then
 rm -f "$OUT"/mitchell.csv "$OUT"/sousa.csv
@@ -379,6 +425,7 @@ table() { # csv -> markdown rows: scene, setting, frame ms, module gpu ms, error
 if [ -f "$OUT/froxel_vs_toth.md" ]; then
     { echo; echo "### froxel beside toth, mitchell and sousa (rmse against strahl reference --bounces 0)"
       echo; cat "$OUT/froxel_vs_toth.md"
+      [ -f "$OUT/froxel_still.md" ] && { echo; echo "froxel's box still at its defaults against a box reference:"; echo; cat "$OUT/froxel_still.md"; }
       for c in "$OUT"/froxel_*.csv; do echo; table "$c"; echo; echo "![$(basename "$c" .csv)](bench/$(basename "$c" .csv).png)"; done
     } >> "$OUT/tables.md"
 fi

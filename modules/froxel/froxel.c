@@ -60,7 +60,7 @@ static const st_param_def params[P_COUNT] = {
      "cannot resolve, integrated along each pixel's ray (unshadowed); off: the plain method"},
     {"near_radius", ST_PARAM_FLOAT, 2, 0.25, 16, NULL,
      "the near field's radius in froxels (the larger of a froxel's width and its slice's length "
-     "at the light's depth)"},
+     "at the light's depth), times tile / 4 pixels where the tile is wider"},
     {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "each frame samples the froxels at another depth inside their slices (a Halton sequence); "
      "the box filter's accumulation averages the frames (temporal integration for stills; "
