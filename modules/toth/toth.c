@@ -48,6 +48,7 @@ enum {
     P_MIN_ROWS,
     P_EXACT,
     P_COMPOSE,
+    P_PROBES,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -105,12 +106,17 @@ static const st_param_def params[P_COUNT] = {
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
      "the march resolution is raised (quarter -> half -> full) until the march has at least this "
      "many rows (0 = resolution as set)"},
-    {"exact_edges", ST_PARAM_BOOL, 0, 0, 1, NULL,
-     "equiangular: a shadow boundary the shadow map brackets inside a step is settled with exact "
-     "rays against the scene's BVH (needs shadow_map.refine), 4 more halvings"},
+    {"exact_edges", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "equiangular: lookups the shadow map cannot decide (shadow_map.refine's rule) take an exact "
+     "ray against the scene's BVH (needs shadow_map.refine), boundaries are bisected with exact "
+     "rays (4 more halvings), and agreeing ends near an edge have their midpoint traced"},
     {"compose", ST_PARAM_ENUM, COMPOSE_TABLE, 0, 0, "table|quadrature",
      "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
      "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
+    {"probes", ST_PARAM_INT, 3, 0, 7, NULL,
+     "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
+     "splits "
+     "the step there (finds lit slivers and thin occluders between the ends)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
@@ -324,6 +330,7 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
     st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
     st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
     st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
     st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
     if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
@@ -352,6 +359,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(sh->march, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
+        st_shader_set_int(sh->march, "toth_probes", (int)t->p[P_PROBES]);
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
