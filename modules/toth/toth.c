@@ -49,6 +49,7 @@ enum {
     P_EXACT,
     P_COMPOSE,
     P_PROBES,
+    P_REFINE_KINK,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -117,6 +118,10 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
      "splits "
      "the step there (finds lit slivers and thin occluders between the ends)"},
+    {"refine_kink", ST_PARAM_FLOAT, 0.01, 0, 1, NULL,
+     "equiangular below full resolution: a block whose march texel's visible fraction has a "
+     "second difference (along its row or column) above this marches its pixels' own rays (0 = "
+     "off)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
@@ -286,7 +291,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
     // resolution, refine < 1).
     if (pass_kind(t, pass) == PASS_EDGES)
         return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR && t->decl_scale > 1 &&
-               t->p[P_REFINE] < 1;
+               (t->p[P_REFINE] < 1 || t->p[P_REFINE_KINK] > 0);
     return any;
 }
 
@@ -333,6 +338,7 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
     st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
     st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+    st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
     if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
     st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
     const float none[4] = {-1, -1, -1, -1};
@@ -379,6 +385,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(sh->compose, "toth_nodes", (int)t->p[P_NODES]);
         st_shader_set_float(sh->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(sh->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+        st_shader_set_float(sh->compose, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
         st_shader_set_int(sh->compose, "toth_has_inscatter", src != NULL);
         if (src) st_shader_texture(sh->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         if (refined)
