@@ -42,7 +42,7 @@ void main() {
         // Where the taps disagree (a shaft's edge, a silhouette) the
         // interpolated fraction is a guess: the edges pass marched this
         // pixel's own ray (-1: it decided otherwise, keep the guess).
-        if (spread > toth_refine || toth_refine_kink > 0.0) {
+        if (spread > toth_refine || (toth_refine_kink > 0.0 && toth_scale > 1)) {
             vec4 r = texelFetch(toth_refined_tex, p, 0);
             if (r.x >= 0.0) frac = r;
         }
