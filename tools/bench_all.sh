@@ -189,10 +189,11 @@ fi
 # earlier runs (with TRUTH_RUNS="" only the summary and plots are redone).
 if [ "$ONLY" = all ] || [ "$ONLY" = toth ] || [ "$ONLY" = truth ]; then
 [ "${TRUTH_APPEND:-0}" = 1 ] || rm -f "$OUT"/truth.csv
-runs=${TRUTH_RUNS-$(for s in window hidden_hole colonnade; do for z in $TRUTH_SIZES; do echo "$s:$z"; done; done)}
+runs=${TRUTH_RUNS-$(for s in window hidden_hole colonnade colonnade_sun spot_fog; do for z in $TRUTH_SIZES; do echo "$s:$z"; done; done)}
 for run in $runs; do
     s=${run%%:*} size=${run#*:}
-    scene=scenes/godrays_$s.json
+    scene=scenes/godrays_$s.json # point lights; the sun and the spot: scenes/$s.json
+    [ -f "$scene" ] || scene=scenes/$s.json
     # Pixel centres (--filter point; bench follows the reference's filter): a
     # box-filtered 8-spp reference is 2.9e-3 noisy at shaft and silhouette
     # edges (320x240 window), so ref() would ask the 65536-spp cap; at
@@ -201,10 +202,13 @@ for run in $runs; do
     bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
         --set toth.interleave=1 --set toth.resolution=full \
         --sweep toth.samples=128,256,512,1024 --sweep toth.sampling=uniform
-    # The defaults (half resolution, 64 steps) beside the former ones
-    # (quarter, 64), 128 steps and 32.
+    # The defaults (half resolution, 64 steps, exact rays where the map cannot
+    # decide, 3 probes per step) beside the map's own lookups (exact_edges and
+    # probes off, the former defaults), 128 steps and 32.
     bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
-        --sweep toth.samples=32,64,128 --sweep toth.sampling=equiangular --sweep toth.resolution=quarter,half
+        --sweep toth.samples=32,64,128 --sweep toth.sampling=equiangular
+    bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+        --sweep toth.exact_edges=0 --sweep toth.probes=0
 done
 # Rows: scene,params,...: frame ms $6, module GPU ms $7, rmse $9 (as toth.csv);
 # the size is not a column, so rows are taken in the order they were written.
@@ -213,14 +217,16 @@ awk -F, 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json
         if (u && $2 ~ /samples=128( |$)/) { r++; name[r] = sc; k[r] = 0 }
         if (u) { k[r]++; bt[r, k[r]] = $6; be[r, k[r]] = $9; bs[r, k[r]] = $2 }
         if (u && $2 ~ /samples=1024( |$)/) { b1024[r] = $9; t1024[r] = $6 }
-        if (!u && $2 ~ /samples=64( |$)/ && $2 ~ /resolution=half/) { dt[r] = $6; dg[r] = $7; de[r] = $9 } }
+        if (!u && $2 ~ /samples=64( |$)/) { dt[r] = $6; dg[r] = $7; de[r] = $9 }
+        if ($2 ~ /exact_edges=0/) { mt[r] = $6; me[r] = $9 } }
     END {
-        print "| scene (run) | 1024-step march: frame ms, rmse | defaults: frame ms, rmse | rmse ratio | cheapest march with rmse <= defaults | speed-up at equal error |"
-        print "|---|---|---|---:|---|---:|"
+        print "| scene (run) | 1024-step march: frame ms, rmse | defaults: frame ms, rmse | rmse ratio | map only (exact_edges, probes off): frame ms, rmse | cheapest march with rmse <= defaults | speed-up at equal error |"
+        print "|---|---|---|---:|---|---|---:|"
         for (i = 1; i <= r; i++) {
             best = 0
             for (j = 1; j <= k[i]; j++) if (be[i, j] <= de[i] && (!best || bt[i, j] < bt[i, best])) best = j
             printf "| %s (%d) | %.0f, %.3g | %.0f, %.3g | %.2f | ", name[i], i, t1024[i], b1024[i], dt[i], de[i], de[i] / b1024[i]
+            printf "%.0f, %.3g | ", mt[i], me[i]
             if (best) printf "%s: %.0f ms, %.3g | %.1fx |\n", bs[i, best], bt[i, best], be[i, best], bt[i, best] / dt[i]
             else printf "none (the 1024-step march: %.1fx the time at %.2fx the rmse) | - |\n", t1024[i] / dt[i], b1024[i] / de[i]
         } }' "$OUT/truth.csv" > "$OUT/truth_summary.md"

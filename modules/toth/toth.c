@@ -50,6 +50,8 @@ enum {
     P_COMPOSE,
     P_GLOW,
     P_GLOW_RADIUS,
+    P_PROBES,
+    P_REFINE_KINK,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -107,9 +109,10 @@ static const st_param_def params[P_COUNT] = {
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
      "the march resolution is raised (quarter -> half -> full) until the march has at least this "
      "many rows (0 = resolution as set)"},
-    {"exact_edges", ST_PARAM_BOOL, 0, 0, 1, NULL,
-     "equiangular: a shadow boundary the shadow map brackets inside a step is settled with exact "
-     "rays against the scene's BVH (needs shadow_map.refine), 4 more halvings"},
+    {"exact_edges", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "equiangular: lookups the shadow map cannot decide (shadow_map.refine's rule) take an exact "
+     "ray against the scene's BVH (needs shadow_map.refine), boundaries are bisected with exact "
+     "rays (4 more halvings), and agreeing ends near an edge have their midpoint traced"},
     {"compose", ST_PARAM_ENUM, COMPOSE_TABLE, 0, 0, "table|quadrature",
      "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
      "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
@@ -120,6 +123,14 @@ static const st_param_def params[P_COUNT] = {
     {"glow_radius", ST_PARAM_FLOAT, 8, 0, 64, NULL,
      "equiangular, box filter: distance from a light's projection, in pixels, within which "
      "`glow` applies"},
+    {"probes", ST_PARAM_INT, 3, 0, 7, NULL,
+     "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
+     "splits "
+     "the step there (finds lit slivers and thin occluders between the ends)"},
+    {"refine_kink", ST_PARAM_FLOAT, 0.01, 0, 1, NULL,
+     "equiangular below full resolution: a block whose march texel's visible fraction has a "
+     "second difference (along its row or column) above this marches its pixels' own rays (0 = "
+     "off)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
@@ -289,7 +300,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
     // resolution, refine < 1).
     if (pass_kind(t, pass) == PASS_EDGES)
         return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR && t->decl_scale > 1 &&
-               t->p[P_REFINE] < 1;
+               (t->p[P_REFINE] < 1 || t->p[P_REFINE_KINK] > 0);
     return any;
 }
 
@@ -333,8 +344,10 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
     st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
     st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
     st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
     st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+    st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
     if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
     st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
     const float none[4] = {-1, -1, -1, -1};
@@ -361,6 +374,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(sh->march, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
+        st_shader_set_int(sh->march, "toth_probes", (int)t->p[P_PROBES]);
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
@@ -380,6 +394,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(sh->compose, "toth_nodes", (int)t->p[P_NODES]);
         st_shader_set_float(sh->compose, "toth_refine", (float)t->p[P_REFINE]);
         st_shader_set_int(sh->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+        st_shader_set_float(sh->compose, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
         st_shader_set_int(sh->compose, "toth_has_inscatter", src != NULL);
         st_shader_set_int(sh->compose, "toth_glow", (int)t->p[P_GLOW]);
         st_shader_set_float(sh->compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);

@@ -24,6 +24,7 @@ uniform sampler2D toth_refined_tex; // the edges pass: fractions of the pixels m
 uniform int toth_has_inscatter;
 uniform int toth_sampling; // 0 uniform, 1 equiangular
 uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
+uniform float toth_refine_kink; // > 0: the edges pass also marched bent blocks (toth/kink.glsl)
 layout(location = 0) out vec4 o_radiance;
 
 void main() {
@@ -41,7 +42,7 @@ void main() {
         // Where the taps disagree (a shaft's edge, a silhouette) the
         // interpolated fraction is a guess: the edges pass marched this
         // pixel's own ray (-1: it decided otherwise, keep the guess).
-        if (spread > toth_refine) {
+        if (spread > toth_refine || (toth_refine_kink > 0.0 && toth_scale > 1)) {
             vec4 r = texelFetch(toth_refined_tex, p, 0);
             if (r.x >= 0.0) frac = r;
         }

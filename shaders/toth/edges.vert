@@ -12,6 +12,7 @@ uniform sampler2D toth_inscatter_tex;
 uniform int toth_blocks_x; // blocks per image row
 uniform float toth_refine;
 uniform int toth_refine_taps;
+#include "toth/kink.glsl"
 
 bool toth_block_settled(ivec2 k) {
     ivec2 size = textureSize(toth_inscatter_tex, 0);
@@ -51,5 +52,5 @@ bool toth_block_settled(ivec2 k) {
 void main() {
     ivec2 k = ivec2(gl_VertexID % toth_blocks_x, gl_VertexID / toth_blocks_x);
     vec2 centre = (vec2(k) + 0.5) * float(toth_scale) / st_resolution * 2.0 - 1.0;
-    gl_Position = toth_block_settled(k) ? vec4(3.0, 3.0, 3.0, 1.0) : vec4(centre, 0.0, 1.0);
+    gl_Position = toth_block_settled(k) && !toth_kinked(k) ? vec4(3.0, 3.0, 3.0, 1.0) : vec4(centre, 0.0, 1.0);
 }

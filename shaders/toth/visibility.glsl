@@ -46,6 +46,67 @@ float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
     return st_bvh_occluded_t(x, q, 1e-6) ? 0.0 : 1.0;
 }
 
+// exact_edges: the map's verdict at the ray point at angle delta, taken
+// only where the map can decide it. `amb`: undecided in shadow_map.refine's
+// sense for a point without a normal (one of 8 taps two texels around it
+// disagrees, the point is lit only thanks to the bias, or a sun's point
+// lies outside every cascade); such a lookup takes the exact ray instead.
+// A misplaced edge is a fraction of a texel off, so only lookups near an
+// edge pay for a ray.
+float toth_vis_exact_or_map(int l, toth_eq e, vec3 o, vec3 dir, float delta, out bool amb) {
+    float t, d;
+    toth_eq_point(e, delta, t, d);
+    vec3 x = o + t * dir;
+    float v = 1.0;
+    amb = false;
+    if (ST_LIGHT_IS(l, 1)) {
+        v = st_shadow_sun_amb(l, x, st_shadow_bias, 0.0, true, amb);
+    } else if (ST_LIGHT_POSITIONED(l)) {
+        float bias = st_shadow_texel(distance(x, st_light_pos[l])) * st_shadow_bias;
+        v = st_shadow_visibility_amb(l, x, bias, 0.0, true, amb);
+    }
+    return amb ? toth_exact_at(l, e, o, dir, delta) : v;
+}
+
+// exact_edges: the lit part of [a, b] between exact ends va != vb (one lit,
+// one shadowed), the boundary bisected n times with exact rays, weighted by
+// the lit part's own midpoint.
+vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, int n, vec3 sig) {
+    float lo = a, hi = b;
+    for (int k = 0; k < n; k++) {
+        float m = 0.5 * (lo + hi);
+        if (toth_exact_at(l, e, o, dir, m) == va) lo = m;
+        else hi = m;
+    }
+    float x = 0.5 * (lo + hi);
+    float la = va > 0.5 ? a : x, lb = va > 0.5 ? x : b;
+    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
+}
+
+// exact_edges: the lit part of the step [a, b] whose ends see va and vb
+// (exact where the map could not decide; amb_a, amb_b: they were
+// undecided). Ends that disagree bracket a boundary, settled by exact
+// bisection. Ends that agree but lie near an edge (undecided) may hide a
+// sliver of the other kind between them, which the map's lookups at the
+// ends cannot bracket (hidden_hole's shaft grazed by a view ray): the
+// step's midpoint is traced too, and a midpoint that disagrees splits the
+// step into two bracketed halves.
+vec3 toth_vis_step_exact(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, bool amb_a,
+                         bool amb_b, int bisect, vec3 w, vec3 sig) {
+    int n = bisect + 4;
+    if (va == vb) {
+        if (!(amb_a || amb_b) || bisect <= 0) return w * va;
+        float m = 0.5 * (a + b);
+        float vm = toth_exact_at(l, e, o, dir, m);
+        if (vm == va) return w * va;
+        return toth_exact_boundary(l, e, o, dir, a, m, va, n - 1, sig) +
+               toth_exact_boundary(l, e, o, dir, m, b, vm, n - 1, sig);
+    }
+    // Not a clean on/off boundary (PCF): the trapezoid.
+    if (abs(va - vb) < 0.5 || bisect <= 0) return w * 0.5 * (va + vb);
+    return toth_exact_boundary(l, e, o, dir, a, b, va, n, sig);
+}
+
 // The lit part of the step [a, b] whose ends see va and vb, weighted by
 // the integrand (per channel: sig is sigma_t, or its grey mean): where a
 // boundary is located inside the step, the lit sub-interval's own midpoint
@@ -58,25 +119,59 @@ vec3 toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float v
     if (va == vb) return w * va;
     // Not a clean on/off boundary (PCF): the trapezoid.
     if (abs(va - vb) < 0.5 || bisect <= 0) return w * 0.5 * (va + vb);
-    bool exact = toth_exact_on();
-    if (exact) {
-        // The map's boundary is a fraction of a texel off: the exact ends
-        // say whether the step holds one at all, and where, to 2^-(bisect+4).
-        va = toth_exact_at(l, e, o, dir, a);
-        vb = toth_exact_at(l, e, o, dir, b);
-        if (va == vb) return w * va;
-    }
     float lo = a, hi = b;
-    int n = exact ? bisect + 4 : bisect;
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < bisect; k++) {
         float m = 0.5 * (lo + hi);
-        float vm = exact ? toth_exact_at(l, e, o, dir, m) : toth_vis_at(l, e, o, dir, m);
+        float vm = toth_vis_at(l, e, o, dir, m);
         if (abs(vm - va) < abs(vm - vb)) lo = m;
         else hi = m;
     }
     x = 0.5 * (lo + hi);
     float la = va > vb ? a : x, lb = va > vb ? x : b;
     return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
+}
+
+// A lookup at the ray point at angle delta: the map's (exact: settled by
+// a ray where the map is undecided, see toth_vis_exact_or_map).
+float toth_vis_lookup(bool exact, int l, toth_eq e, vec3 o, vec3 dir, float delta, out bool amb) {
+    amb = false;
+    return exact ? toth_vis_exact_or_map(l, e, o, dir, delta, amb) : toth_vis_at(l, e, o, dir, delta);
+}
+
+vec3 toth_vis_step_any(bool exact, int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb,
+                       bool amb_a, bool amb_b, int bisect, vec3 w, vec3 sig) {
+    if (exact) return toth_vis_step_exact(l, e, o, dir, a, b, va, vb, amb_a, amb_b, bisect, w, sig);
+    float x;
+    return toth_vis_step(l, e, o, dir, a, b, va, vb, bisect, w, sig, x);
+}
+
+// probes: where a step's two ends agree, `toth_probes` more map lookups at
+// equal spacing inside it look for an occluder or a lit sliver between
+// them (a view ray grazing a shaft: the lit stretch can be far shorter than
+// a step, hidden_hole's shaft edges). Probes cost a map lookup each; only
+// a step whose probes disagree with its ends is split at them, and each
+// piece is then settled as a step of its own (its boundary bisected).
+uniform int toth_probes;
+
+vec3 toth_vis_probed(bool exact, int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb,
+                     bool amb_a, bool amb_b, int bisect, vec3 w, vec3 sig) {
+    int P = va == vb ? toth_probes : 0;
+    float h = (b - a) / float(P + 1);
+    bool split = false;
+    for (int k = 1; k <= P && !split; k++) split = toth_vis_at(l, e, o, dir, a + h * float(k)) != va;
+    if (!split) return toth_vis_step_any(exact, l, e, o, dir, a, b, va, vb, amb_a, amb_b, bisect, w, sig);
+    vec3 lit = vec3(0.0);
+    float sa = a, sv = va;
+    bool samb = amb_a;
+    for (int k = 1; k <= P + 1; k++) {
+        float sb = k > P ? b : a + h * float(k);
+        bool bamb = amb_b;
+        float bv = k > P ? vb : toth_vis_lookup(exact, l, e, o, dir, sb, bamb);
+        vec3 wk = toth_eq_integrand(e, 0.5 * (sa + sb), sig) * (sb - sa);
+        lit += toth_vis_step_any(exact, l, e, o, dir, sa, sb, sv, bv, samb, bamb, bisect, wk, sig);
+        sa = sb, sv = bv, samb = bamb;
+    }
+    return lit;
 }
 
 // Where the steps go: equal shares of a density in theta that is half
@@ -141,6 +236,7 @@ vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stri
     bool rgb = toth_rgb_fraction();
     vec3 sig = rgb ? sigma_t : grey;
     vec4 num = vec4(0.0), den = vec4(0.0);
+    bool exact = toth_exact_on();
     for (int l = 0; l < st_num_lights; l++) {
         toth_eq e = toth_light_frame(o, dir, s, l);
         if (!(e.len > 0.0)) continue;
@@ -149,16 +245,18 @@ vec4 toth_visible_fraction(vec3 o, vec3 dir, float s, int n, int first, int stri
         int c = min(l, 3);
         // Steps i = 0..n: shares [(i - 1 + u) / n, (i + u) / n].
         float prev_b = -1.0, vprev = 0.0;
+        bool aprev = false;
         for (int i = first; i <= n; i += stride) {
             float a = toth_cdf_at(cdf, (float(i) - 1.0 + u) / float(n), ka);
             float b = toth_cdf_at(cdf, (float(i) + u) / float(n), kb);
             if (!(b > a)) continue;
             vec3 w = toth_eq_integrand(e, 0.5 * (a + b), sig) * (b - a);
             if (!(w.x > 0.0)) continue;
-            float va = a == prev_b ? vprev : toth_vis_at(l, e, o, dir, a);
-            float vb = toth_vis_at(l, e, o, dir, b);
-            float x;
-            vec3 lit = toth_vis_step(l, e, o, dir, a, b, va, vb, bisect, w, sig, x);
+            bool amb_a = a == prev_b ? aprev : false, amb_b = false;
+            float va = a == prev_b ? vprev : toth_vis_lookup(exact, l, e, o, dir, a, amb_a);
+            float vb = toth_vis_lookup(exact, l, e, o, dir, b, amb_b);
+            vec3 lit = toth_vis_probed(exact, l, e, o, dir, a, b, va, vb, amb_a, amb_b, bisect, w, sig);
+            aprev = amb_b;
             if (rgb) {
                 num.xyz += lit;
                 den.xyz += w;

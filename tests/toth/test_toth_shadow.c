@@ -12,7 +12,11 @@ static const double LIGHT[3] = {0.15, 3.2, 0.1}, INTENSITY = 20, HOLE = 0.3, Y0 
 static const double SS = 0.3, SA = 0.05;
 static const double CAM[3] = {-3.0, 1.0, 3.0}, TGT[3] = {0, 0.2, 0}, UP[3] = {0, 1, 0}, FOV = 45;
 
-static int shadow_res = 1024; // shadow_map.resolution of the scene written next
+static int shadow_res = 1024;
+
+// toth parameters that leave visibility to the map's own lookups.
+#define TOTH_MAP_ONLY                                                                              \
+    "\"exact_edges\": false, \"probes\": 0" // shadow_map.resolution of the scene written next
 
 static void write_scene(const char *path, const char *toth_params) {
     char json[4096];
@@ -132,25 +136,43 @@ int main(void) {
         // the step's two lookups) the boundaries are only known to a step.
         // Rays that only graze the shaft, lit over less than one step
         // between two lookups, miss it (as a 16-step march would).
-        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\"", 0.5, 0.025,
-         0.1, 10, 0.02},
-        {"\"samples\": 16, \"bisect\": 0, \"jitter\": false, \"resolution\": \"full\"", 0.5, 1.0,
-         1.0, 10, 0.02},
+        // (The map's own lookups: exact_edges and probes off.)
+        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": "
+         "\"full\", " TOTH_MAP_ONLY,
+         0.5, 0.025, 0.1, 10, 0.02},
+        {"\"samples\": 16, \"bisect\": 0, \"jitter\": false, \"resolution\": "
+         "\"full\", " TOTH_MAP_ONLY,
+         0.5, 1.0, 1.0, 10, 0.02},
         // A 64-texel cube (shadow_res below): the bisection places the
         // boundaries where the coarse map has them (mean 0.064); exact_edges
-        // settles them with rays against the BVH (shadow_map.refine's): 0.027,
-        // near the 1024-texel map's 0.023. What remains is a boundary that
-        // the map puts in the step next to the true one (only the step the
-        // map brackets is traced) and grazing rays lit between two lookups.
-        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\"", 0.5, 0.2,
-         0.5, 10, 0.05},
+        // takes an exact ray (shadow_map.refine's BVH) wherever the map
+        // cannot decide a lookup (refine's rule) and bisects with rays: 0.0013
+        // (0.027 when only boundaries the map bracketed were traced, below
+        // the 1024-texel map's own 0.023). What remains: grazing rays lit
+        // only between two step ends (worst 1.0), which the probes find.
+        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": "
+         "\"full\", " TOTH_MAP_ONLY,
+         0.5, 0.2, 0.5, 10, 0.05},
         {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\", "
-         "\"exact_edges\": true",
-         0.5, 0.035, 0.1, 16, 0.02},
+         "\"exact_edges\": true, \"probes\": 0",
+         0.5, 0.005, 0.1, 16, 0.02},
+        // exact_edges with 3 probes per step (the defaults' visibility): the
+        // lookups the coarse map cannot decide take exact rays, and the grazing
+        // rays lit only between two step ends are found by the probes.
+        {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\", "
+         "\"exact_edges\": true, \"probes\": 3",
+         0.5, 0.01, 0.1, 0, 0.01},
+        // The defaults at half resolution (a 32 x 32 march: min_rows off),
+        // with and without refine_kink: blocks whose fraction bends are
+        // marched at full resolution instead of interpolated.
+        {"\"min_rows\": 0", 4.0, 0.07, 0.25, 0, 0.01},
+        {"\"min_rows\": 0, \"refine_kink\": 0", 4.0, 0.07, 0.25, 0, 0.01},
     };
-    double mean_rel_of[8] = {0};
-    for (int m = 0; m < 8; m++) {
-        shadow_res = m >= 6 ? 64 : 1024;
+    enum { SETTINGS = sizeof settings / sizeof settings[0] };
+    double mean_rel_of[SETTINGS] = {0};
+    double worst_of[SETTINGS] = {0};
+    for (int m = 0; m < SETTINGS; m++) {
+        shadow_res = m >= 6 && m <= 8 ? 64 : 1024;
         write_scene(scene, settings[m].params);
         st_image img = {0};
         if (!toth_render(scene, out, NULL, &img)) continue;
@@ -177,10 +199,11 @@ int main(void) {
         mean_rel /= shaft > 0 ? shaft : 1;
         gx /= sum, gy /= sum;
         const char *name = settings[m].params[0] ? settings[m].params : "defaults";
-        printf(
-            "  %s: dark %d (max %.3g), shaft %d (mean rel %.4f, worst %.4f), total %.5f vs %.5f, "
-            "centroid (%.2f, %.2f) vs (%.2f, %.2f)\n",
-            name, dark, worst_dark, shaft, mean_rel, worst_rel, sum, ref_sum, gx, gy, cx, cy);
+        printf("  %s: dark %d (max %.3g), shaft %d (mean rel %.4f, worst %.4f, missing %d), total "
+               "%.5f "
+               "vs %.5f, centroid (%.2f, %.2f) vs (%.2f, %.2f)\n",
+               name, dark, worst_dark, shaft, mean_rel, worst_rel, missing, sum, ref_sum, gx, gy,
+               cx, cy);
         CHECK(dark > 1000 && shaft > 150 && lit_robust > 100,
               "the view holds dark rays (%d) and the shaft (%d, %d)", dark, shaft, lit_robust);
         CHECK(worst_dark == 0, "%s: rays entirely in shadow get no light, max %.3g", name,
@@ -193,6 +216,7 @@ int main(void) {
         CHECK(mean_rel < settings[m].mean_rel, "%s: mean rel. error in the shaft %.4f", name,
               mean_rel);
         mean_rel_of[m] = mean_rel;
+        worst_of[m] = worst_rel;
         st_image_free(&img);
     }
     CHECK(mean_rel_of[5] > 4 * mean_rel_of[4],
@@ -201,5 +225,15 @@ int main(void) {
     CHECK(mean_rel_of[7] < 0.5 * mean_rel_of[6],
           "exact_edges on a 64-texel cube: shaft error %.4f, %.4f from the map alone",
           mean_rel_of[7], mean_rel_of[6]);
+    // Without probes a grazing ray lit only between two step ends stays dark
+    // (worst 1.0); the probes find it (worst 0.0016, mean 0.0003 against 0.0013).
+    CHECK(mean_rel_of[8] < 0.5 * mean_rel_of[7] && worst_of[8] < 0.01 && worst_of[7] > 0.5,
+          "probes on a 64-texel cube: shaft error %.4f (worst %.4f), %.4f (worst %.4f) without",
+          mean_rel_of[8], worst_of[8], mean_rel_of[7], worst_of[7]);
+    // refine_kink at half resolution: 0.0008 against 0.0043 (worst pixel 0.037
+    // against 0.18).
+    CHECK(mean_rel_of[9] < 0.5 * mean_rel_of[10],
+          "refine_kink at half resolution: shaft error %.4f, %.4f without", mean_rel_of[9],
+          mean_rel_of[10]);
     return st_test_summary("toth_shadow");
 }
