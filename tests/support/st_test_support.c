@@ -1,6 +1,7 @@
 // See st_test_support.h.
 #include "st_test_support.h"
 #include "st_test_render.h"
+#include "st_world.h"
 
 st_context *st_test_context(void) {
     st_err err = {0};
@@ -10,6 +11,22 @@ st_context *st_test_context(void) {
         exit(1);
     }
     return ctx;
+}
+
+bool st_test_render_here(const char *scene, st_image *img, st_err *err) {
+    st_scene sc = {0};
+    if (!st_scene_load(scene, &sc, err)) return false;
+    sc.filter = ST_FILTER_POINT;
+    st_world_opts o = {.filter = sc.filter};
+    st_world *w = st_world_create(&sc, &o, err);
+    bool ok = w != NULL;
+    st_progress pr = {0};
+    for (int f = 0; ok && f < 2000; f++)
+        if (!(ok = st_world_frame(w, err)) || !st_world_progress(w, &pr) || pr.converged) break;
+    ok = ok && st_world_read(w, img, err);
+    st_world_destroy(w);
+    st_scene_free(&sc);
+    return ok;
 }
 
 cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra, int *rc) {
