@@ -21,6 +21,8 @@ st_context *st_test_context(void);
 // many small scenes, where a process start-up per scene costs more than the
 // render. Needs a current context (st_test_context). False with err set.
 bool st_test_render_here(const char *scene, st_image *img, st_err *err);
+// The same with exactly `frames` frames, as `strahl render --frames N`.
+bool st_test_render_frames_here(const char *scene, int frames, st_image *img, st_err *err);
 
 // Runs `strahl render SCENE -o OUT --stats=json --filter point EXTRA` and parses
 // its output (point: frames of a static scene redo nothing; `--filter box` in
