@@ -6,6 +6,7 @@
 #ifndef STRESS_H
 #define STRESS_H
 #include "st_test_render.h"
+#include "st_test_support.h"
 #include <stdint.h>
 #include <time.h>
 
@@ -83,9 +84,30 @@ static inline int stress_ok(const char *cmd, const char *name, const char *json,
     return bad == 0;
 }
 
+// The GL context of the renders made in this process (on first use).
+static st_context *stress_ctx;
+
+// `strahl render` as stress_ok checks it; without extra options the scene
+// renders in this process instead (st_test_render_here, as `strahl render
+// --filter point` does): these programs render many small scenes, and a
+// process start-up per scene cost several times the render.
 static inline int stress_render(const char *name, const char *json, const char *extra,
                                 st_image *img) {
-    return stress_ok("render", name, json, extra, img);
+    if (extra) return stress_ok("render", name, json, extra, img);
+    char scene[512];
+    stress_path(scene, sizeof scene, name, "json");
+    if (json) st_test_write(scene, json);
+    if (!stress_ctx) stress_ctx = st_test_context();
+    st_err err = {0};
+    st_image tmp = {0};
+    if (!img) img = &tmp;
+    bool ok = st_test_render_here(scene, img, &err);
+    CHECK(ok, "render %s: %s", name, err.msg);
+    if (!ok) return 0;
+    size_t bad = st_image_count_nonfinite(img);
+    CHECK(bad == 0, "render %s: %zu non-finite values", name, bad);
+    st_image_free(&tmp);
+    return bad == 0;
 }
 
 // Counts lines of the captured message.

@@ -1,6 +1,7 @@
 // See st_test_support.h.
 #include "st_test_support.h"
 #include "st_test_render.h"
+#include "st_world.h"
 
 st_context *st_test_context(void) {
     st_err err = {0};
@@ -10,6 +11,29 @@ st_context *st_test_context(void) {
         exit(1);
     }
     return ctx;
+}
+
+bool st_test_render_here(const char *scene, st_image *img, st_err *err) {
+    return st_test_render_frames_here(scene, 0, img, err);
+}
+
+bool st_test_render_frames_here(const char *scene, int frames, st_image *img, st_err *err) {
+    st_scene sc = {0};
+    if (!st_scene_load(scene, &sc, err)) return false;
+    sc.filter = ST_FILTER_POINT;
+    st_world_opts o = {.filter = sc.filter};
+    if (frames > 0) o.filter_max_frames = frames, o.filter_tolerance = -1; // as --frames N
+    st_world *w = st_world_create(&sc, &o, err);
+    bool ok = w != NULL;
+    st_progress pr = {0};
+    for (int f = 0; ok && f < (frames > 0 ? frames : 2000); f++)
+        if (!(ok = st_world_frame(w, err)) ||
+            (frames <= 0 && (!st_world_progress(w, &pr) || pr.converged)))
+            break;
+    ok = ok && st_world_read(w, img, err);
+    st_world_destroy(w);
+    st_scene_free(&sc);
+    return ok;
 }
 
 cJSON *st_test_stats_json(const char *scene, const char *out, const char *extra, int *rc) {

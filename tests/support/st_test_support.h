@@ -8,11 +8,21 @@
 #define _GNU_SOURCE // as st_test.h: popen, M_PI
 #endif
 #include "st_gl.h"
+#include "st_image.h"
 #include "st_scene.h"
 #include <cjson/cJSON.h>
 
 // A headless GL context; on failure prints why and exits 1 (nothing to test).
 st_context *st_test_context(void);
+
+// Renders the scene file in this process as `strahl render SCENE --filter
+// point` does (frames until every progressive module has converged, at most
+// strahl render's 2000), the image into img (free it): for tests that render
+// many small scenes, where a process start-up per scene costs more than the
+// render. Needs a current context (st_test_context). False with err set.
+bool st_test_render_here(const char *scene, st_image *img, st_err *err);
+// The same with exactly `frames` frames, as `strahl render --frames N`.
+bool st_test_render_frames_here(const char *scene, int frames, st_image *img, st_err *err);
 
 // Runs `strahl render SCENE -o OUT --stats=json --filter point EXTRA` and parses
 // its output (point: frames of a static scene redo nothing; `--filter box` in
