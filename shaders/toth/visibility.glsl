@@ -68,6 +68,15 @@ float toth_vis_exact_or_map(int l, toth_eq e, vec3 o, vec3 dir, float delta, out
     return amb ? toth_exact_at(l, e, o, dir, delta) : v;
 }
 
+// The lit part of the step [a, b] whose visibility changes at x (lit_first:
+// lit on [a, x], else on [x, b]), weighted by the lit sub-interval's own
+// midpoint: the integrand varies across a step, most where the phase
+// function peaks.
+vec3 toth_lit_part(toth_eq e, float a, float b, float x, bool lit_first, vec3 sig) {
+    float la = lit_first ? a : x, lb = lit_first ? x : b;
+    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
+}
+
 // exact_edges: the lit part of [a, b] between exact ends va != vb (one lit,
 // one shadowed), the boundary bisected n times with exact rays, weighted by
 // the lit part's own midpoint.
@@ -78,9 +87,7 @@ vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
         if (toth_exact_at(l, e, o, dir, m) == va) lo = m;
         else hi = m;
     }
-    float x = 0.5 * (lo + hi);
-    float la = va > 0.5 ? a : x, lb = va > 0.5 ? x : b;
-    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
+    return toth_lit_part(e, a, b, 0.5 * (lo + hi), va > 0.5, sig);
 }
 
 // exact_edges: the lit part of the step [a, b] whose ends see va and vb
@@ -127,8 +134,7 @@ vec3 toth_vis_step(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float v
         else hi = m;
     }
     x = 0.5 * (lo + hi);
-    float la = va > vb ? a : x, lb = va > vb ? x : b;
-    return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
+    return toth_lit_part(e, a, b, x, va > vb, sig);
 }
 
 // A lookup at the ray point at angle delta: the map's (exact: settled by
