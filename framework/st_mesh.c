@@ -74,6 +74,15 @@ void st_mesh_box(st_mesh *m, const float mn[3], const float mx[3], bool inward) 
     // Swapping u and v flips both the normal and the winding.
     for (uint32_t i = 0; i < 6; i++)
         put_quad(m, i, f[i][0], inward ? f[i][2] : f[i][1], inward ? f[i][1] : f[i][2]);
+    // mn + (mx - mn) can round away from mx: every coordinate is set to
+    // exactly mn or mx, so faces meeting at an edge share bit-identical
+    // corners (watertight: the exact ray test of regular.frag lets no pixel
+    // through a gap of one float step between two faces).
+    for (uint32_t v = 0; v < 24; v++)
+        for (int k = 0; k < 3; k++) {
+            float *p = &m->positions[3 * v + k];
+            *p = *p == mn[k] ? mn[k] : mx[k];
+        }
 }
 
 void st_mesh_sphere(st_mesh *m, const float center[3], float radius, int rings, int segments) {
