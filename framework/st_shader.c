@@ -162,6 +162,7 @@ char *st_shader_preprocess_stage(const char *path, const char *defines, GLenum s
     *num_names = 0;
     if (!sb_printf(&out, "#version 450 core\n")) goto oom;
     const char *stage_def = stage == GL_VERTEX_SHADER     ? "ST_VERTEX"
+                            : stage == GL_GEOMETRY_SHADER ? "ST_GEOMETRY"
                             : stage == GL_FRAGMENT_SHADER ? "ST_FRAGMENT"
                             : stage == GL_COMPUTE_SHADER  ? "ST_COMPUTE"
                                                           : NULL;
@@ -172,7 +173,7 @@ char *st_shader_preprocess_stage(const char *path, const char *defines, GLenum s
             size_t n = eol ? (size_t)(eol - p) : strlen(p);
             if (n > 8 && !strncmp(p, "#include", 8)) {
                 // Module includes go into fragment and compute stages only.
-                if (stage != GL_VERTEX_SHADER) {
+                if (stage != GL_VERTEX_SHADER && stage != GL_GEOMETRY_SHADER) {
                     const char *a = memchr(p, '"', n),
                                *b = a ? memchr(a + 1, '"', n - (size_t)(a + 1 - p)) : NULL;
                     if (!a || !b) {
@@ -309,26 +310,32 @@ GLuint st_program_from_source(const char *vs, const char *fs, const char *what, 
 }
 
 static GLuint build(const st_shader *sh, st_err *err) {
-    GLuint s[2];
+    GLuint s[3];
+    int n = 0;
     if (sh->cs[0]) {
         if (!(s[0] = compile(GL_COMPUTE_SHADER, sh->cs, sh->defines, err))) return 0;
         return link_program(s, 1, sh->cs, err);
     }
-    if (!(s[0] = compile(GL_VERTEX_SHADER, sh->vs, sh->defines, err))) return 0;
-    if (!(s[1] = compile(GL_FRAGMENT_SHADER, sh->fs, sh->defines, err))) {
-        glDeleteShader(s[0]);
+    if (!(s[n++] = compile(GL_VERTEX_SHADER, sh->vs, sh->defines, err)) ||
+        (sh->gs[0] && !(s[n++] = compile(GL_GEOMETRY_SHADER, sh->gs, sh->defines, err))) ||
+        !(s[n++] = compile(GL_FRAGMENT_SHADER, sh->fs, sh->defines, err))) {
+        for (int i = 0; i < n - 1; i++)
+            glDeleteShader(s[i]);
         return 0;
     }
-    char what[300];
-    snprintf(what, sizeof what, "%s + %s", sh->vs, sh->fs);
-    GLuint p = link_program(s, 2, what, err);
+    char what[400];
+    if (sh->gs[0])
+        snprintf(what, sizeof what, "%s + %s + %s", sh->vs, sh->gs, sh->fs);
+    else
+        snprintf(what, sizeof what, "%s + %s", sh->vs, sh->fs);
+    GLuint p = link_program(s, n, what, err);
     // Named after its files in debuggers (RenderDoc, apitrace).
     if (p) glObjectLabel(GL_PROGRAM, p, -1, what);
     return p;
 }
 
-static st_shader *create(const char *vs, const char *fs, const char *cs, const char *defines,
-                         st_err *err) {
+static st_shader *create(const char *vs, const char *gs, const char *fs, const char *cs,
+                         const char *defines, st_err *err) {
     st_shader *sh = calloc(1, sizeof *sh);
     if (!sh) {
         st_fail(err, ST_ERR_RUNTIME, "out of memory");
@@ -337,6 +344,7 @@ static st_shader *create(const char *vs, const char *fs, const char *cs, const c
     snprintf(sh->vs, sizeof sh->vs, "%s", vs ? vs : "");
     snprintf(sh->fs, sizeof sh->fs, "%s", fs ? fs : "");
     snprintf(sh->cs, sizeof sh->cs, "%s", cs ? cs : "");
+    snprintf(sh->gs, sizeof sh->gs, "%s", gs ? gs : "");
     snprintf(sh->defines, sizeof sh->defines, "%s", defines ? defines : "");
     sh->program = build(sh, err);
     if (!sh->program) {
@@ -347,11 +355,16 @@ static st_shader *create(const char *vs, const char *fs, const char *cs, const c
 }
 
 st_shader *st_shader_load(const char *vs, const char *fs, const char *defines, st_err *err) {
-    return create(vs, fs, NULL, defines, err);
+    return create(vs, NULL, fs, NULL, defines, err);
+}
+
+st_shader *st_shader_load_gs(const char *vs, const char *gs, const char *fs, const char *defines,
+                             st_err *err) {
+    return create(vs, gs, fs, NULL, defines, err);
 }
 
 st_shader *st_shader_load_compute(const char *cs, const char *defines, st_err *err) {
-    return create(NULL, NULL, cs, defines, err);
+    return create(NULL, NULL, NULL, cs, defines, err);
 }
 
 bool st_shader_reload(st_shader *sh, st_err *err) {

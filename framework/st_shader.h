@@ -22,6 +22,7 @@ typedef struct st_shader {
         char name[64];
         GLint loc;
     } cache[ST_SHADER_CACHE];
+    char gs[128]; // geometry stage, "" without one
 } st_shader;
 
 // The shader root: $STRAHL_SHADER_PATH, else the installed tree this
@@ -37,6 +38,10 @@ bool st_shader_add_dir(const char *prefix, const char *dir);
 
 // Vertex + fragment program. `defines` may be NULL.
 st_shader *st_shader_load(const char *vs, const char *fs, const char *defines, st_err *err);
+// Vertex + geometry + fragment program (`gs` gets no module includes, as the
+// vertex stage).
+st_shader *st_shader_load_gs(const char *vs, const char *gs, const char *fs, const char *defines,
+                             st_err *err);
 st_shader *st_shader_load_compute(const char *cs, const char *defines, st_err *err);
 // A plain program from in-memory sources (no includes), for tools whose own
 // shaders must not depend on the shader folder (the viewer's display).
