@@ -26,7 +26,8 @@ bool st_world_build_regular(st_world *w, st_err *err) {
         if (w->mods[m]->p->regular_include)
             n += snprintf(defines + n, sizeof defines - (size_t)n, "#include \"%s\"\n",
                           w->mods[m]->p->regular_include);
-    st_shader *sh = st_shader_load("common/regular.vert", "common/regular.frag", defines, err);
+    st_shader *sh = st_shader_load_gs("common/regular.vert", "common/regular.geom",
+                                      "common/regular.frag", defines, err);
     if (!sh) return false;
     st_shader *bg = NULL;
     if (w->scene->has_background) {

@@ -9,6 +9,8 @@
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv1;
+flat in vec3 v_tri0, v_tri1, v_tri2;
+flat in int v_exact;
 uniform vec3 st_albedo;
 uniform vec3 st_emission;
 uniform int st_double_sided;
@@ -23,6 +25,30 @@ float st_visibility(int light, vec3 p, vec3 n) { return 1.0; }
 vec3 st_indirect(vec3 p, vec3 n, vec2 uv1) { return vec3(0.0); }
 #endif
 
+// Whether the exact ray through this fragment's sample position passes
+// through the triangle (regular.geom grew it for this test): the ray's
+// side of each edge, seen from the camera. A ray within float rounding of
+// an edge (2^-22 of the products' size; a pixel centre exactly on an edge,
+// as test scenes place them) counts as a hit for a front face and as a miss
+// for a back face: at a closed mesh's silhouette the lit front face wins
+// the tie as in the reference, and two front faces at a crease both stay
+// (the depth test picks one). `precise` keeps the products unfused.
+bool st_primary_hit(bool front) {
+    if (v_exact == 0) return true;
+    vec2 ndc = gl_FragCoord.xy / st_resolution * 2.0 - 1.0;
+    // The view-space direction for that NDC point (st_proj carries the box
+    // filter's jitter in its third column), then to world space.
+    vec3 dv = vec3((ndc.x + st_proj[2][0]) / st_proj[0][0],
+                   (ndc.y + st_proj[2][1]) / st_proj[1][1], -1.0);
+    precise vec3 d = transpose(mat3(st_view)) * dv;
+    precise vec3 a = v_tri0 - st_cam_pos, b = v_tri1 - st_cam_pos, c = v_tri2 - st_cam_pos;
+    precise vec3 e = vec3(dot(d, cross(a, b)), dot(d, cross(b, c)), dot(d, cross(c, a)));
+    float la = length(a), lb = length(b), lc = length(c);
+    vec3 tol = 2.384185791e-7 * length(d) * vec3(la * lb, lb * lc, lc * la);
+    if (!front) tol = -tol;
+    return all(greaterThanEqual(e, -tol)) || all(lessThanEqual(e, tol));
+}
+
 void main() {
     vec3 p = v_world;
     vec3 n = normalize(v_normal);
@@ -32,6 +58,7 @@ void main() {
     // facet's own normal decides which side is seen (common/facet.glsl;
     // meshes_direct: 12 pixels on Suzanne's head were black).
     bool front = st_facet_front(p, n, st_cam_pos);
+    if (!st_primary_hit(front || st_double_sided != 0)) discard;
     if (!front && st_double_sided != 0) {
         n = -n;
         front = true;
