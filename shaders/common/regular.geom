@@ -64,10 +64,14 @@ void main() {
                 break;
             }
             m /= sum;
-            outc[j] = m.x * c[0] + m.y * c[1] + m.z * c[2];
-            wo[j] = m.x * g_world[0] + m.y * g_world[1] + m.z * g_world[2];
-            no[j] = m.x * g_normal[0] + m.y * g_normal[1] + m.z * g_normal[2];
-            uo[j] = m.x * g_uv1[0] + m.y * g_uv1[1] + m.z * g_uv1[2];
+            // As corner 0 plus multiples of the edges: what is constant over
+            // the triangle (a wall's coordinate, a flat normal) stays exactly
+            // that (a light in a wall's plane must find cos = 0 there).
+            outc[j] = c[0] + m.y * (c[1] - c[0]) + m.z * (c[2] - c[0]);
+            wo[j] = g_world[0] + m.y * (g_world[1] - g_world[0]) + m.z * (g_world[2] - g_world[0]);
+            no[j] = g_normal[0] + m.y * (g_normal[1] - g_normal[0]) +
+                    m.z * (g_normal[2] - g_normal[0]);
+            uo[j] = g_uv1[0] + m.y * (g_uv1[1] - g_uv1[0]) + m.z * (g_uv1[2] - g_uv1[0]);
         }
     }
     for (int j = 0; j < 3; j++) {
@@ -79,6 +83,7 @@ void main() {
         v_tri1 = g_world[1];
         v_tri2 = g_world[2];
         v_exact = grow ? 1 : 0;
+        gl_PrimitiveID = gl_PrimitiveIDIn; // atlas_gi's triangle table reads it
         EmitVertex();
     }
     EndPrimitive();
