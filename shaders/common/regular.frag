@@ -25,15 +25,13 @@ float st_visibility(int light, vec3 p, vec3 n) { return 1.0; }
 vec3 st_indirect(vec3 p, vec3 n, vec2 uv1) { return vec3(0.0); }
 #endif
 
-// Whether the exact ray through this fragment's sample position passes
-// through the triangle (regular.geom grew it for this test): the ray's
-// side of each edge, seen from the camera. A ray within float rounding of
-// an edge (2^-22 of the products' size; a pixel centre exactly on an edge,
-// as test scenes place them) counts as a hit for a front face and as a miss
-// for a back face: at a closed mesh's silhouette the lit front face wins
-// the tie as in the reference, and two front faces at a crease both stay
-// (the depth test picks one). `precise` keeps the products unfused.
-bool st_primary_hit(bool front) {
+// Whether this fragment stays, by the exact ray through its sample
+// position (regular.geom drew the triangle and a ring around it): the ray's
+// side of each edge, seen from the camera. The triangle keeps what the ray
+// does not clearly miss, the ring what it clearly hits; within float
+// rounding of an edge (2^-22 of the products' size) the rasteriser's
+// coverage stands. `precise` keeps the products unfused.
+bool st_primary_hit() {
     if (v_exact == 0) return true;
     vec2 ndc = gl_FragCoord.xy / st_resolution * 2.0 - 1.0;
     // The view-space direction for that NDC point (st_proj carries the box
@@ -45,8 +43,8 @@ bool st_primary_hit(bool front) {
     precise vec3 e = vec3(dot(d, cross(a, b)), dot(d, cross(b, c)), dot(d, cross(c, a)));
     float la = length(a), lb = length(b), lc = length(c);
     vec3 tol = 2.384185791e-7 * length(d) * vec3(la * lb, lb * lc, lc * la);
-    if (!front) tol = -tol;
-    return all(greaterThanEqual(e, -tol)) || all(lessThanEqual(e, tol));
+    if (v_exact == 1) return all(greaterThanEqual(e, -tol)) || all(lessThanEqual(e, tol));
+    return all(greaterThan(e, tol)) || all(lessThan(e, -tol));
 }
 
 void main() {
@@ -58,7 +56,7 @@ void main() {
     // facet's own normal decides which side is seen (common/facet.glsl;
     // meshes_direct: 12 pixels on Suzanne's head were black).
     bool front = st_facet_front(p, n, st_cam_pos);
-    if (!st_primary_hit(front || st_double_sided != 0)) discard;
+    if (!st_primary_hit()) discard;
     if (!front && st_double_sided != 0) {
         n = -n;
         front = true;

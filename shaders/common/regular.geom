@@ -1,16 +1,19 @@
 // Regular pass, exact primary visibility (docs/physics.md, "Primary
-// visibility"): each triangle grows by ST_PRIMARY_DILATE pixels in screen
-// space, and regular.frag keeps a fragment only where the exact ray through
-// its sample position passes through the original triangle. The rasteriser
-// snaps vertices to a sub-pixel grid (8 bits on llvmpipe, 4 the least GL
-// allows), so a pixel centre within that of an edge falls on either side of
-// it; the CPU reference and Cycles decide by the exact ray. The grown
-// triangle lies in the original's plane (its corners are points of that
-// plane, found by perspective-correct barycentrics), so depth and
-// attributes interpolate as before.
+// visibility"). The rasteriser snaps vertices to a sub-pixel grid (8 bits
+// on llvmpipe, 4 the least GL allows), so a pixel centre that close to an
+// edge falls on either side of it; the CPU reference and Cycles decide by
+// the exact ray. Each triangle is drawn as itself (v_exact 1) plus a ring
+// ST_PRIMARY_DILATE pixels wide around it (v_exact 2), and regular.frag
+// decides with the exact ray through the fragment's sample: the triangle
+// drops a sample the ray clearly misses, the ring keeps one only where the
+// ray clearly hits. Within float rounding of an edge (a centre exactly on
+// it) the rasteriser's coverage stands: the triangle and the ring share
+// its snapped edges, so every sample is claimed once. The ring's outer
+// corners lie in the triangle's plane (perspective-correct barycentrics),
+// so depth and attributes interpolate as before.
 #include "common/uniforms.glsl"
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 3) out;
+layout(triangle_strip, max_vertices = 11) out;
 in vec3 g_world[];
 in vec3 g_normal[];
 in vec2 g_uv1[];
@@ -18,13 +21,26 @@ out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv1;
 flat out vec3 v_tri0, v_tri1, v_tri2; // the original corners, world space
-flat out int v_exact;                 // 0: not grown, the rasteriser's coverage stands
+flat out int v_exact; // 0: not grown (the rasteriser decides), 1 the triangle, 2 its ring
 
 // 1/16 pixel: well above any conforming rasteriser's snapping (GL requires
 // 4 sub-pixel bits), and thin enough that the extra fragments cost nothing.
 #define ST_PRIMARY_DILATE 0.0625
 
 float st_cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+
+void st_emit(vec4 clip, vec3 world, vec3 normal, vec2 uv1, int exact) {
+    gl_Position = clip;
+    v_world = world;
+    v_normal = normal;
+    v_uv1 = uv1;
+    v_tri0 = g_world[0];
+    v_tri1 = g_world[1];
+    v_tri2 = g_world[2];
+    v_exact = exact;
+    gl_PrimitiveID = gl_PrimitiveIDIn; // atlas_gi's triangle table reads it
+    EmitVertex();
+}
 
 void main() {
     vec4 c[3] = vec4[3](gl_in[0].gl_Position, gl_in[1].gl_Position, gl_in[2].gl_Position);
@@ -74,17 +90,16 @@ void main() {
             uo[j] = g_uv1[0] + m.y * (g_uv1[1] - g_uv1[0]) + m.z * (g_uv1[2] - g_uv1[0]);
         }
     }
-    for (int j = 0; j < 3; j++) {
-        gl_Position = grow ? outc[j] : c[j];
-        v_world = grow ? wo[j] : g_world[j];
-        v_normal = grow ? no[j] : g_normal[j];
-        v_uv1 = grow ? uo[j] : g_uv1[j];
-        v_tri0 = g_world[0];
-        v_tri1 = g_world[1];
-        v_tri2 = g_world[2];
-        v_exact = grow ? 1 : 0;
-        gl_PrimitiveID = gl_PrimitiveIDIn; // atlas_gi's triangle table reads it
-        EmitVertex();
+    // The triangle itself, exactly as it was.
+    for (int j = 0; j < 3; j++)
+        st_emit(c[j], g_world[j], g_normal[j], g_uv1[j], grow ? 1 : 0);
+    EndPrimitive();
+    if (!grow) return;
+    // The ring as one strip: outer and inner corners in turn, closed.
+    for (int k = 0; k <= 3; k++) {
+        int j = k % 3;
+        st_emit(outc[j], wo[j], no[j], uo[j], 2);
+        st_emit(c[j], g_world[j], g_normal[j], g_uv1[j], 2);
     }
     EndPrimitive();
 }
