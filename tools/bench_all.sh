@@ -8,7 +8,8 @@
 #   godrays is toth, mitchell and sousa), TOTH_MODE (steady), LIGHT_VIEW_SIZE (384x256),
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
 #   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5), TRUTH_RUNS, TRUTH_MARCH
-#   (128,256,512,1024), TRUTH_CHEAP (1): toth against the CPU reference
+#   (128,256,512,1024), TRUTH_CHEAP (1), TRUTH_ALT (3), TRUTH_SWEEP (1): toth
+#   against the CPU reference
 #   (ONLY=truth, also part of toth and all).
 #   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4),
 #   FROXEL_SCENES (the six god-ray scenes; e.g. "spot_fog" for one):
@@ -40,6 +41,8 @@ TRUTH_SIZES=${TRUTH_SIZES:-320x240 512x512}
 TRUTH_ERR=${TRUTH_ERR:-9e-5}
 TRUTH_MARCH=${TRUTH_MARCH:-128,256,512,1024}
 TRUTH_CHEAP=${TRUTH_CHEAP:-1}
+TRUTH_ALT=${TRUTH_ALT:-3}
+TRUTH_SWEEP=${TRUTH_SWEEP:-1}
 FROXEL_SIZE=${FROXEL_SIZE:-$GODRAY_SIZE}
 FROXEL_TIME_SIZE=${FROXEL_TIME_SIZE:-512x512}
 FROXEL_ERR=${FROXEL_ERR:-3e-4}
@@ -202,12 +205,23 @@ fi
 # CSVs stay. (truth.csv and truth_godrays_*.png are the 256x192 runs of the
 # script before, cited in docs/benchmarks.md.)
 if [ "$ONLY" = all ] || [ "$ONLY" = toth ] || [ "$ONLY" = truth ]; then
+# The cheapest equi-angular setting of a run's CSV with no higher rmse than
+# the 1024-step march (empty: none). Rows: scene,setting,...: frame ms $6,
+# toth's GPU ms $7, debiased rmse $9, reference noise rms $20, its warning $21
+# (1: noise > rmse / 3).
+truth_winner() {
+    awk -F, 'NR > 1 && $1 != "scene" { if ($2 ~ /sampling=uniform/) { if ($2 ~ /samples=1024( |$)/) e1 = $9; next }
+            k++; t[k] = $6; e[k] = $9; st[k] = $2 }
+        END { for (i = 1; i <= k; i++) if (e[i] <= e1 && (!best || t[i] < t[best])) best = i
+            if (best) print st[best] }' "$1"
+}
 runs=${TRUTH_RUNS-$(for s in window hidden_hole colonnade colonnade_sun spot_fog; do for z in $TRUTH_SIZES; do echo "$s:$z"; done; done)}
 for run in $runs; do
     s=${run%%:*} size=${run#*:}
     scene=scenes/godrays_$s.json # point lights; the sun and the spot: scenes/$s.json
     [ -f "$scene" ] || scene=scenes/$s.json
     csv=$OUT/truth_${s}_$size.csv r=$OUT/truth_ref_${s}_$size.exr
+    if [ "$TRUTH_SWEEP" = 1 ]; then # (0: keep the CSV, run only the alternation)
     rm -f "$csv"
     # Pixel centres (--filter point; bench follows the reference's filter): a
     # box-filtered 8-spp reference is 2.9e-3 noisy at shaft and silhouette
@@ -230,9 +244,22 @@ for run in $runs; do
     echo "end $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" >> "${csv%.csv}.load"
     "$S" plot "$csv" -o "$OUT/truth_${s}_$size.png" --baseline toth.samples=1024,toth.sampling=uniform \
         --title "toth and the uniform march against the CPU reference: $s $size"
+    fi
+    # The sweep runs the march and toth minutes apart while the load drifts:
+    # TRUTH_ALT rounds (0: none) of the 1024-step march, the cheapest toth
+    # setting at its rmse and the defaults, one after the other, into
+    # truthalt_S_SIZE.csv (scored as above).
+    alt=$OUT/truthalt_${s}_$size.csv win=$(truth_winner "$csv")
+    rm -f "$alt"
+    for _ in $(seq "$TRUTH_ALT"); do
+        bench "$scene" "$size" "$r" "$alt" rmse --mode recompute --set toth.interleave=1 \
+            --set toth.resolution=full --sweep toth.samples=1024 --sweep toth.sampling=uniform
+        # shellcheck disable=SC2046,SC2086 # one --sweep per word of the setting
+        [ -z "$win" ] || bench "$scene" "$size" "$r" "$alt" rmse --mode recompute $(printf -- '--sweep %s ' $win)
+        bench "$scene" "$size" "$r" "$alt" rmse --mode recompute --sweep toth.sampling=equiangular
+    done
+    [ "$TRUTH_ALT" -gt 0 ] && echo "alt $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" >> "${csv%.csv}.load"
 done
-# Rows: scene,setting,...: frame ms $6, toth's GPU ms $7, debiased rmse $9,
-# reference noise rms $20, its warning $21 (1: noise > rmse / 3).
 # The defaults: samples=64 at the equi-angular sampling, nothing else set.
 truth_tables() {
     echo "(1) At the defaults' error: the 1024-step full-resolution uniform march's curve (frame ms, rmse per step count) against the defaults."
@@ -277,6 +304,35 @@ truth_tables() {
     done
     echo
     echo "\\* the reference's noise is more than a third of that rmse (not resolved)."
+    local a alts=()
+    for c in "$@"; do
+        a=$(dirname "$c")/truthalt_$(basename "$c" | sed 's/^truth_//')
+        [ -f "$a" ] && alts+=("$a")
+    done
+    [ ${#alts[@]} -gt 0 ] || return 0
+    echo
+    echo "(3) Alternating: the 1024-step march, the setting of (2) and the defaults one after the other, each a fresh strahl bench run; frame ms per round, the speed-up from the medians."
+    echo
+    echo "| scene | size | 1024-step march: frame ms per round | setting of (2): frame ms per round, rmse | defaults: frame ms per round | speed-up at equal error (medians) | defaults' speed-up (medians) |"
+    echo "|---|---|---|---|---|---:|---:|"
+    for a in "${alts[@]}"; do
+        awk -F, -v f="$a" 'function med(x, n,   i, j, v, y) { for (i = 1; i <= n; i++) y[i] = x[i]
+                for (i = 2; i <= n; i++) { v = y[i]; for (j = i - 1; j >= 1 && y[j] > v; j--) y[j + 1] = y[j]; y[j + 1] = v }
+                return n % 2 ? y[(n + 1) / 2] : (y[n / 2] + y[n / 2 + 1]) / 2 }
+            function list(x, n,   i, s) { for (i = 1; i <= n; i++) s = s sprintf("%s%.0f", i > 1 ? ", " : "", x[i]); return s }
+            NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
+                if ($2 ~ /sampling=uniform/) m[++nm] = $6
+                else if ($2 == "toth.sampling=equiangular") d[++nd] = $6
+                else { w[++nw] = $6; ws = $2; we = $9 } }
+            END { z = f; sub(/.*_/, "", z); sub(/\.csv$/, "", z)
+                printf "| %s | %s | %s | ", sc, z, list(m, nm)
+                if (nw) printf "%s: %s, %.3g | ", ws, list(w, nw), we
+                else printf "none | "
+                printf "%s | ", list(d, nd)
+                if (nw) printf "%.1fx | ", med(m, nm) / med(w, nw)
+                else printf "- | "
+                printf "%.1fx |\n", med(m, nm) / med(d, nd) }' "$a"
+    done
 }
 shopt -s nullglob
 tcsvs=("$OUT"/truth_*_[0-9]*x[0-9]*.csv)
@@ -447,6 +503,8 @@ for m in toth mitchell sousa atlas_gi; do
     # One plot per scene: split the CSV by its first column.
     for scene in $(tail -n +2 "$csv" | cut -d, -f1 | sort -u); do
         name=$(basename "$scene" .json)
+        # Redrawn only where the CSV is newer (gnuplot's PNG bytes vary by run).
+        [ "$OUT/${m}_${name}.png" -nt "$csv" ] && continue
         part=$OUT/${m}_${name}.csv
         { head -1 "$csv"; grep "^$scene," "$csv"; } > "$part"
         # shellcheck disable=SC2046 # baseline: an option and its value, or nothing
