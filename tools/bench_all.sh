@@ -8,7 +8,7 @@
 #   godrays is toth, mitchell and sousa), TOTH_MODE (steady), LIGHT_VIEW_SIZE (384x256),
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
 #   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5), TRUTH_RUNS, TRUTH_MARCH
-#   (128,256,512,1024), TRUTH_CHEAP (1), TRUTH_ALT (3), TRUTH_SWEEP (1): toth
+#   (128,256,512,1024), TRUTH_CHEAP, TRUTH_ALT (3), TRUTH_SWEEP (1): toth
 #   against the CPU reference
 #   (ONLY=truth, also part of toth and all).
 #   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4),
@@ -40,7 +40,7 @@ ONLY=${ONLY:-all}
 TRUTH_SIZES=${TRUTH_SIZES:-320x240 512x512}
 TRUTH_ERR=${TRUTH_ERR:-9e-5}
 TRUTH_MARCH=${TRUTH_MARCH:-128,256,512,1024}
-TRUTH_CHEAP=${TRUTH_CHEAP:-1}
+TRUTH_CHEAP=${TRUTH_CHEAP:-samples=8,16,32 resolution=quarter,half probes=0,1,3 refine_kink=0.01,0}
 TRUTH_ALT=${TRUTH_ALT:-3}
 TRUTH_SWEEP=${TRUTH_SWEEP:-1}
 FROXEL_SIZE=${FROXEL_SIZE:-$GODRAY_SIZE}
@@ -189,9 +189,9 @@ fi
 #     TRUTH_MARCH steps (128..1024; 1024 is toth.samples' maximum);
 #   the defaults (samples=64; 32 and 128 beside them) and the map's own
 #     lookups (exact_edges and probes off);
-#   the cheap sweep (TRUTH_CHEAP=0 skips it): samples 8,16,32 x resolution
-#     quarter,half x probes 0,1,3 x refine_kink 0.01,0 (exact_edges on), where
-#     toth meets the march at the march's best error.
+#   the cheap sweep, TRUTH_CHEAP (toth parameters, up to 4; 0 skips it):
+#     samples 8,16,32 x resolution quarter,half x probes 0,1,3 x refine_kink
+#     0.01,0 (exact_edges on), where toth meets the march at its best error.
 # truth_S_SIZE.png: the Pareto fronts (rmse against frame ms) of both.
 # truth_summary.md, from every truth_S_SIZE.csv in $OUT: (1) at the defaults'
 # error: the march's rmse per step count, the cheapest march setting that
@@ -238,10 +238,9 @@ for run in $runs; do
         --sweep toth.samples=32,64,128 --sweep toth.sampling=equiangular
     bench "$scene" "$size" "$r" "$csv" rmse --mode recompute \
         --sweep toth.exact_edges=0 --sweep toth.probes=0
-    if [ "$TRUTH_CHEAP" = 1 ]; then
-        bench "$scene" "$size" "$r" "$csv" rmse --mode recompute \
-            --sweep toth.samples=8,16,32 --sweep toth.resolution=quarter,half \
-            --sweep toth.probes=0,1,3 --sweep toth.refine_kink=0.01,0
+    if [ "$TRUTH_CHEAP" != 0 ]; then
+        # shellcheck disable=SC2046,SC2086 # one --sweep per word
+        bench "$scene" "$size" "$r" "$csv" rmse --mode recompute $(printf -- '--sweep toth.%s ' $TRUTH_CHEAP)
     fi
     echo "end $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" >> "${csv%.csv}.load"
     "$S" plot "$csv" -o "$OUT/truth_${s}_$size.png" --baseline toth.samples=1024,toth.sampling=uniform \
