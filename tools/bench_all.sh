@@ -7,8 +7,10 @@
 #   GI_REF_SPP (1024), ONLY (godrays, toth, gi, or plots: run one part;
 #   godrays is toth, mitchell and sousa), TOTH_MODE (steady), LIGHT_VIEW_SIZE (384x256),
 #   SHAFT_ERR (0.02), GI_ERR (0.03), MAX_REF_SPP (65536): see ref() below;
-#   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5), TRUTH_RUNS, TRUTH_APPEND:
-#   toth against the CPU reference (ONLY=truth, also part of toth and all).
+#   TRUTH_SIZES (320x240 512x512), TRUTH_ERR (9e-5), TRUTH_RUNS, TRUTH_MARCH
+#   (128,256,512,1024), TRUTH_CHEAP, TRUTH_ALT (3), TRUTH_SWEEP (1): toth
+#   against the CPU reference
+#   (ONLY=truth, also part of toth and all).
 #   FROXEL_SIZE (GODRAY_SIZE), FROXEL_TIME_SIZE (512x512), FROXEL_ERR (3e-4),
 #   FROXEL_SCENES (the six god-ray scenes; e.g. "spot_fog" for one):
 #   froxel beside toth, mitchell and sousa against the CPU reference (ONLY=froxel,
@@ -27,7 +29,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 S=build/bin/strahl
-OUT=docs/bench
+OUT=${OUT:-docs/bench}
 GODRAY_SIZE=${GODRAY_SIZE:-512x512}
 GI_SIZE=${GI_SIZE:-128x128}
 GI_REF_SPP=${GI_REF_SPP:-1024}
@@ -37,6 +39,10 @@ MAX_REF_SPP=${MAX_REF_SPP:-65536}
 ONLY=${ONLY:-all}
 TRUTH_SIZES=${TRUTH_SIZES:-320x240 512x512}
 TRUTH_ERR=${TRUTH_ERR:-9e-5}
+TRUTH_MARCH=${TRUTH_MARCH:-128,256,512,1024}
+TRUTH_CHEAP=${TRUTH_CHEAP:-samples=8,16,32 resolution=quarter,half probes=0,1,3 refine_kink=0.01,0}
+TRUTH_ALT=${TRUTH_ALT:-3}
+TRUTH_SWEEP=${TRUTH_SWEEP:-1}
 FROXEL_SIZE=${FROXEL_SIZE:-$GODRAY_SIZE}
 FROXEL_TIME_SIZE=${FROXEL_TIME_SIZE:-512x512}
 FROXEL_ERR=${FROXEL_ERR:-3e-4}
@@ -174,62 +180,168 @@ log "toth: $OUT/toth_summary.md, $OUT/toth_passes.txt"
 fi
 
 # ---- toth against ground truth (issue 21) --------------------------------------
-# The defaults and the brute-force uniform full-resolution march (128..1024
-# steps, no interleave) in one strahl bench run per scene and size (--append:
-# the brute force first, then the defaults, the former defaults (quarter
-# resolution, 64 steps) and cheaper settings), both scored against
-# `strahl reference --bounces 0` (single scattering with exact visibility),
-# whose noise ref() brings to a third of TRUTH_ERR (bench removes what remains
-# and warns where it cannot). --mode recompute: the shadow map is redone every
-# frame for both. truth_summary.md: per scene and size the 1024-step march's
-# rmse, the defaults' rmse and their ratio, and the cheapest brute-force
-# setting with no higher rmse than the defaults against the defaults' time.
-# TRUTH_RUNS ("scene:size ...", default every scene at every TRUTH_SIZES;
-# empty: none) picks the runs; TRUTH_APPEND=1 keeps truth.csv's rows of
-# earlier runs (with TRUTH_RUNS="" only the summary and plots are redone).
+# Per scene and size one CSV, truth_S_SIZE.csv, from strahl bench runs back to
+# back (--mode recompute: the shadow map is redone every frame for all), every
+# row scored against `strahl reference --bounces 0 --filter point --steps 1024`
+# (single scattering with exact visibility; ref() brings its noise to a third
+# of TRUTH_ERR, bench removes what remains and flags rows it cannot resolve):
+#   the brute force: the uniform full-resolution march (no interleave) at
+#     TRUTH_MARCH steps (128..1024; 1024 is toth.samples' maximum);
+#   the defaults (samples=64; 32 and 128 beside them) and the map's own
+#     lookups (exact_edges and probes off);
+#   the cheap sweep, TRUTH_CHEAP (toth parameters, up to 4; 0 skips it):
+#     samples 8,16,32 x resolution quarter,half x probes 0,1,3 x refine_kink
+#     0.01,0 (exact_edges on), where toth meets the march at its best error.
+# truth_S_SIZE.png: the Pareto fronts (rmse against frame ms) of both.
+# truth_summary.md, from every truth_S_SIZE.csv in $OUT: (1) at the defaults'
+# error: the march's rmse per step count, the cheapest march setting that
+# reaches the defaults' rmse (none where its curve stays above), and the
+# 1024-step march's frame time over the defaults' (and, where it does not
+# arrive, the speed-up if its rmse kept falling as 1/steps beyond 1024, an
+# estimate: measured it falls slower); (2) at the 1024-step
+# march's error: the cheapest toth setting with no higher rmse and the
+# speed-up t(march 1024) / t(that setting), by frame time and by toth's GPU
+# time. The load average (1 min) at the start and end of each run is in
+# truth_S_SIZE.load. TRUTH_RUNS ("scene:size ...", default every scene at every
+# TRUTH_SIZES; empty: none, only the summary) picks the runs; other runs'
+# CSVs stay. (truth.csv and truth_godrays_*.png are the 256x192 runs of the
+# script before, cited in docs/benchmarks.md.)
 if [ "$ONLY" = all ] || [ "$ONLY" = toth ] || [ "$ONLY" = truth ]; then
-[ "${TRUTH_APPEND:-0}" = 1 ] || rm -f "$OUT"/truth.csv
+# The cheapest equi-angular setting of a run's CSV with no higher rmse than
+# the 1024-step march (empty: none). Rows: scene,setting,...: frame ms $6,
+# toth's GPU ms $7, debiased rmse $9, reference noise rms $20, its warning $21
+# (1: noise > rmse / 3).
+truth_winner() {
+    awk -F, 'NR > 1 && $1 != "scene" { if ($2 ~ /sampling=uniform/) { if ($2 ~ /samples=1024( |$)/) e1 = $9; next }
+            k++; t[k] = $6; e[k] = $9; st[k] = $2 }
+        END { for (i = 1; i <= k; i++) if (e[i] <= e1 && (!best || t[i] < t[best])) best = i
+            if (best) print st[best] }' "$1"
+}
 runs=${TRUTH_RUNS-$(for s in window hidden_hole colonnade colonnade_sun spot_fog; do for z in $TRUTH_SIZES; do echo "$s:$z"; done; done)}
 for run in $runs; do
     s=${run%%:*} size=${run#*:}
     scene=scenes/godrays_$s.json # point lights; the sun and the spot: scenes/$s.json
     [ -f "$scene" ] || scene=scenes/$s.json
+    csv=$OUT/truth_${s}_$size.csv r=$OUT/truth_ref_${s}_$size.exr
+    if [ "$TRUTH_SWEEP" = 1 ]; then # (0: keep the CSV, run only the alternation)
+    rm -f "$csv"
     # Pixel centres (--filter point; bench follows the reference's filter): a
     # box-filtered 8-spp reference is 2.9e-3 noisy at shaft and silhouette
     # edges (320x240 window), so ref() would ask the 65536-spp cap; at
     # the point filter 16 spp leave 1.2e-5 to 3.2e-5 (256x192).
-    ref "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" --bounces 0 --spp 8 --steps 1024 --filter point
-    bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+    ref "$scene" "$size" "$r" --bounces 0 --spp 8 --steps 1024 --filter point
+    echo "start $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" > "${csv%.csv}.load"
+    bench "$scene" "$size" "$r" "$csv" rmse --mode recompute \
         --set toth.interleave=1 --set toth.resolution=full \
-        --sweep toth.samples=128,256,512,1024 --sweep toth.sampling=uniform
-    # The defaults (half resolution, 64 steps, exact rays where the map cannot
-    # decide, 3 probes per step) beside the map's own lookups (exact_edges and
-    # probes off, the former defaults), 128 steps and 32.
-    bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+        --sweep toth.samples="$TRUTH_MARCH" --sweep toth.sampling=uniform
+    bench "$scene" "$size" "$r" "$csv" rmse --mode recompute \
         --sweep toth.samples=32,64,128 --sweep toth.sampling=equiangular
-    bench "$scene" "$size" "$OUT/truth_ref_${s}_$size.exr" "$OUT/truth.csv" rmse --mode recompute \
+    bench "$scene" "$size" "$r" "$csv" rmse --mode recompute \
         --sweep toth.exact_edges=0 --sweep toth.probes=0
+    if [ "$TRUTH_CHEAP" != 0 ]; then
+        # shellcheck disable=SC2046,SC2086 # one --sweep per word
+        bench "$scene" "$size" "$r" "$csv" rmse --mode recompute $(printf -- '--sweep toth.%s ' $TRUTH_CHEAP)
+    fi
+    echo "end $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" >> "${csv%.csv}.load"
+    "$S" plot "$csv" -o "$OUT/truth_${s}_$size.png" --baseline toth.samples=1024,toth.sampling=uniform \
+        --title "toth and the uniform march against the CPU reference: $s $size"
+    fi
+    # The sweep runs the march and toth minutes apart while the load drifts:
+    # TRUTH_ALT rounds (0: none) of the 1024-step march, the cheapest toth
+    # setting at its rmse and the defaults, one after the other, into
+    # truthalt_S_SIZE.csv (scored as above).
+    alt=$OUT/truthalt_${s}_$size.csv win=$(truth_winner "$csv")
+    rm -f "$alt"
+    for _ in $(seq "$TRUTH_ALT"); do
+        bench "$scene" "$size" "$r" "$alt" rmse --mode recompute --set toth.interleave=1 \
+            --set toth.resolution=full --sweep toth.samples=1024 --sweep toth.sampling=uniform
+        # shellcheck disable=SC2046,SC2086 # one --sweep per word of the setting
+        [ -z "$win" ] || bench "$scene" "$size" "$r" "$alt" rmse --mode recompute $(printf -- '--sweep %s ' $win)
+        bench "$scene" "$size" "$r" "$alt" rmse --mode recompute --sweep toth.sampling=equiangular
+    done
+    [ "$TRUTH_ALT" -gt 0 ] && echo "alt $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" >> "${csv%.csv}.load"
 done
-# Rows: scene,params,...: frame ms $6, module GPU ms $7, rmse $9 (as toth.csv);
-# the size is not a column, so rows are taken in the order they were written.
-awk -F, 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
-        u = $2 ~ /sampling=uniform/
-        if (u && $2 ~ /samples=128( |$)/) { r++; name[r] = sc; k[r] = 0 }
-        if (u) { k[r]++; bt[r, k[r]] = $6; be[r, k[r]] = $9; bs[r, k[r]] = $2 }
-        if (u && $2 ~ /samples=1024( |$)/) { b1024[r] = $9; t1024[r] = $6 }
-        if (!u && $2 ~ /samples=64( |$)/) { dt[r] = $6; dg[r] = $7; de[r] = $9 }
-        if ($2 ~ /exact_edges=0/) { mt[r] = $6; me[r] = $9 } }
-    END {
-        print "| scene (run) | 1024-step march: frame ms, rmse | defaults: frame ms, rmse | rmse ratio | map only (exact_edges, probes off): frame ms, rmse | cheapest march with rmse <= defaults | speed-up at equal error |"
-        print "|---|---|---|---:|---|---|---:|"
-        for (i = 1; i <= r; i++) {
-            best = 0
-            for (j = 1; j <= k[i]; j++) if (be[i, j] <= de[i] && (!best || bt[i, j] < bt[i, best])) best = j
-            printf "| %s (%d) | %.0f, %.3g | %.0f, %.3g | %.2f | ", name[i], i, t1024[i], b1024[i], dt[i], de[i], de[i] / b1024[i]
-            printf "%.0f, %.3g | ", mt[i], me[i]
-            if (best) printf "%s: %.0f ms, %.3g | %.1fx |\n", bs[i, best], bt[i, best], be[i, best], bt[i, best] / dt[i]
-            else printf "none (the 1024-step march: %.1fx the time at %.2fx the rmse) | - |\n", t1024[i] / dt[i], b1024[i] / de[i]
-        } }' "$OUT/truth.csv" > "$OUT/truth_summary.md"
+# The defaults: samples=64 at the equi-angular sampling, nothing else set.
+truth_tables() {
+    echo "(1) At the defaults' error: the 1024-step full-resolution uniform march's curve (frame ms, rmse per step count) against the defaults."
+    echo
+    echo "| scene | size | reference noise rms | march: steps frame ms, rmse | defaults: frame ms, rmse | march's best rmse / defaults' | cheapest march with rmse <= defaults | t(1024-step march) / t(defaults): frame (toth GPU) | estimate at the defaults' rmse (march rmse ~ 1/steps beyond 1024) |"
+    echo "|---|---|---:|---|---|---:|---|---:|---:|"
+    for c in "$@"; do
+        awk -F, -v f="$c" 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
+                noise = $20
+                if ($2 ~ /sampling=uniform/) { split($2, q, "[= ]"); m++; ms[m] = $6; me[m] = $9; mst[m] = q[2]
+                    if (q[2] == 1024) { t1 = $6; g1 = $7; e1 = $9 } }
+                if ($2 == "toth.samples=64 toth.sampling=equiangular") { dt = $6; dg = $7; de = $9; dw = $21 } }
+            END { z = f; sub(/.*_/, "", z); sub(/\.csv$/, "", z)
+                curve = ""; best = 0; low = 0
+                for (i = 1; i <= m; i++) {
+                    curve = curve sprintf("%s%d: %.0f, %.3g", i > 1 ? "; " : "", mst[i], ms[i], me[i])
+                    if (!low || me[i] < me[low]) low = i
+                    if (me[i] <= de && (!best || ms[i] < ms[best])) best = i }
+                printf "| %s | %s | %.2g | %s | %.0f, %.3g%s | %.2f | ", sc, z, noise, curve, dt, de, dw ? " *" : "", me[low] / de
+                if (best) printf "%d steps: %.0f ms | ", mst[best], ms[best]
+                else printf "none (up to %d steps) | ", mst[m]
+                printf "%.1fx (%.1fx)%s | ", t1 / dt, g1 / dg, best ? "" : ", at lower rmse"
+                # The march at its steepest (rmse ~ 1/N, time ~ N; measured: slower)
+                # reaches the defaults at (e1 / de) 1024 steps, (e1 / de) t1.
+                if (best) printf "- |\n"; else printf "%.0fx |\n", (e1 / de) * (t1 / dt) }' "$c"
+    done
+    echo
+    echo "(2) At the 1024-step march's error: the cheapest toth setting (any equi-angular row) with no higher rmse."
+    echo
+    echo "| scene | size | 1024-step march: frame ms (toth GPU ms), rmse | cheapest toth setting with rmse <= it | its frame ms (toth GPU ms), rmse | speed-up frame (toth GPU) | defaults' speed-up frame (toth GPU) | load (1 min): sweep start, end, alternation end |"
+    echo "|---|---|---|---|---|---:|---:|---|"
+    for c in "$@"; do
+        ld=$(awk '{ printf "%s%s %s", (NR > 1 ? ", " : ""), $2, $3 }' "${c%.csv}.load" 2>/dev/null || true)
+        awk -F, -v f="$c" -v ld="$ld" 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
+                if ($2 ~ /sampling=uniform/) { if ($2 ~ /samples=1024( |$)/) { t1 = $6; g1 = $7; e1 = $9 } next }
+                k++; t[k] = $6; g[k] = $7; e[k] = $9; st[k] = $2; w[k] = $21
+                if ($2 == "toth.samples=64 toth.sampling=equiangular") { dt = $6; dg = $7 } }
+            END { z = f; sub(/.*_/, "", z); sub(/\.csv$/, "", z)
+                best = 0
+                for (i = 1; i <= k; i++) if (e[i] <= e1 && (!best || t[i] < t[best])) best = i
+                printf "| %s | %s | %.0f (%.0f), %.3g | ", sc, z, t1, g1, e1
+                if (best) printf "%s | %.0f (%.0f), %.3g%s | %.1fx (%.1fx) | ", st[best], t[best], g[best], e[best], w[best] ? " *" : "", t1 / t[best], g1 / g[best]
+                else printf "none | - | - | "
+                printf "%.1fx (%.1fx) | %s |\n", t1 / dt, g1 / dg, ld }' "$c"
+    done
+    echo
+    echo "\\* the reference's noise is more than a third of that rmse (not resolved)."
+    local a alts=()
+    for c in "$@"; do
+        a=$(dirname "$c")/truthalt_$(basename "$c" | sed 's/^truth_//')
+        [ -f "$a" ] && alts+=("$a")
+    done
+    [ ${#alts[@]} -gt 0 ] || return 0
+    echo
+    echo "(3) Alternating: the 1024-step march, the setting of (2) and the defaults one after the other, each a fresh strahl bench run; frame ms per round, the speed-up from the medians."
+    echo
+    echo "| scene | size | 1024-step march: frame ms per round | setting of (2): frame ms per round, rmse | defaults: frame ms per round | speed-up at equal error (medians) | defaults' speed-up (medians) |"
+    echo "|---|---|---|---|---|---:|---:|"
+    for a in "${alts[@]}"; do
+        awk -F, -v f="$a" 'function med(x, n,   i, j, v, y) { for (i = 1; i <= n; i++) y[i] = x[i]
+                for (i = 2; i <= n; i++) { v = y[i]; for (j = i - 1; j >= 1 && y[j] > v; j--) y[j + 1] = y[j]; y[j + 1] = v }
+                return n % 2 ? y[(n + 1) / 2] : (y[n / 2] + y[n / 2 + 1]) / 2 }
+            function list(x, n,   i, s) { for (i = 1; i <= n; i++) s = s sprintf("%s%.0f", i > 1 ? ", " : "", x[i]); return s }
+            NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
+                if ($2 ~ /sampling=uniform/) m[++nm] = $6
+                else if ($2 == "toth.sampling=equiangular") d[++nd] = $6
+                else { w[++nw] = $6; ws = $2; we = $9 } }
+            END { z = f; sub(/.*_/, "", z); sub(/\.csv$/, "", z)
+                printf "| %s | %s | %s | ", sc, z, list(m, nm)
+                if (nw) printf "%s: %s, %.3g | ", ws, list(w, nw), we
+                else printf "none | "
+                printf "%s | ", list(d, nd)
+                if (nw) printf "%.1fx | ", med(m, nm) / med(w, nw)
+                else printf "- | "
+                printf "%.1fx |\n", med(m, nm) / med(d, nd) }' "$a"
+    done
+}
+shopt -s nullglob
+tcsvs=("$OUT"/truth_*_[0-9]*x[0-9]*.csv)
+shopt -u nullglob
+[ ${#tcsvs[@]} -gt 0 ] && truth_tables "${tcsvs[@]}" > "$OUT/truth_summary.md"
 log "truth: $OUT/truth_summary.md"
 fi
 
@@ -387,14 +499,16 @@ baseline() {
     atlas_gi) echo --baseline atlas_gi.samples=400,atlas_gi.atlas_size=1024,atlas_gi.estimator=area ;;
     esac
 }
-# truth.csv: one plot per scene holds every size of TRUTH_SIZES.
-for m in toth truth mitchell sousa atlas_gi; do
+# (truth: one plot per scene and size, drawn in its block.)
+for m in toth mitchell sousa atlas_gi; do
     csv=$OUT/$m.csv
     [ -f "$csv" ] || continue
     metric=$(head -1 "$csv" | cut -d, -f9 | sed 's/^error_//')
     # One plot per scene: split the CSV by its first column.
     for scene in $(tail -n +2 "$csv" | cut -d, -f1 | sort -u); do
         name=$(basename "$scene" .json)
+        # Redrawn only where the CSV is newer (gnuplot's PNG bytes vary by run).
+        [ "$OUT/${m}_${name}.png" -nt "$csv" ] && continue
         part=$OUT/${m}_${name}.csv
         { head -1 "$csv"; grep "^$scene," "$csv"; } > "$part"
         # shellcheck disable=SC2046 # baseline: an option and its value, or nothing
@@ -415,6 +529,20 @@ table() { # csv -> markdown rows: scene, setting, frame ms, module gpu ms, error
 {
     echo "<!-- generated by tools/bench_all.sh; edit the script, not this block -->"
     for m in toth truth mitchell sousa atlas_gi; do
+        if [ $m = truth ]; then # issue 21: the summary, then every run's CSV
+            shopt -s nullglob
+            tcsvs=("$OUT"/truth_*_[0-9]*x[0-9]*.csv)
+            shopt -u nullglob
+            [ ${#tcsvs[@]} -gt 0 ] || continue
+            echo
+            echo "### truth: toth and the uniform march against the CPU reference (rmse)"
+            echo
+            [ -f "$OUT/truth_summary.md" ] && cat "$OUT/truth_summary.md"
+            for c in "${tcsvs[@]}"; do
+                echo; table "$c"; echo; echo "![$(basename "$c" .csv)](bench/$(basename "$c" .csv).png)"
+            done
+            continue
+        fi
         [ -f "$OUT/$m.csv" ] || continue
         echo
         echo "### $m ($(head -1 "$OUT/$m.csv" | cut -d, -f9 | sed 's/^error_//'))"
@@ -437,7 +565,9 @@ if [ -f "$OUT/froxel_vs_toth.md" ]; then
 fi
 log "done: $OUT/tables.md and plots"
 
-# Splice the tables into docs/benchmarks.md between its markers.
+# Splice the tables into docs/benchmarks.md between its markers (only from
+# docs/bench: the tables link their plots as bench/NAME.png).
+[ "$OUT" = docs/bench ] || { echo "bench_all: tables in $OUT/tables.md (OUT is not docs/bench: docs/benchmarks.md left as it is)" >&2; exit 0; }
 awk -v tables="$OUT/tables.md" '
     /<!-- BEGIN GENERATED -->/ { print; while ((getline line < tables) > 0) print line; skip = 1; next }
     /<!-- END GENERATED -->/ { skip = 0 }
