@@ -9,8 +9,13 @@
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv1;
+#ifdef ST_EXACT_PRIMARY // regular.geom, point filter only (st_world_build_regular)
 flat in vec3 v_tri0, v_tri1, v_tri2;
 flat in int v_exact;
+#else
+const vec3 v_tri0 = vec3(0.0), v_tri1 = vec3(0.0), v_tri2 = vec3(0.0);
+const int v_exact = 0; // the rasteriser's coverage
+#endif
 uniform vec3 st_albedo;
 uniform vec3 st_emission;
 uniform int st_double_sided;
