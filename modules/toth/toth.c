@@ -513,6 +513,7 @@ static bool reload(void *self, st_err *err) {
     if (!load_shaders(t->w, t->p, &sh, err)) return false;
     destroy_shaders(&t->sh);
     t->sh = sh;
+    t->kept = false; // the next frame marches with the new code
     return true;
 }
 
