@@ -19,6 +19,10 @@
 //           spot's by Gauss-Legendre in that angle, times the fraction
 //           upsampled depth-aware (or the edges pass's), added to the image
 //           the regular pass attenuated by e^(-sigma_t s)
+//   keep    (reuse=on, box stills)  the first frame's fractions per pixel
+//           and a copy of its gbuffer; the jittered frames that follow run
+//           compose alone and read them at their sub-pixel position
+//           (shaders/toth/reuse.glsl)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
