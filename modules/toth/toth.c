@@ -247,10 +247,13 @@ static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, 
     if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
         (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
         (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
-        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err)) &&
-        (sh->keep = st_shader_load(vs, "toth/keep.frag", defines, err)) &&
-        (sh->compose_reuse = st_shader_load(vs, "toth/compose.frag", rdef, err)))
-        return true;
+        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err))) {
+        // The reuse programs only where a still has jittered frames.
+        if (st_world_filter(w) != ST_FILTER_BOX) return true;
+        if ((sh->keep = st_shader_load(vs, "toth/keep.frag", defines, err)) &&
+            (sh->compose_reuse = st_shader_load(vs, "toth/compose.frag", rdef, err)))
+            return true;
+    }
     destroy_shaders(sh);
     return false;
 }
