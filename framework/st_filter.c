@@ -137,16 +137,26 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     return true;
 }
 
+st_pixel_filter st_world_filter(const st_world *w) {
+    return w->opts.filter;
+}
+
 bool st_filter_begin(st_world *w) {
     unsigned outside = w->changes;
     for (int m = 0; m < w->num_mods; m++)
         if (w->mods[m]->params_dirty) outside |= ST_CHANGE_PARAMS;
     if (outside) w->acc_n = 0, w->acc_done = false, w->acc_err = INFINITY;
     if (w->acc_done) return false;
-    // Only what depends on the camera redoes a jittered frame.
+    // A new accumulation: no pass may take what is pending for a jitter only.
+    if (w->acc_n == 0)
+        for (int i = 0; i < w->num_slots; i++)
+            w->slots[i].pending &= ~ST_CHANGE_JITTER;
+    // Only what depends on the camera redoes a jittered frame; the frames
+    // after the first say that the move was a jitter (ST_CHANGE_JITTER).
     float j[2];
     st_jitter_offset(w->acc_n, j);
-    if (j[0] != w->jitter[0] || j[1] != w->jitter[1]) w->changes |= ST_CHANGE_CAMERA;
+    if (j[0] != w->jitter[0] || j[1] != w->jitter[1])
+        w->changes |= ST_CHANGE_CAMERA | (w->acc_n > 0 ? ST_CHANGE_JITTER : 0);
     memcpy(w->jitter, j, sizeof j);
     jitter_matrices(w);
     return true;

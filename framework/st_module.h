@@ -133,6 +133,11 @@ enum {
     ST_CHANGE_INPUTS = 1u << 6, // a resource this pass reads was rewritten
     ST_CHANGE_MEDIUM = 1u << 7,
     ST_CHANGE_ALL = 0xffu,
+    // With ST_CHANGE_CAMERA: every camera change since the pass last ran was
+    // the box filter's sub-pixel jitter within one accumulation (the view and
+    // the scene are those of the accumulation's first frame). Not in
+    // ST_CHANGE_ALL: it qualifies a change, it is none itself.
+    ST_CHANGE_JITTER = 1u << 8,
 };
 
 // Per-frame state handed to hooks. Matrices are column-major float[16].

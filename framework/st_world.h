@@ -76,6 +76,8 @@ bool st_world_progress(const st_world *w, st_progress *out);
 // Box filter: frames in the accumulated image (0 with the point filter) and
 // whether accumulation has stopped (converged or capped).
 uint32_t st_world_accumulated(const st_world *w, bool *done);
+// The still's pixel filter (st_world_opts.filter): box stills jitter their frames.
+st_pixel_filter st_world_filter(const st_world *w);
 // Moves point light i (relighting) in the world and in the scene it was
 // created from; passes that depend on lights rerun.
 bool st_world_set_light(st_world *w, int i, const float pos[3], const float intensity[3],

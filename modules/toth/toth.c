@@ -19,6 +19,10 @@
 //           spot's by Gauss-Legendre in that angle, times the fraction
 //           upsampled depth-aware (or the edges pass's), added to the image
 //           the regular pass attenuated by e^(-sigma_t s)
+//   keep    (reuse=on, box stills)  the first frame's fractions per pixel
+//           and a copy of its gbuffer; the jittered frames that follow run
+//           compose alone and read them at their sub-pixel position
+//           (shaders/toth/reuse.glsl)
 // sampling=uniform: the march sums the in-scattered light of equal steps
 // (Hillaire's energy-conserving step, or the thesis' Riemann sums with
 // integrator=thesis/thesis_far), interleaved over M x M pixels, gathered and
@@ -52,6 +56,7 @@ enum {
     P_GLOW_RADIUS,
     P_PROBES,
     P_REFINE_KINK,
+    P_REUSE,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -131,15 +136,20 @@ static const st_param_def params[P_COUNT] = {
      "equiangular below full resolution: a block whose march texel's visible fraction has a "
      "second difference (along its row or column) above this marches its pixels' own rays (0 = "
      "off)"},
+    {"reuse", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "equiangular, box filter: the jittered frames of a still do not march; they read the first "
+     "frame's visible fraction at their sub-pixel position, bilinear on the same surface (off: "
+     "every frame marches its own rays)"},
 };
 
-enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_COMPOSE };
+enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_KEEP, PASS_COMPOSE };
 
 typedef struct toth {
     st_world *w;
     const double *p;
     struct toth_shaders {
         st_shader *march, *gather, *edges, *compose;
+        st_shader *keep, *compose_reuse; // reuse=on
     } sh;
     GLuint vao; // the edges pass's points (attribute-less)
     st_pass_info info;
@@ -150,6 +160,10 @@ typedef struct toth {
     st_phase_kind table_kind;
     float table_g;
     float *table;
+    // reuse=on: this frame is a jittered one that reads the first frame's
+    // fractions (kept: they exist, from the view-projection first_vp).
+    bool reusing, kept;
+    float first_vp[16];
 } toth;
 
 // Steps cannot be shared by more pixels than there are steps.
@@ -173,12 +187,18 @@ static int scale(const toth *t, int height) {
     return s;
 }
 
-// The pass a slot index stands for (the gather exists only when interleaved).
+static bool reuse_on(const toth *t) {
+    return t->p[P_REUSE] != 0;
+}
+
+// The pass a slot index stands for (the gather exists only when interleaved,
+// the keep pass only with reuse=on).
 static int pass_kind(const toth *t, int pass) {
     int g = interleave(t) > 1;
     if (pass == 0) return PASS_MARCH;
     if (pass == 1 && g) return PASS_GATHER;
-    return pass == 1 + g ? PASS_EDGES : PASS_COMPOSE;
+    if (pass == 1 + g) return PASS_EDGES;
+    return pass == 2 + g && reuse_on(t) ? PASS_KEEP : PASS_COMPOSE;
 }
 
 static bool medium_scatters(const st_scene *sc) {
@@ -196,9 +216,14 @@ static bool declare_targets(toth *t, int height, st_err *err) {
     const st_target_desc d = {GL_RGBA32F, .divisor = t->decl_scale, .filter = GL_NEAREST};
     // The edges pass's fractions, full resolution (-1: not marched there).
     const st_target_desc full = {GL_RGBA32F, .divisor = 1, .filter = GL_NEAREST};
+    // reuse=on: the first frame's fractions and gbuffer (keep pass).
+    const st_target_desc *keep = reuse_on(t) ? &full : NULL;
+    t->kept = false;
     return st_world_declare_target(t->w, "toth.march", &d, err) &&
            st_world_declare_target(t->w, "toth.gather", interleave(t) > 1 ? &d : NULL, err) &&
-           st_world_declare_target(t->w, "toth.refined", &full, err);
+           st_world_declare_target(t->w, "toth.refined", &full, err) &&
+           st_world_declare_target(t->w, "toth.first", keep, err) &&
+           st_world_declare_target(t->w, "toth.first_gbuffer", keep, err);
 }
 
 static void destroy_shaders(struct toth_shaders *sh) {
@@ -206,21 +231,29 @@ static void destroy_shaders(struct toth_shaders *sh) {
     st_shader_destroy(sh->gather);
     st_shader_destroy(sh->edges);
     st_shader_destroy(sh->compose);
+    st_shader_destroy(sh->keep);
+    st_shader_destroy(sh->compose_reuse);
     *sh = (struct toth_shaders){0};
 }
 
 static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, st_err *err) {
     const char *defines = st_world_light_defines(w);
-    char cdef[256];
+    char cdef[256], rdef[sizeof cdef + 16];
     snprintf(cdef, sizeof cdef, "%s%s", defines,
              p[P_COMPOSE] == COMPOSE_TABLE ? "TOTH_AIRLIGHT 1\n" : "");
+    snprintf(rdef, sizeof rdef, "%sTOTH_REUSE 1\n", cdef);
     const char *vs = "common/fullscreen.vert";
     *sh = (struct toth_shaders){0};
     if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
         (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
         (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
-        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err)))
-        return true;
+        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err))) {
+        // The reuse programs only where a still has jittered frames.
+        if (st_world_filter(w) != ST_FILTER_BOX) return true;
+        if ((sh->keep = st_shader_load(vs, "toth/keep.frag", defines, err)) &&
+            (sh->compose_reuse = st_shader_load(vs, "toth/compose.frag", rdef, err)))
+            return true;
+    }
     destroy_shaders(sh);
     return false;
 }
@@ -249,7 +282,7 @@ static void destroy(void *self) {
 }
 
 static int num_passes(void *self) {
-    return interleave(self) > 1 ? 4 : 3;
+    return 3 + (interleave(self) > 1) + reuse_on(self);
 }
 
 static const st_pass_info *pass_info(void *self, int pass) {
@@ -269,11 +302,20 @@ static const st_pass_info *pass_info(void *self, int pass) {
                                                    : "gbuffer,shadow_map,toth.march",
                                  "toth.refined", 0};
         break;
+    case PASS_KEEP:
+        t->info = (st_pass_info){"keep", ST_STAGE_POST,
+                                 interleave(t) > 1 ? "gbuffer,toth.gather,toth.refined"
+                                                   : "gbuffer,toth.march,toth.refined",
+                                 "toth.first", ST_PASS_FULLSCREEN};
+        break;
     default:
-        t->info = (st_pass_info){"compose", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined"
-                                                   : "hdr,gbuffer,toth.march,toth.refined",
-                                 "hdr", ST_PASS_FULLSCREEN};
+        t->info = (st_pass_info){
+            "compose", ST_STAGE_POST,
+            reuse_on(t) ? (interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined,toth.first"
+                                             : "hdr,gbuffer,toth.march,toth.refined,toth.first")
+            : interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined"
+                                : "hdr,gbuffer,toth.march,toth.refined",
+            "hdr", ST_PASS_FULLSCREEN};
         break;
     }
     return &t->info;
@@ -296,9 +338,25 @@ static bool needed(void *self, int pass, const st_frame *f) {
         declare_targets(t, f->height, &ignore);
     }
     bool any = medium_scatters(f->scene) && f->scene->num_lights > 0;
+    // reuse=on: a frame whose only change since the march last ran is the
+    // box filter's sub-pixel jitter (its gbuffer rewritten by it) reads the
+    // fractions the first frame kept; march, gather, edges and keep rest.
+    if (pass == 0) {
+        const unsigned jitter_only = ST_CHANGE_CAMERA | ST_CHANGE_JITTER | ST_CHANGE_INPUTS;
+        t->reusing = any && reuse_on(t) && t->kept &&
+                     sampling(t, f->scene) == SAMPLING_EQUIANGULAR &&
+                     (f->changes & ST_CHANGE_JITTER) && !(f->changes & ~jitter_only);
+        if (!t->reusing) t->kept = false;
+    }
+    int kind = pass_kind(t, pass);
+    if (t->reusing && kind != PASS_COMPOSE) return false;
+    // Only a box-filtered still has jittered frames to keep fractions for.
+    if (kind == PASS_KEEP)
+        return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR &&
+               st_world_filter(t->w) == ST_FILTER_BOX;
     // The edges pass: only where compose may read it (equi-angular below full
     // resolution, refine < 1).
-    if (pass_kind(t, pass) == PASS_EDGES)
+    if (kind == PASS_EDGES)
         return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR && t->decl_scale > 1 &&
                (t->p[P_REFINE] < 1 || t->p[P_REFINE_KINK] > 0);
     return any;
@@ -387,24 +445,52 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     case PASS_EDGES:
         if (!draw_edges(t, f, src, err)) return false;
         break;
+    case PASS_KEEP: {
+        // The world draws the fractions; the gbuffer is copied beside them.
+        const st_target *gb = st_world_get_target(t->w, "toth.first_gbuffer", err);
+        if (!gb) return false;
+        const st_target *refined = st_world_target(t->w, "toth.refined");
+        set_common(t, sh->keep);
+        st_shader_set_float(sh->keep, "toth_refine", (float)t->p[P_REFINE]);
+        st_shader_set_int(sh->keep, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+        st_shader_set_float(sh->keep, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+        if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
+        st_shader_texture(sh->keep, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        if (refined)
+            st_shader_texture(sh->keep, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
+        glCopyImageSubData(f->gbuffer, GL_TEXTURE_2D, 0, 0, 0, 0, gb->color[0], GL_TEXTURE_2D, 0, 0,
+                           0, 0, f->width, f->height, 1);
+        memcpy(t->first_vp, f->view_proj, sizeof t->first_vp);
+        t->kept = true;
+        break;
+    }
     default: {
         const st_target *refined = st_world_target(t->w, "toth.refined");
-        set_common(t, sh->compose);
-        st_shader_set_int(sh->compose, "toth_sampling", sampling(t, f->scene));
-        st_shader_set_int(sh->compose, "toth_nodes", (int)t->p[P_NODES]);
-        st_shader_set_float(sh->compose, "toth_refine", (float)t->p[P_REFINE]);
-        st_shader_set_int(sh->compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-        st_shader_set_float(sh->compose, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
-        st_shader_set_int(sh->compose, "toth_has_inscatter", src != NULL);
-        st_shader_set_int(sh->compose, "toth_glow", (int)t->p[P_GLOW]);
-        st_shader_set_float(sh->compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);
-        if (src) st_shader_texture(sh->compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+        if (t->reusing) {
+            const st_target *first = st_world_target(t->w, "toth.first");
+            const st_target *gb = st_world_target(t->w, "toth.first_gbuffer");
+            if (!first || !gb) return st_fail(err, ST_ERR_RUNTIME, "toth: no kept fractions");
+            st_shader_texture(sh->compose_reuse, "toth_first_tex", GL_TEXTURE_2D, first->color[0]);
+            st_shader_texture(sh->compose_reuse, "toth_first_gbuffer", GL_TEXTURE_2D, gb->color[0]);
+            st_shader_set_mat4(sh->compose_reuse, "toth_first_view_proj", t->first_vp);
+        }
+        st_shader *compose = t->reusing ? sh->compose_reuse : sh->compose;
+        set_common(t, compose);
+        st_shader_set_int(compose, "toth_sampling", sampling(t, f->scene));
+        st_shader_set_int(compose, "toth_nodes", (int)t->p[P_NODES]);
+        st_shader_set_float(compose, "toth_refine", (float)t->p[P_REFINE]);
+        st_shader_set_int(compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+        st_shader_set_float(compose, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+        st_shader_set_int(compose, "toth_has_inscatter", src != NULL);
+        st_shader_set_int(compose, "toth_glow", (int)t->p[P_GLOW]);
+        st_shader_set_float(compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);
+        if (src) st_shader_texture(compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         if (refined)
-            st_shader_texture(sh->compose, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
+            st_shader_texture(compose, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
         if (t->p[P_COMPOSE] == COMPOSE_TABLE) {
             GLuint table = airlight_table(t, &f->scene->medium, err);
             if (!table) return false;
-            st_shader_texture(sh->compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
+            st_shader_texture(compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
         }
         break;
     }
@@ -421,8 +507,10 @@ static st_shader *shader(void *self, int pass) {
         return t->sh.gather;
     case PASS_EDGES:
         return t->sh.edges;
+    case PASS_KEEP:
+        return t->sh.keep;
     default:
-        return t->sh.compose;
+        return t->reusing ? t->sh.compose_reuse : t->sh.compose;
     }
 }
 
@@ -432,6 +520,7 @@ static bool reload(void *self, st_err *err) {
     if (!load_shaders(t->w, t->p, &sh, err)) return false;
     destroy_shaders(&t->sh);
     t->sh = sh;
+    t->kept = false; // the next frame marches with the new code
     return true;
 }
 
@@ -439,7 +528,8 @@ static bool reload(void *self, st_err *err) {
 // method recompiles the shaders (on failure the old ones stay).
 static void param_changed(void *self, int index) {
     st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES || index == P_MIN_ROWS)
+    if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES ||
+        index == P_MIN_ROWS || index == P_REUSE)
         declare_targets(self, ((toth *)self)->height, &ignore);
     if (index == P_COMPOSE) reload(self, &ignore);
 }

@@ -18,6 +18,9 @@
 #define toth_unshadowed toth_eq_unshadowed // compose=quadrature
 #endif
 #include "toth/upsample.glsl"
+#ifdef TOTH_REUSE
+#include "toth/reuse.glsl" // jittered frames of a still, reuse=on
+#endif
 #include "toth/glow.glsl" // a light in view under the box filter: the pixel's mean
 uniform sampler2D st_hdr_in;
 uniform sampler2D toth_refined_tex; // the edges pass: fractions of the pixels marched there
@@ -35,10 +38,17 @@ void main() {
     // One upsampling for both modes: llvmpipe runs both sides of a branch on
     // a uniform, so a call in each side would be paid twice.
     float spread = 0.0;
+#ifdef TOTH_REUSE
+    // A jittered frame of a still (reuse=on, equiangular): the first frame's
+    // fractions at this ray's position, nothing marched or upsampled.
+    vec4 up = toth_first_fraction(p, g);
+#else
     vec4 up = toth_has_inscatter != 0 ? toth_upsample(p, g, spread) : vec4(0.0);
+#endif
     if (toth_has_inscatter != 0 && toth_sampling == 1) {
         vec4 frac = up;
         float s = toth_ray_length(g, p);
+#ifndef TOTH_REUSE
         // Where the taps disagree (a shaft's edge, a silhouette) the
         // interpolated fraction is a guess: the edges pass marched this
         // pixel's own ray (-1: it decided otherwise, keep the guess).
@@ -46,6 +56,7 @@ void main() {
             vec4 r = texelFetch(toth_refined_tex, p, 0);
             if (r.x >= 0.0) frac = r;
         }
+#endif
         // One light: its fraction per colour channel (toth_rgb_fraction).
         bool rgb = st_num_lights == 1;
         for (int l = 0; l < st_num_lights; l++)

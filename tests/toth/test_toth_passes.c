@@ -11,7 +11,7 @@ static char buf[1 << 16], scene[512], out[512];
 
 typedef struct {
     int passes, runs, skipped, culled;
-    int march, gather, edges, compose; // runs per pass
+    int march, gather, edges, keep, compose; // runs per pass
 } toth_stats;
 
 static toth_stats stats(const char *extra) {
@@ -36,6 +36,7 @@ static toth_stats stats(const char *extra) {
         if (!strcmp(name, "march")) t.march = runs;
         if (!strcmp(name, "gather")) t.gather = runs;
         if (!strcmp(name, "edges")) t.edges = runs;
+        if (!strcmp(name, "keep")) t.keep = runs;
         if (!strcmp(name, "compose")) t.compose = runs;
     }
     cJSON_Delete(j);
@@ -54,26 +55,44 @@ int main(void) {
 
     // With a medium, interleaved: march, gather and compose every frame (32
     // rows, below min_rows: the march is at full resolution, the edges pass
-    // has nothing to do).
+    // has nothing to do; the keep pass of reuse=on only for box stills).
     write_room(2, med, "\"interleave\": 2");
     toth_stats t = stats("--frames 3");
-    CHECK(t.passes == 4 && t.march == 3 && t.gather == 3 && t.compose == 3 && t.edges == 0,
+    CHECK(t.passes == 5 && t.keep == 0 && t.march == 3 && t.gather == 3 && t.compose == 3 &&
+              t.edges == 0,
           "medium: passes %d, march %d gather %d edges %d compose %d runs", t.passes, t.march,
           t.gather, t.edges, t.compose);
     // Not interleaved: no gather pass at all.
     t = stats("--frames 2 --set toth.interleave=1");
-    CHECK(t.passes == 3 && t.march == 2 && t.compose == 2 && t.gather == 0,
+    CHECK(t.passes == 4 && t.march == 2 && t.compose == 2 && t.gather == 0,
           "interleave 1: %d passes", t.passes);
     write_room(2, med, "");
     t = stats("--frames 2");
-    CHECK(t.passes == 3 && t.march == 2 && t.compose == 2 && t.gather == 0,
+    CHECK(t.passes == 4 && t.march == 2 && t.compose == 2 && t.gather == 0,
           "interleave 1: %d passes", t.passes);
     // Below full resolution the edges pass runs every frame.
     t = stats("--frames 2 --set toth.min_rows=0");
     CHECK(t.edges == 2 && t.compose == 2, "reduced resolution: edges %d runs", t.edges);
     // Fewer samples than M^2 pixels to share them: interleaving is limited.
     t = stats("--set toth.samples=3 --set toth.interleave=4");
-    CHECK(t.passes == 3, "3 samples cannot be split over 2x2 pixels: %d passes", t.passes);
+    CHECK(t.passes == 4, "3 samples cannot be split over 2x2 pixels: %d passes", t.passes);
+
+    // reuse=on (default), box still: the first frame marches and keeps its
+    // fractions, the jittered frames only compose; reuse=off marches every
+    // frame and has no keep pass. Below full resolution (min_rows 0) the
+    // edges pass follows the march.
+    t = stats("--filter box --frames 6 --set toth.min_rows=0");
+    CHECK(t.passes == 4 && t.march == 1 && t.edges == 1 && t.keep == 1 && t.compose == 6,
+          "box, reuse: passes %d, march %d edges %d keep %d compose %d runs", t.passes, t.march,
+          t.edges, t.keep, t.compose);
+    t = stats("--filter box --frames 6 --set toth.min_rows=0 --set toth.reuse=0");
+    CHECK(t.passes == 3 && t.march == 6 && t.edges == 6 && t.compose == 6,
+          "box, no reuse: passes %d, march %d edges %d compose %d runs", t.passes, t.march, t.edges,
+          t.compose);
+    // The uniform march holds in-scattered light, not a fraction: no reuse.
+    t = stats("--filter box --frames 4 --set toth.sampling=uniform");
+    CHECK(t.march == 4 && t.keep == 0 && t.compose == 4,
+          "box, uniform sampling: march %d keep %d compose %d runs", t.march, t.keep, t.compose);
 
     // No medium, or one that does not scatter: no toth pass runs.
     write_room(2, NULL, "");
