@@ -390,6 +390,14 @@ static void set_common(toth *t, st_shader *sh) {
     st_shader_set_int(sh, "toth_interleave", interleave(t));
 }
 
+// The upsampling's rule for which pixels take the edges pass's own ray
+// (toth/upsample.glsl): the edges, keep and compose passes share it.
+static void set_refine(toth *t, st_shader *sh) {
+    st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
+    st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
+    st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+}
+
 // The edges pass: one point per scale x scale block (edges.vert keeps those
 // with a pixel that may need its own ray), drawn into toth.refined after
 // clearing it to -1 (compose then upsamples every pixel not marched here).
@@ -403,9 +411,7 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
     st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
     st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
-    st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
-    st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-    st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+    set_refine(t, sh);
     if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
     st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
     const float none[4] = {-1, -1, -1, -1};
@@ -451,9 +457,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         if (!gb) return false;
         const st_target *refined = st_world_target(t->w, "toth.refined");
         set_common(t, sh->keep);
-        st_shader_set_float(sh->keep, "toth_refine", (float)t->p[P_REFINE]);
-        st_shader_set_int(sh->keep, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-        st_shader_set_float(sh->keep, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+        set_refine(t, sh->keep);
         if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
         st_shader_texture(sh->keep, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
         if (refined)
@@ -478,9 +482,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         set_common(t, compose);
         st_shader_set_int(compose, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(compose, "toth_nodes", (int)t->p[P_NODES]);
-        st_shader_set_float(compose, "toth_refine", (float)t->p[P_REFINE]);
-        st_shader_set_int(compose, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-        st_shader_set_float(compose, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+        set_refine(t, compose);
         st_shader_set_int(compose, "toth_has_inscatter", src != NULL);
         st_shader_set_int(compose, "toth_glow", (int)t->p[P_GLOW]);
         st_shader_set_float(compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);

@@ -23,11 +23,9 @@
 #endif
 #include "toth/glow.glsl" // a light in view under the box filter: the pixel's mean
 uniform sampler2D st_hdr_in;
-uniform sampler2D toth_refined_tex; // the edges pass: fractions of the pixels marched there
 uniform int toth_has_inscatter;
 uniform int toth_sampling; // 0 uniform, 1 equiangular
 uniform int toth_nodes;    // Gauss-Legendre nodes of the unshadowed integral
-uniform float toth_refine_kink; // > 0: the edges pass also marched bent blocks (toth/kink.glsl)
 layout(location = 0) out vec4 o_radiance;
 
 void main() {
@@ -50,12 +48,8 @@ void main() {
         float s = toth_ray_length(g, p);
 #ifndef TOTH_REUSE
         // Where the taps disagree (a shaft's edge, a silhouette) the
-        // interpolated fraction is a guess: the edges pass marched this
-        // pixel's own ray (-1: it decided otherwise, keep the guess).
-        if (spread > toth_refine || (toth_refine_kink > 0.0 && toth_scale > 1)) {
-            vec4 r = texelFetch(toth_refined_tex, p, 0);
-            if (r.x >= 0.0) frac = r;
-        }
+        // interpolated fraction is a guess: the edges pass's own ray.
+        frac = toth_refined(p, up, spread);
 #endif
         // One light: its fraction per colour channel (toth_rgb_fraction).
         bool rgb = st_num_lights == 1;

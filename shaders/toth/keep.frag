@@ -5,17 +5,11 @@
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
 #include "toth/upsample.glsl"
-uniform sampler2D toth_refined_tex;
-uniform float toth_refine_kink;
 layout(location = 0) out vec4 o_fraction;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     float spread = 0.0;
-    vec4 frac = toth_upsample(p, texelFetch(st_gbuffer, p, 0), spread);
-    if (spread > toth_refine || (toth_refine_kink > 0.0 && toth_scale > 1)) {
-        vec4 r = texelFetch(toth_refined_tex, p, 0);
-        if (r.x >= 0.0) frac = r;
-    }
-    o_fraction = frac;
+    vec4 up = toth_upsample(p, texelFetch(st_gbuffer, p, 0), spread);
+    o_fraction = toth_refined(p, up, spread);
 }

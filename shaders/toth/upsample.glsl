@@ -9,6 +9,8 @@ uniform sampler2D st_gbuffer;
 uniform sampler2D toth_inscatter_tex;
 uniform float toth_refine; // fraction spread over the taps above which a pixel is marched
 uniform int toth_refine_taps; // fewer taps on the pixel's surface than this: marched
+uniform sampler2D toth_refined_tex; // the edges pass's fractions (-1: not marched there)
+#include "toth/kink.glsl" // toth_refine_kink: the edges pass also marched bent blocks
 
 // spread: how much the taps that were mixed differ (max - min over the
 // channels), 1 when none showed the pixel's surface.
@@ -61,5 +63,16 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     bool settled = used > 0 && inside == 4 && all(equal(hi_all, lo_all));
     spread = used >= toth_refine_taps ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
+}
+
+// The fraction compose uses at p (and the keep pass keeps): the upsampled
+// one, unless the taps disagree (a shaft's edge, a silhouette) or bent
+// blocks were marched too, and the edges pass marched this pixel's own ray.
+vec4 toth_refined(ivec2 p, vec4 up, float spread) {
+    if (spread > toth_refine || (toth_refine_kink > 0.0 && toth_scale > 1)) {
+        vec4 r = texelFetch(toth_refined_tex, p, 0);
+        if (r.x >= 0.0) return r;
+    }
+    return up;
 }
 #endif
