@@ -110,9 +110,9 @@ static const st_param_def params[P_COUNT] = {
      "two lookups)"},
     {"refine_taps", ST_PARAM_INT, 4, 1, 4, NULL,
      "equiangular below full resolution: a pixel with fewer upsampling taps on its own surface "
-     "inside the image than this marches its own ray, unless all four taps are inside the image "
-     "and see exactly the same fraction (4: every silhouette, crease and border pixel; 2: only "
-     "where at most one tap is usable)"},
+     "than this, or beyond the outermost march pixels (the image border), marches its own ray, "
+     "unless its four taps (at the border mirrored inward) see exactly the same fraction (4: every "
+     "silhouette and crease pixel; 2: only where at most one tap is usable)"},
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
      "the march resolution is raised (quarter -> half -> full) until the march has at least this "
      "many rows (0 = resolution as set)"},
