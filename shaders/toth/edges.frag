@@ -6,6 +6,7 @@
 // which compose reads as "upsample", where no ray is marched.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
+#define TOTH_EDGES_SELECT 1 // the border judged with mirrored taps (upsample.glsl)
 #include "toth/upsample.glsl"
 #include "toth/kink.glsl"
 #include "toth/edges_list.glsl"

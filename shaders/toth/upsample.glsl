@@ -44,16 +44,18 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
             best = diff;
             nearest = v;
         }
+#ifdef TOTH_EDGES_SELECT
         // A tap clamped at the border extrapolates the texel beside it as a
-        // constant, exact only where the fraction is: the settled test below
-        // judges it by the texel mirrored inward (the next one along the
-        // clamped axis), as if it were the tap.
+        // constant, exact only where the fraction is: the select step's
+        // settled test below judges it by the texel mirrored inward (the
+        // next one along the clamped axis), as if it were the tap.
         ivec2 m = toth_mirror(b + o, size);
         if (m != q) {
             gq = texelFetch(st_gbuffer, toth_full_pixel(m), 0);
             v = texelFetch(toth_inscatter_tex, m, 0);
             same = toth_similar(g, gq);
         }
+#endif
         lo_all = min(lo_all, v);
         hi_all = max(hi_all, v);
         if (same) {
@@ -72,8 +74,13 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     // wholly lit or wholly in shadow: on the window and hole scenes at 600^2
     // this takes 40% off compose's time; relaxing it further, to taps that agree
     // within 0.01, puts pixels beside a crease 8% off in test_toth_sun_shadow).
-    bool settled = used > 0 && all(equal(hi_all, lo_all));
     bool clamped = any(lessThan(b, ivec2(0))) || any(greaterThan(b + 1, size - 1));
+    bool settled = used > 0 && all(equal(hi_all, lo_all));
+#ifndef TOTH_EDGES_SELECT
+    // Compose and keep need no mirrored taps: a border pixel reads
+    // toth.refined, which holds its own ray where the select step listed it.
+    settled = settled && !clamped;
+#endif
     spread = used >= toth_refine_taps && !clamped ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
 }
