@@ -11,9 +11,11 @@
 //   gather  (M > 1 only)  averages the fractions of the M x M block
 //   edges   (below full resolution)  marches the full-resolution pixels whose
 //           upsampling taps disagree or show another surface, into
-//           toth.refined; drawn as one point per block, the blocks without
-//           such a pixel culled in the vertex shader (llvmpipe would run the
-//           march code masked for every pixel of a full-screen pass)
+//           toth.refined: a select step drawn as one point per block (the
+//           blocks without such a pixel culled in the vertex shader) lists
+//           those pixels, a march step runs one fragment per listed pixel,
+//           packed densely (llvmpipe runs 4 x 4 blocks in 8-wide vectors: a
+//           lane that does not march waits for its neighbours that do)
 //   compose (full resolution)  the unshadowed integral per pixel: a point
 //           light's from the airlight table (airlight.h, compose=table), a
 //           spot's by Gauss-Legendre in that angle, times the fraction
@@ -108,9 +110,9 @@ static const st_param_def params[P_COUNT] = {
      "two lookups)"},
     {"refine_taps", ST_PARAM_INT, 4, 1, 4, NULL,
      "equiangular below full resolution: a pixel with fewer upsampling taps on its own surface "
-     "inside the image than this marches its own ray, unless all four taps are inside the image "
-     "and see exactly the same fraction (4: every silhouette, crease and border pixel; 2: only "
-     "where at most one tap is usable)"},
+     "than this, or beyond the outermost march pixels (the image border), marches its own ray, "
+     "unless its four taps (at the border mirrored inward) see exactly the same fraction (4: every "
+     "silhouette and crease pixel; 2: only where at most one tap is usable)"},
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
      "the march resolution is raised (quarter -> half -> full) until the march has at least this "
      "many rows (0 = resolution as set)"},
@@ -148,10 +150,15 @@ typedef struct toth {
     st_world *w;
     const double *p;
     struct toth_shaders {
-        st_shader *march, *gather, *edges, *compose;
+        st_shader *march, *gather, *edges, *edges_march, *compose;
         st_shader *keep, *compose_reuse; // reuse=on
     } sh;
-    GLuint vao; // the edges pass's points (attribute-less)
+    GLuint vao; // the edges pass's points and quad (attribute-less)
+    // The edges pass's list of pixels to march (toth/edges_list.glsl), for
+    // list_pixels pixels, and the framebuffer without attachments its march
+    // step draws into.
+    GLuint list, list_fbo;
+    int list_pixels;
     st_pass_info info;
     int height;     // image rows the targets were declared for
     int decl_scale; // the divisor they were declared with
@@ -230,6 +237,7 @@ static void destroy_shaders(struct toth_shaders *sh) {
     st_shader_destroy(sh->march);
     st_shader_destroy(sh->gather);
     st_shader_destroy(sh->edges);
+    st_shader_destroy(sh->edges_march);
     st_shader_destroy(sh->compose);
     st_shader_destroy(sh->keep);
     st_shader_destroy(sh->compose_reuse);
@@ -247,6 +255,8 @@ static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, 
     if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
         (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
         (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
+        (sh->edges_march =
+             st_shader_load("toth/edges_march.vert", "toth/edges_march.frag", defines, err)) &&
         (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err))) {
         // The reuse programs only where a still has jittered frames.
         if (st_world_filter(w) != ST_FILTER_BOX) return true;
@@ -277,6 +287,11 @@ static void destroy(void *self) {
     toth *t = self;
     destroy_shaders(&t->sh);
     if (t->vao) glDeleteVertexArrays(1, &t->vao);
+    if (t->list) {
+        st_world_untrack(t->w, "toth.edges_list");
+        glDeleteBuffers(1, &t->list);
+    }
+    if (t->list_fbo) glDeleteFramebuffers(1, &t->list_fbo);
     free(t->table);
     free(t);
 }
@@ -398,29 +413,81 @@ static void set_refine(toth *t, st_shader *sh) {
     st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
 }
 
-// The edges pass: one point per scale x scale block (edges.vert keeps those
-// with a pixel that may need its own ray), drawn into toth.refined after
-// clearing it to -1 (compose then upsamples every pixel not marched here).
+// The list of the edges pass (toth/edges_list.glsl: a count, then one entry
+// per pixel) for a width x height image, and the march step's grid: the
+// image's size rounded up to 4 x 4 blocks holds a list of every pixel.
+static bool edges_list(toth *t, int width, int height, st_err *err) {
+    int gw = (width + 3) & ~3, gh = (height + 3) & ~3;
+    if (t->list && t->list_pixels == gw * gh) return true;
+    if (t->list) {
+        st_world_untrack(t->w, "toth.edges_list");
+        glDeleteBuffers(1, &t->list);
+    }
+    glCreateBuffers(1, &t->list);
+    glNamedBufferStorage(t->list, sizeof(GLuint) * (1 + (size_t)gw * gh), NULL,
+                         GL_DYNAMIC_STORAGE_BIT);
+    t->list_pixels = gw * gh;
+    if (!t->list_fbo) glCreateFramebuffers(1, &t->list_fbo);
+    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, gw);
+    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, gh);
+    return st_world_track(t->w, "toth.edges_list", GL_BUFFER, t->list, err) &&
+           st_gl_check("toth edges list", err);
+}
+
+// The edges pass: toth.refined cleared to -1 (compose then upsamples every
+// pixel not marched here); the select step, one point per scale x scale
+// block (edges.vert keeps those with a pixel that may need its own ray),
+// lists the pixels that do; the march step marches them, one fragment each
+// in 4 x 4 blocks of listed pixels, and stores their fractions. The count
+// stays on the GPU: the march step's vertex shader sizes its quad by it.
 static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err *err) {
-    st_shader *sh = t->sh.edges;
+    st_shader *sh = t->sh.edges, *m = t->sh.edges_march;
     int s = t->decl_scale, bx = (f->width + s - 1) / s, by = (f->height + s - 1) / s;
+    const st_target *refined = st_world_target(t->w, "toth.refined");
+    if (!src || !refined) return st_fail(err, ST_ERR_RUNTIME, "toth: no march or refined target");
+    if (!edges_list(t, f->width, f->height, err)) return false;
+    int gw = (f->width + 3) & ~3, gh = (f->height + 3) & ~3;
     set_common(t, sh);
     st_shader_set_int(sh, "toth_blocks_x", bx);
-    st_shader_set_int(sh, "toth_samples", (int)t->p[P_SAMPLES]);
-    st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
-    st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
-    st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
-    st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
     set_refine(t, sh);
-    if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
     st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
     const float none[4] = {-1, -1, -1, -1};
     glClearBufferfv(GL_COLOR, 0, none);
+    const GLuint zero = 0;
+    glClearNamedBufferSubData(t->list, GL_R32UI, 0, sizeof zero, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                              &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, t->list); // edges_list.glsl's binding
     if (!t->vao) glCreateVertexArrays(1, &t->vao);
     glBindVertexArray(t->vao);
+    // Select: writes only the list (toth.refined keeps the clear).
+    glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glPointSize((float)s);
     glDrawArrays(GL_POINTS, 0, bx * by);
     glPointSize(1.0f);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // March: into the framebuffer without attachments, storing to toth.refined.
+    GLint fbo = 0, vp[4];
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
+    glGetIntegerv(GL_VIEWPORT, vp);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->list_fbo);
+    glViewport(0, 0, gw, gh);
+    st_shader_use(m);
+    st_world_apply_uniforms(t->w, m, f);
+    set_common(t, m);
+    st_shader_texture(m, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
+    st_shader_set_int(m, "toth_edges_width", gw);
+    st_shader_set_int(m, "toth_edges_height", gh);
+    st_shader_set_int(m, "toth_samples", (int)t->p[P_SAMPLES]);
+    st_shader_set_int(m, "toth_jitter", t->p[P_JITTER] != 0);
+    st_shader_set_int(m, "toth_bisect", (int)t->p[P_BISECT]);
+    st_shader_set_int(m, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_int(m, "toth_probes", (int)t->p[P_PROBES]);
+    glBindImageTexture(0, refined->color[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT); // compose and keep read toth.refined
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)fbo);
+    glViewport(vp[0], vp[1], vp[2], vp[3]);
     return true;
 }
 

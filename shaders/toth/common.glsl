@@ -18,6 +18,13 @@ ivec2 toth_full_pixel(ivec2 lp) {
     return min(lp * toth_scale + (toth_scale - 1) / 2, ivec2(st_resolution) - 1);
 }
 
+// March texel q reflected into the image at its border (-1 -> 1, n -> n - 2):
+// the upsampling judges a tap clamped at the border by the texel mirrored
+// inward (toth/upsample.glsl).
+ivec2 toth_mirror(ivec2 q, ivec2 size) {
+    return clamp(size - 1 - abs(size - 1 - abs(q)), ivec2(0), size - 1);
+}
+
 // Unit direction of the view ray through NDC point ndc, as the pinhole of
 // docs/physics.md.
 vec3 toth_ndc_dir(vec2 ndc) {

@@ -3,8 +3,8 @@
 // the block may have to march its own ray (toth/upsample.glsl's rule); the
 // rest are moved outside the clip volume, so no fragment of theirs runs.
 // A block is skipped when no pixel of it would be marched by that rule,
-// evaluated here on its taps -- the 3 x 3 march texels around the block --
-// for blocks whose taps all lie inside the image (the others are kept).
+// evaluated here on its taps -- the 3 x 3 march texels around the block,
+// those beyond the image border mirrored inward as toth_upsample judges them.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
 uniform sampler2D st_gbuffer;
@@ -16,10 +16,9 @@ uniform int toth_refine_taps;
 
 bool toth_block_settled(ivec2 k) {
     ivec2 size = textureSize(toth_inscatter_tex, 0);
-    if (any(lessThan(k - 1, ivec2(0))) || any(greaterThan(k + 1, size - 1))) return false;
     vec4 vt[9], gt[9];
     for (int i = 0; i < 9; i++) {
-        ivec2 q = k - 1 + ivec2(i % 3, i / 3);
+        ivec2 q = toth_mirror(k - 1 + ivec2(i % 3, i / 3), size);
         vt[i] = texelFetch(toth_inscatter_tex, q, 0);
         gt[i] = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
     }
@@ -29,6 +28,7 @@ bool toth_block_settled(ivec2 k) {
         vec4 g = texelFetch(st_gbuffer, p, 0);
         // The taps of p, as toth_upsample finds them (b - k + 1 in {0, 1} per axis).
         ivec2 b = ivec2(floor((vec2(p) - float((toth_scale - 1) / 2)) / float(toth_scale))) - k + 1;
+        bool clamped = any(lessThan(b + k - 1, ivec2(0))) || any(greaterThan(b + k, size - 1));
         vec4 lo = vec4(1e30), hi = vec4(-1e30), lo_all = vec4(1e30), hi_all = vec4(-1e30);
         int used = 0;
         for (int o = 0; o < 4; o++) {
@@ -43,7 +43,7 @@ bool toth_block_settled(ivec2 k) {
         }
         vec4 d = hi - lo;
         bool settled = used > 0 && all(equal(hi_all, lo_all));
-        float spread = used >= toth_refine_taps ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
+        float spread = used >= toth_refine_taps && !clamped ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
         if (spread > toth_refine) return false;
     }
     return true;

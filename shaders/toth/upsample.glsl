@@ -25,7 +25,7 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     vec2 fr = f - vec2(b);
     vec4 sum = vec4(0.0);
     float wsum = 0.0, best = 1e30;
-    int used = 0, inside = 0;
+    int used = 0;
     vec4 nearest = vec4(0.0);
     float s = toth_ray_length(g, p);
     for (int k = 0; k < 4; k++) {
@@ -34,34 +34,54 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
         vec4 gq = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
         vec4 v = texelFetch(toth_inscatter_tex, q, 0);
         float bil = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
-        lo_all = min(lo_all, v);
-        hi_all = max(hi_all, v);
-        inside += q == b + o ? 1 : 0;
-        if (toth_similar(g, gq)) {
+        bool same = toth_similar(g, gq);
+        if (same) {
             sum += (bil + 1e-3) * v;
             wsum += bil + 1e-3;
-            used += q == b + o ? 1 : 0; // a tap clamped at the border extrapolates
-            lo = min(lo, v);
-            hi = max(hi, v);
         }
         float diff = abs(toth_ray_length(gq, toth_full_pixel(q)) - s) + ((g.w < 0.0) != (gq.w < 0.0) ? 1e20 : 0.0);
         if (diff < best) {
             best = diff;
             nearest = v;
         }
+#ifdef TOTH_EDGES_SELECT
+        // A tap clamped at the border extrapolates the texel beside it as a
+        // constant, exact only where the fraction is: the select step's
+        // settled test below judges it by the texel mirrored inward (the
+        // next one along the clamped axis), as if it were the tap.
+        ivec2 m = toth_mirror(b + o, size);
+        if (m != q) {
+            gq = texelFetch(st_gbuffer, toth_full_pixel(m), 0);
+            v = texelFetch(toth_inscatter_tex, m, 0);
+            same = toth_similar(g, gq);
+        }
+#endif
+        lo_all = min(lo_all, v);
+        hi_all = max(hi_all, v);
+        if (same) {
+            used++;
+            lo = min(lo, v);
+            hi = max(hi, v);
+        }
     }
     vec4 d = hi - lo;
     // Taps that show another surface (a silhouette or a crease), or that are
     // clamped at the image border, leave the others as a one-sided guess
-    // that can agree with itself: below toth_refine_taps usable taps, count
-    // that as full disagreement, so such pixels march their own ray too --
-    // unless all four taps lie inside the image, one shows the pixel's
-    // surface and all see exactly the same fraction (a crease or silhouette
+    // that can agree with itself: below toth_refine_taps usable taps, or with
+    // a clamped tap, count that as full disagreement, so such pixels march
+    // their own ray too -- unless one shows the pixel's surface and all four
+    // (a clamped one mirrored) see exactly the same fraction (a crease or silhouette
     // wholly lit or wholly in shadow: on the window and hole scenes at 600^2
     // this takes 40% off compose's time; relaxing it further, to taps that agree
     // within 0.01, puts pixels beside a crease 8% off in test_toth_sun_shadow).
-    bool settled = used > 0 && inside == 4 && all(equal(hi_all, lo_all));
-    spread = used >= toth_refine_taps ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
+    bool clamped = any(lessThan(b, ivec2(0))) || any(greaterThan(b + 1, size - 1));
+    bool settled = used > 0 && all(equal(hi_all, lo_all));
+#ifndef TOTH_EDGES_SELECT
+    // Compose and keep need no mirrored taps: a border pixel reads
+    // toth.refined, which holds its own ray where the select step listed it.
+    settled = settled && !clamped;
+#endif
+    spread = used >= toth_refine_taps && !clamped ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
     return wsum > 0.0 ? sum / wsum : nearest;
 }
 
