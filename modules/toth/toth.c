@@ -252,7 +252,7 @@ static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, 
     snprintf(rdef, sizeof rdef, "%sTOTH_REUSE 1\n", cdef);
     const char *vs = "common/fullscreen.vert";
     *sh = (struct toth_shaders){0};
-    if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
+    if ((sh->march = st_shader_load_compute("toth/march.comp", defines, err)) &&
         (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
         (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
         (sh->edges_march =
@@ -304,8 +304,8 @@ static const st_pass_info *pass_info(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        t->info = (st_pass_info){"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march",
-                                 ST_PASS_FULLSCREEN};
+        // A compute dispatch (on_pass; march.comp says why).
+        t->info = (st_pass_info){"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march", 0};
         break;
     case PASS_GATHER:
         t->info = (st_pass_info){"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather",
@@ -491,6 +491,17 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     return true;
 }
 
+// The march: 8 x 8 texel groups writing toth.march as an image, visible to
+// the texelFetch of the passes after it.
+static bool dispatch_march(toth *t, st_err *err) {
+    const st_target *m = st_world_get_target(t->w, "toth.march", err);
+    if (!m) return false;
+    glBindImageTexture(0, m->color[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute((GLuint)(m->width + 7) / 8, (GLuint)(m->height + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    return true;
+}
+
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     toth *t = self;
     struct toth_shaders *sh = &t->sh;
@@ -506,6 +517,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
         st_shader_set_int(sh->march, "toth_probes", (int)t->p[P_PROBES]);
+        if (!dispatch_march(t, err)) return false;
         break;
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
