@@ -59,7 +59,7 @@ float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
 // lies outside every cascade); such a lookup takes the exact ray instead.
 // A misplaced edge is a fraction of a texel off, so only lookups near an
 // edge pay for a ray.
-float toth_vis_map_amb(int l, toth_eq e, vec3 o, vec3 dir, float delta, out bool amb) {
+float toth_vis_exact_or_map(int l, toth_eq e, vec3 o, vec3 dir, float delta, out bool amb) {
     float t, d;
     toth_eq_point(e, delta, t, d);
     vec3 x = o + t * dir;
@@ -71,11 +71,6 @@ float toth_vis_map_amb(int l, toth_eq e, vec3 o, vec3 dir, float delta, out bool
         float bias = st_shadow_texel(distance(x, st_light_pos[l])) * st_shadow_bias;
         v = st_shadow_visibility_amb(l, x, bias, 0.0, true, amb);
     }
-    return v;
-}
-
-float toth_vis_exact_or_map(int l, toth_eq e, vec3 o, vec3 dir, float delta, out bool amb) {
-    float v = toth_vis_map_amb(l, e, o, dir, delta, amb);
     return amb ? toth_exact_at(l, e, o, dir, delta) : v;
 }
 
@@ -173,16 +168,12 @@ vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
         }
         float q = stage == 0 ? sh : stage == 1 ? (lit_first ? x - nudge : x + nudge)
                               : stage == 2 ? 0.5 * (x + li) : 0.5 * (lo + hi);
-        // Halfway to li the map decides where it can (shadowed, triangle
-        // unknown: -3), by the same rule as the march's own lookups.
-        bool amb = true;
-        int t = -3;
-        for (int once = 0; once < (stage == 2 ? 1 : 0); once++)
-            t = toth_vis_map_amb(l, e, o, dir, q, amb) > 0.5 ? -1 : -3;
-        if (amb) t = toth_exact_tri(l, e, o, dir, q);
+        // (One ray per turn for every stage: the map's 9 taps halfway to li
+        // would cost every lane in the loop.)
+        int t = toth_exact_tri(l, e, o, dir, q);
         if (stage == 0) {
-            // The map called the end shadowed, the exact ray sees it lit: lit
-            // from x on (sh itself at first: where bisection converges).
+            // The map called the end shadowed, the exact ray sees it lit: the
+            // whole step is lit (x = sh: where bisection converges).
             if (t < 0) stage = 4;
             else tri = t, stage = 1;
         } else if (stage == 1) {
@@ -196,8 +187,8 @@ vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
                 tri = t;
             }
         } else if (stage == 2) {
-            if (t == -1) stage = 4;
-            else sh = q, tri = t, stage = t == -3 ? 0 : 1;
+            if (t < 0) stage = 4;
+            else sh = q, tri = t, stage = 1;
         } else {
             if (t >= 0) lo = q;
             else hi = q;

@@ -123,9 +123,8 @@ int main(void) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out);
     glUseProgram(prog);
     // Frame uniforms the equi-angular frame reads (h_min), the phase, and a
-    // shadow map that decides "lit" everywhere it is asked (a huge bias, no
-    // map bound): the search's check halfway to the lit end then needs no
-    // ray, and every verdict that matters comes from the BVH.
+    // shadow map that would call every point lit (a huge bias, no map
+    // bound), should anything ask it: every verdict comes from the BVH.
     glUniform1f(glGetUniformLocation(prog, "st_fov_y"), 1.0f);
     glUniform2f(glGetUniformLocation(prog, "st_resolution"), 1000.0f, 1000.0f);
     glUniform1f(glGetUniformLocation(prog, "st_near"), 0.1f);
