@@ -59,6 +59,7 @@ enum {
     P_PROBES,
     P_REFINE_KINK,
     P_REUSE,
+    P_EXACT_SOLVE,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -118,8 +119,9 @@ static const st_param_def params[P_COUNT] = {
      "many rows (0 = resolution as set)"},
     {"exact_edges", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "equiangular: lookups the shadow map cannot decide (shadow_map.refine's rule) take an exact "
-     "ray against the scene's BVH (needs shadow_map.refine), boundaries are bisected with exact "
-     "rays (4 more halvings), and agreeing ends near an edge have their midpoint traced"},
+     "ray against the scene's BVH (needs shadow_map.refine), boundaries are located from the "
+     "blocking triangle's shadow volume and checked by rays (bisection with 4 more halvings as "
+     "the fallback), and agreeing ends near an edge have their midpoint traced"},
     {"compose", ST_PARAM_ENUM, COMPOSE_TABLE, 0, 0, "table|quadrature",
      "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
      "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
@@ -142,6 +144,9 @@ static const st_param_def params[P_COUNT] = {
      "equiangular, box filter: the jittered frames of a still do not march; they read the first "
      "frame's visible fraction at their sub-pixel position, bilinear on the same surface (off: "
      "every frame marches its own rays)"},
+    {"exact_solve", ST_PARAM_BOOL, 1, 0, 1, NULL,
+     "equiangular, exact_edges: a shadow boundary is located from the blocking triangle's shadow "
+     "volume in closed form, checked by ~2 rays (off: bisected with bisect + 4 exact rays)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_KEEP, PASS_COMPOSE };
@@ -482,6 +487,7 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     st_shader_set_int(m, "toth_jitter", t->p[P_JITTER] != 0);
     st_shader_set_int(m, "toth_bisect", (int)t->p[P_BISECT]);
     st_shader_set_int(m, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_int(m, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
     st_shader_set_int(m, "toth_probes", (int)t->p[P_PROBES]);
     glBindImageTexture(0, refined->color[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
@@ -516,6 +522,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(sh->march, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
         st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
+        st_shader_set_int(sh->march, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
         st_shader_set_int(sh->march, "toth_probes", (int)t->p[P_PROBES]);
         if (!dispatch_march(t, err)) return false;
         break;

@@ -92,6 +92,13 @@ void toth_eq_point(toth_eq e, float delta, out float t, out float d) {
     d = e.h * e.D / dcos;
 }
 
+// toth_eq_point inverted: the angle delta of the ray point at distance t
+// (tan(delta) = h t / (h^2 + a (t + a)); directional: delta = t).
+float toth_eq_angle(toth_eq e, float t) {
+    if (TOTH_KIND_IS(e.kind, 1)) return t;
+    return atan(e.h * t, e.h * e.h + e.a * (t + e.a));
+}
+
 // The angular integrand without sigma_s I / h: phase e^(-sigma_t (t + d)).
 vec3 toth_eq_integrand(toth_eq e, float delta, vec3 sigma_t) {
     float t, d;

@@ -31,19 +31,25 @@ uniform int toth_exact;
 
 bool toth_exact_on() { return toth_exact != 0 && st_shadow_refine != 0; }
 
-// Exact visibility of light l from the ray point at angle delta: is the
-// segment to the light (a sun: to its entry plane) free of triangles?
-float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
+// The end of light l's exact ray from x: the light, or a sun's entry plane.
+vec3 toth_exact_target(int l, vec3 x) {
+    if (!ST_LIGHT_IS(l, 1)) return st_light_pos[l];
+    vec3 L = -st_light_dir[l];
+    return x + L * max(st_light_shape[l].z - dot(x, L), 1e-3);
+}
+
+// Exact visibility of light l from the ray point at angle delta: the
+// triangle that blocks the segment to the light (a sun: to its entry
+// plane), the first the traversal meets; -1: none, the point is lit.
+int toth_exact_tri(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
     float t, d;
     toth_eq_point(e, delta, t, d);
-    vec3 x = o + t * dir, q;
-    if (ST_LIGHT_IS(l, 1)) {
-        vec3 L = -st_light_dir[l];
-        q = x + L * max(st_light_shape[l].z - dot(x, L), 1e-3);
-    } else {
-        q = st_light_pos[l];
-    }
-    return st_bvh_occluded_t(x, q, 1e-6) ? 0.0 : 1.0;
+    vec3 x = o + t * dir;
+    return st_bvh_occluder(x, toth_exact_target(l, x), 1e-6);
+}
+
+float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
+    return toth_exact_tri(l, e, o, dir, delta) >= 0 ? 0.0 : 1.0;
 }
 
 // exact_edges: the map's verdict at the ray point at angle delta, taken
@@ -77,17 +83,120 @@ vec3 toth_lit_part(toth_eq e, float a, float b, float x, bool lit_first, vec3 si
     return lb > la ? toth_eq_integrand(e, 0.5 * (la + lb), sig) * (lb - la) : vec3(0.0);
 }
 
-// exact_edges: the lit part of [a, b] between exact ends va != vb (one lit,
-// one shadowed), the boundary bisected n times with exact rays, weighted by
-// the lit part's own midpoint.
-vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, int n, vec3 sig) {
-    float lo = a, hi = b;
-    for (int k = 0; k < n; k++) {
-        float m = 0.5 * (lo + hi);
-        if (toth_exact_at(l, e, o, dir, m) == va) lo = m;
-        else hi = m;
+// The stretch [x, y] of the view ray o + t dir that triangle i shadows from
+// light l (x > y: none): the ray's intersection with the triangle's shadow
+// volume, the convex region bounded by the triangle's plane (on the side
+// away from the light) and by the three planes through each edge and the
+// light (a sun: each edge and its direction).
+vec2 toth_tri_shadow(int l, int i, vec3 o, vec3 dir) {
+    vec3 v[3], e1, e2;
+    st_bvh_triangle(i, v[0], e1, e2);
+    v[1] = v[0] + e1;
+    v[2] = v[0] + e2;
+    bool sun = ST_LIGHT_IS(l, 1);
+    vec3 L = -st_light_dir[l], P = st_light_pos[l];
+    vec2 r = vec2(-3.0e38, 3.0e38);
+    for (int k = 0; k < 4; k++) {
+        // The half-space dot(m, x - base) >= 0 as f0 + f1 t >= 0.
+        vec3 m, base;
+        float side;
+        if (k < 3) {
+            vec3 p = v[k], q = v[(k + 1) % 3];
+            base = sun ? p : P;
+            m = sun ? cross(q - p, L) : cross(p - P, q - P);
+            side = dot(m, v[(k + 2) % 3] - base); // the third vertex is inside
+        } else {
+            base = v[0];
+            m = cross(e1, e2);
+            side = -(sun ? dot(m, L) : dot(m, P - v[0])); // behind the triangle
+        }
+        if (side == 0.0) return vec2(1.0, 0.0); // seen edge-on: no volume
+        m *= sign(side);
+        float f0 = dot(m, o - base), f1 = dot(m, dir);
+        if (f1 == 0.0) {
+            if (f0 < 0.0) return vec2(1.0, 0.0);
+        } else if (f1 > 0.0) {
+            r.x = max(r.x, -f0 / f1);
+        } else {
+            r.y = min(r.y, -f0 / f1);
+        }
     }
-    return toth_lit_part(e, a, b, 0.5 * (lo + hi), va > 0.5, sig);
+    return r;
+}
+
+// exact_edges: the lit part of [a, b] between exact ends va != vb (one lit,
+// one shadowed). The shadowed end's exact ray names the triangle that
+// blocks it (tri, when the caller traced it already; -2: not yet); that
+// triangle's shadow along the view ray ends in closed form
+// (toth_tri_shadow), and one ray just past that end on the lit side checks
+// that nothing continues the shadow there. If something does (the next
+// triangle of the same mesh), its own shadow is taken from that point. Once
+// lit, one ray halfway to the lit end checks the rest of the step (the old
+// bisection's first halving looked there too): lit, the boundary is found;
+// shadowed (a second occluder inside the step), the search goes on from
+// there, and the lit sliver before it is dropped. After TOTH_EXACT_TRIES
+// triangles, or for an end outside the bracket (float rounding at a
+// vertex), the rest of the bracket is bisected n times with exact rays as
+// before. A boundary costs ~3 rays instead of n and lies where the geometry
+// puts it to float precision, not to (b - a) / 2^(n + 1). One loop with one
+// ray per turn: llvmpipe runs a shader's lanes in lock-step, so lanes at
+// different stages then share each traversal instead of taking turns.
+#define TOTH_EXACT_TRIES 8
+uniform int toth_exact_solve = 1; // 0: bisection only, as before (toth.exact_solve)
+vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, int n, int tri,
+                         vec3 sig) {
+    bool lit_first = va > 0.5;
+    float sh = lit_first ? b : a, li = lit_first ? a : b; // shadowed and lit ends
+    float nudge = 1e-4 * (b - a), x = sh, lo = sh, hi = li;
+    // stage 0: trace the shadowed end; 1: a triangle blocks sh, trace just
+    // past its shadow's end x; 2: lit there, trace halfway to li; 3: bisect;
+    // 4: done, the boundary at x. (Work that only some lanes need sits in
+    // loops run once: see toth_vis_step_exact.)
+    int stage = toth_exact_solve == 0 ? 3 : tri < -1 ? 0 : 1, tries = 0, halvings = 0;
+    for (int it = 0; it < TOTH_EXACT_TRIES * 2 + 2 + n && stage < 4; it++) {
+        for (int once = 0; once < (stage == 1 ? 1 : 0); once++) {
+            bool ok = tries < TOTH_EXACT_TRIES;
+            tries++;
+            vec2 r = toth_tri_shadow(l, tri, o, dir);
+            x = toth_eq_angle(e, lit_first ? r.x : r.y);
+            ok = ok && r.x <= r.y && (lit_first ? x > li && x < sh : x > sh && x < li);
+            if (!ok) stage = 3, lo = sh, hi = li;
+        }
+        if (stage == 3 && halvings >= n) {
+            x = 0.5 * (lo + hi), stage = 4;
+            break;
+        }
+        float q = stage == 0 ? sh : stage == 1 ? (lit_first ? x - nudge : x + nudge)
+                              : stage == 2 ? 0.5 * (x + li) : 0.5 * (lo + hi);
+        // (One ray per turn for every stage: the map's 9 taps halfway to li
+        // would cost every lane in the loop.)
+        int t = toth_exact_tri(l, e, o, dir, q);
+        if (stage == 0) {
+            // The map called the end shadowed, the exact ray sees it lit: the
+            // whole step is lit (x = sh: where bisection converges).
+            if (t < 0) stage = 4;
+            else tri = t, stage = 1;
+        } else if (stage == 1) {
+            if (t < 0) {
+                stage = 2;
+            } else { // shadowed too: a boundary lies beyond q
+                sh = q;
+                // The same triangle still: float rounding at its edge, a
+                // longer nudge next time.
+                if (t == tri) nudge *= 8.0;
+                tri = t;
+            }
+        } else if (stage == 2) {
+            if (t < 0) stage = 4;
+            else sh = q, tri = t, stage = 1;
+        } else {
+            if (t >= 0) lo = q;
+            else hi = q;
+            halvings++;
+        }
+    }
+    if (stage != 4) x = 0.5 * (lo + hi); // (not reached: the trip count covers every stage)
+    return toth_lit_part(e, a, b, x, lit_first, sig);
 }
 
 // exact_edges: the lit part of the step [a, b] whose ends see va and vb
@@ -101,17 +210,35 @@ vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
 vec3 toth_vis_step_exact(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, float va, float vb, bool amb_a,
                          bool amb_b, int bisect, vec3 w, vec3 sig) {
     int n = bisect + 4;
-    if (va == vb) {
-        if (!(amb_a || amb_b) || bisect <= 0) return w * va;
-        float m = 0.5 * (a + b);
-        float vm = toth_exact_at(l, e, o, dir, m);
-        if (vm == va) return w * va;
-        return toth_exact_boundary(l, e, o, dir, a, m, va, n - 1, sig) +
-               toth_exact_boundary(l, e, o, dir, m, b, vm, n - 1, sig);
+    // Ends that agree but are undecided, or a clean on/off boundary (not
+    // PCF's soft one, which keeps the trapezoid) take the exact search.
+    bool agree = va == vb;
+    bool search = bisect > 0 && (agree ? amb_a || amb_b : abs(va - vb) >= 0.5);
+    vec3 lit = w * 0.5 * (va + vb);
+    // A loop run once, not an if: llvmpipe runs an if's body for every lane
+    // (masked), but leaves a loop as soon as no lane is in it.
+    for (int once = 0; once < (search ? 1 : 0); once++) {
+        // Ends that agree: the midpoint m, and a boundary in each half if
+        // it disagrees (a shadowed midpoint is the shadowed end of both).
+        // Ends that disagree: one boundary in [a, b]. One call of
+        // toth_exact_boundary for all: see there.
+        float m = b, vm = vb;
+        int tm = -2, halves = 1;
+        if (agree) {
+            m = 0.5 * (a + b);
+            tm = toth_exact_tri(l, e, o, dir, m);
+            vm = tm >= 0 ? 0.0 : 1.0;
+            halves = vm == va ? 0 : 2;
+            n -= 1;
+        }
+        vec3 part = w * va;
+        if (halves > 0) part = vec3(0.0);
+        for (int h = 0; h < halves; h++)
+            part += toth_exact_boundary(l, e, o, dir, h == 0 ? a : m, h == 0 ? m : b, h == 0 ? va : vm, n,
+                                        tm >= 0 ? tm : -2, sig);
+        lit = part;
     }
-    // Not a clean on/off boundary (PCF): the trapezoid.
-    if (abs(va - vb) < 0.5 || bisect <= 0) return w * 0.5 * (va + vb);
-    return toth_exact_boundary(l, e, o, dir, a, b, va, n, sig);
+    return lit;
 }
 
 // The lit part of the step [a, b] whose ends see va and vb, weighted by
@@ -165,15 +292,17 @@ vec3 toth_vis_probed(bool exact, int l, toth_eq e, vec3 o, vec3 dir, float a, fl
     float h = (b - a) / float(P + 1);
     bool split = false;
     for (int k = 1; k <= P && !split; k++) split = toth_vis_at(l, e, o, dir, a + h * float(k)) != va;
-    if (!split) return toth_vis_step_any(exact, l, e, o, dir, a, b, va, vb, amb_a, amb_b, bisect, w, sig);
+    // The step, or its pieces, settled by one call in a loop (llvmpipe runs
+    // the lanes of a shader in lock-step: each call site costs every lane).
+    int pieces = split ? P + 1 : 1;
     vec3 lit = vec3(0.0);
     float sa = a, sv = va;
     bool samb = amb_a;
-    for (int k = 1; k <= P + 1; k++) {
-        float sb = k > P ? b : a + h * float(k);
+    for (int k = 1; k <= pieces; k++) {
+        float sb = k == pieces ? b : a + h * float(k);
         bool bamb = amb_b;
-        float bv = k > P ? vb : toth_vis_lookup(exact, l, e, o, dir, sb, bamb);
-        vec3 wk = toth_eq_integrand(e, 0.5 * (sa + sb), sig) * (sb - sa);
+        float bv = k == pieces ? vb : toth_vis_lookup(exact, l, e, o, dir, sb, bamb);
+        vec3 wk = pieces == 1 ? w : toth_eq_integrand(e, 0.5 * (sa + sb), sig) * (sb - sa);
         lit += toth_vis_step_any(exact, l, e, o, dir, sa, sb, sv, bv, samb, bamb, bisect, wk, sig);
         sa = sb, sv = bv, samb = bamb;
     }
