@@ -59,7 +59,7 @@ typedef struct st_ref_geometry {
     uint32_t *tri_prim; // global triangle -> triangle in its mesh
     uint64_t num_tris;
     double total_area;
-    double eps;               // ray offset, relative to the scene's size
+    double eps;               // scene-scale tolerance (ties, back-side exits, light on a surface)
     double sigma_t[3];        // the medium's extinction, 0 without one (light paths)
     double *light_entry;      // per light: st_directional_entry (directional lights)
     double center[3], radius; // a sphere around the scene's bounds (shadow rays to infinity)
@@ -74,6 +74,8 @@ typedef struct st_ref_surface {
     double n[3];   // unit shading normal, turned toward the side seen
     double ng[3];  // unit geometric normal, turned toward the side seen
     const st_mesh *mesh;
+    int geom; // mesh index (the Embree geometry) and triangle of the hit
+    uint32_t prim;
 } st_ref_surface;
 
 // PCG32 (O'Neill), one stream per pixel, seeded from (seed, pixel).
@@ -99,6 +101,10 @@ bool st_ref_occluded(const st_ref_geometry *g, const double from[3], const doubl
 // position; a directional light's runs until it has left the scene's bounds.
 bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const double at[3],
                           const st_incident *in);
+// The origin of a secondary ray (shadow or bounce) leaving surface s: s->p
+// moved off its triangle along the side seen by a few float ulps of the
+// triangle's coordinates (ref_geometry.c).
+void st_ref_offset(const st_ref_geometry *g, const st_ref_surface *s, double out[3]);
 // A point uniform over the scene's area, seen from `viewer` (its side chosen).
 st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,
                                   const double viewer[3]);

@@ -2,6 +2,7 @@
 // double, kept for shading) and handed to one Embree scene (in float, for
 // ray casting), plus an area CDF over all triangles for area sampling.
 #include "ref.h"
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,8 +132,10 @@ static bool finish(st_ref_geometry *g, const st_scene *scene, const build_state 
     for (int k = 0; k < 3; k++)
         diag += (b->hi[k] - b->lo[k]) * (b->hi[k] - b->lo[k]);
     diag = sqrt(diag);
-    // Offsets for secondary rays: far above float rounding of positions
-    // (~1e-7 relative) and far below any feature a test measures.
+    // Tolerances along rays (ties, back-side exits, a light resting on a
+    // surface): far above float rounding of positions (~1e-7 relative) and
+    // far below any feature a test measures. Not the origin offset of
+    // secondary rays (st_ref_offset), which scales with the coordinates.
     g->eps = isfinite(diag) && diag > 0 ? 1e-5 * diag : 1e-6;
     st_medium_sigma_t(&scene->medium, g->sigma_t);
     for (int k = 0; k < 3; k++)
@@ -217,6 +220,8 @@ static st_ref_surface make_surface(const st_ref_geometry *g, int mi, uint32_t pr
     if (st_dot3(s.n, s.ng) <= 0.0) memcpy(s.n, s.ng, sizeof s.n);
     s.hit = true;
     s.mesh = m;
+    s.geom = mi;
+    s.prim = prim;
     return s;
 }
 
@@ -359,6 +364,30 @@ bool st_ref_light_visible(const st_ref_geometry *g, const double from[3], const 
             to[k] = from[k] + len * in->to_light[k];
     }
     return !st_ref_occluded(g, from, to);
+}
+
+// Secondary rays used to start 1e-5 x the scene's diagonal above the surface
+// (g->eps). That also shifted them sideways: a shadow ray passing a shadow
+// boundary closer than ~1e-4 m (godrays_hidden_hole, a floor point 1.3e-5 m
+// inside the hole's edge) was blocked from the lifted point and lit from the
+// point itself. The offset only has to clear float rounding (Waechter and
+// Binder, Ray Tracing Gems ch. 6): p is computed in double on the exact
+// triangle, so the error is Embree's float copy of the vertices and of the
+// origin (half an ulp each) and its intersection arithmetic relative to the
+// origin, all a few ulps of the largest coordinate of the triangle and of p.
+// 2^-19 of that is 8-16 float ulps. Back-side hits within 2 g->eps (an
+// origin inside a neighbouring box at a seam) are still dropped by the filter.
+void st_ref_offset(const st_ref_geometry *g, const st_ref_surface *s, double out[3]) {
+    double scale = FLT_MIN;
+    const uint32_t *ix = g->desc->meshes[s->geom].indices + 3 * s->prim;
+    for (int k = 0; k < 3; k++) {
+        scale = fmax(scale, fabs(s->p[k]));
+        for (int j = 0; j < 3; j++)
+            scale = fmax(scale, fabs(g->pos[s->geom][3 * ix[j] + k]));
+    }
+    const double d = ldexp(scale, -19);
+    for (int k = 0; k < 3; k++)
+        out[k] = s->p[k] + d * s->ng[k];
 }
 
 st_ref_surface st_ref_sample_area(const st_ref_geometry *g, st_ref_rng *rng,

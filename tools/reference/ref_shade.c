@@ -32,13 +32,6 @@
 #include <string.h>
 #include "st_vec3.h"
 
-// p moved off its surface along the geometric normal (the side seen), so
-// secondary rays do not hit the surface they leave.
-static void offset_point(const st_ref_geometry *g, const st_ref_surface *s, double out[3]) {
-    for (int k = 0; k < 3; k++)
-        out[k] = s->p[k] + g->eps * s->ng[k];
-}
-
 void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, st_ref_rng *rng,
                    double out[3]) {
     out[0] = out[1] = out[2] = 0.0;
@@ -47,7 +40,7 @@ void st_ref_direct(const st_ref_geometry *g, const st_ref_surface *s, st_ref_rng
         out[c] = s->mesh->emission[c];
     const st_scene *sc = g->desc;
     double from[3];
-    offset_point(g, s, from);
+    st_ref_offset(g, s, from);
     for (int i = 0; i < sc->num_lights; i++) {
         st_incident in;
         if (!st_light_incident(&sc->lights[i], g->light_entry[i], s->p, &in)) continue;
@@ -96,7 +89,7 @@ static void indirect_traced(const st_ref_geometry *g, const st_ref_options *o,
     double dir[3], from[3];
     cosine_direction(x->n, rng, dir);
     if (st_dot3(dir, x->ng) <= 0.0) return; // below the geometric surface (smooth normals)
-    offset_point(g, x, from);
+    st_ref_offset(g, x, from);
     st_ref_surface y = st_ref_intersect(g, from, dir, 0.0, INFINITY);
     if (!y.hit || !y.lit_side) return;
     double L[3], T[3];
@@ -141,7 +134,7 @@ static void indirect_unoccluded(const st_ref_geometry *g, const st_ref_options *
     double dir[3], from[3];
     cosine_direction(x->n, rng, dir);
     if (st_dot3(dir, x->ng) <= 0.0) return;
-    offset_point(g, x, from);
+    st_ref_offset(g, x, from);
     st_ref_surface hits[MAX_CROSSINGS];
     int n = st_ref_intersect_all(g, from, dir, 0.0, INFINITY, hits, MAX_CROSSINGS), k = 0;
     for (int i = 0; i < n; i++) // keep the surfaces that face x
