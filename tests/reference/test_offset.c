@@ -11,6 +11,7 @@
 static double direct_at(const st_ref_geometry *g, double x, double z, double p_out[3]) {
     const double o[3] = {x, 1.0, z}, d[3] = {0, -1, 0};
     st_ref_surface s = st_ref_intersect(g, o, d, 0.0, INFINITY);
+    p_out[0] = p_out[1] = p_out[2] = NAN;
     if (!s.hit) return NAN;
     memcpy(p_out, s.p, sizeof s.p);
     double out[3];
