@@ -158,11 +158,11 @@ typedef struct toth {
         st_shader *march, *gather, *edges, *edges_march, *compose;
         st_shader *keep, *compose_reuse; // reuse=on
     } sh;
-    GLuint vao; // the edges pass's points (attribute-less)
+    GLuint vao; // the edges pass's points and quad (attribute-less)
     // The edges pass's list of pixels to march (toth/edges_list.glsl), for
-    // list_pixels pixels, and the indirect dispatch its march step runs
-    // (groups of TOTH_EDGES_GROUP listed pixels, counted by the select step).
-    GLuint list, groups;
+    // list_pixels pixels, and the framebuffer without attachments its march
+    // step draws into.
+    GLuint list, list_fbo;
     int list_pixels;
     st_pass_info info;
     int height;     // image rows the targets were declared for
@@ -260,7 +260,8 @@ static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, 
     if ((sh->march = st_shader_load_compute("toth/march.comp", defines, err)) &&
         (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
         (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
-        (sh->edges_march = st_shader_load_compute("toth/edges_march.comp", defines, err)) &&
+        (sh->edges_march =
+             st_shader_load("toth/edges_march.vert", "toth/edges_march.frag", defines, err)) &&
         (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err))) {
         // The reuse programs only where a still has jittered frames.
         if (st_world_filter(w) != ST_FILTER_BOX) return true;
@@ -295,10 +296,7 @@ static void destroy(void *self) {
         st_world_untrack(t->w, "toth.edges_list");
         glDeleteBuffers(1, &t->list);
     }
-    if (t->groups) {
-        st_world_untrack(t->w, "toth.edges_groups");
-        glDeleteBuffers(1, &t->groups);
-    }
+    if (t->list_fbo) glDeleteFramebuffers(1, &t->list_fbo);
     free(t->table);
     free(t);
 }
@@ -421,15 +419,10 @@ static void set_refine(toth *t, st_shader *sh) {
 }
 
 // The list of the edges pass (toth/edges_list.glsl: a count, then one entry
-// per pixel) for a width x height image, and the march step's indirect
-// dispatch (x, y, z groups).
+// per pixel) for a width x height image, and the march step's grid: the
+// image's size rounded up to 4 x 4 blocks holds a list of every pixel.
 static bool edges_list(toth *t, int width, int height, st_err *err) {
     int gw = (width + 3) & ~3, gh = (height + 3) & ~3;
-    if (!t->groups) {
-        glCreateBuffers(1, &t->groups);
-        glNamedBufferStorage(t->groups, 3 * sizeof(GLuint), NULL, GL_DYNAMIC_STORAGE_BIT);
-        if (!st_world_track(t->w, "toth.edges_groups", GL_BUFFER, t->groups, err)) return false;
-    }
     if (t->list && t->list_pixels == gw * gh) return true;
     if (t->list) {
         st_world_untrack(t->w, "toth.edges_list");
@@ -439,6 +432,9 @@ static bool edges_list(toth *t, int width, int height, st_err *err) {
     glNamedBufferStorage(t->list, sizeof(GLuint) * (1 + (size_t)gw * gh), NULL,
                          GL_DYNAMIC_STORAGE_BIT);
     t->list_pixels = gw * gh;
+    if (!t->list_fbo) glCreateFramebuffers(1, &t->list_fbo);
+    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, gw);
+    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, gh);
     return st_world_track(t->w, "toth.edges_list", GL_BUFFER, t->list, err) &&
            st_gl_check("toth edges list", err);
 }
@@ -446,15 +442,16 @@ static bool edges_list(toth *t, int width, int height, st_err *err) {
 // The edges pass: toth.refined cleared to -1 (compose then upsamples every
 // pixel not marched here); the select step, one point per scale x scale
 // block (edges.vert keeps those with a pixel that may need its own ray),
-// lists the pixels that do; the march step marches them, one compute
-// invocation each, and stores their fractions. The count stays on the GPU:
-// the select step counts the march step's groups for an indirect dispatch.
+// lists the pixels that do; the march step marches them, one fragment each
+// in 4 x 4 blocks of listed pixels, and stores their fractions. The count
+// stays on the GPU: the march step's vertex shader sizes its quad by it.
 static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err *err) {
     st_shader *sh = t->sh.edges, *m = t->sh.edges_march;
     int s = t->decl_scale, bx = (f->width + s - 1) / s, by = (f->height + s - 1) / s;
     const st_target *refined = st_world_target(t->w, "toth.refined");
     if (!src || !refined) return st_fail(err, ST_ERR_RUNTIME, "toth: no march or refined target");
     if (!edges_list(t, f->width, f->height, err)) return false;
+    int gw = (f->width + 3) & ~3, gh = (f->height + 3) & ~3;
     set_common(t, sh);
     st_shader_set_int(sh, "toth_blocks_x", bx);
     set_refine(t, sh);
@@ -462,12 +459,9 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     const float none[4] = {-1, -1, -1, -1};
     glClearBufferfv(GL_COLOR, 0, none);
     const GLuint zero = 0;
-    const GLuint none_groups[3] = {0, 1, 1};
     glClearNamedBufferSubData(t->list, GL_R32UI, 0, sizeof zero, GL_RED_INTEGER, GL_UNSIGNED_INT,
                               &zero);
-    glNamedBufferSubData(t->groups, 0, sizeof none_groups, none_groups);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, t->list); // edges_list.glsl's bindings
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, t->groups);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, t->list); // edges_list.glsl's binding
     if (!t->vao) glCreateVertexArrays(1, &t->vao);
     glBindVertexArray(t->vao);
     // Select: writes only the list (toth.refined keeps the clear).
@@ -476,12 +470,19 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     glDrawArrays(GL_POINTS, 0, bx * by);
     glPointSize(1.0f);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    // March: a compute invocation per listed pixel, storing to toth.refined.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    // March: into the framebuffer without attachments, storing to toth.refined.
+    GLint fbo = 0, vp[4];
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
+    glGetIntegerv(GL_VIEWPORT, vp);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->list_fbo);
+    glViewport(0, 0, gw, gh);
     st_shader_use(m);
     st_world_apply_uniforms(t->w, m, f);
     set_common(t, m);
     st_shader_texture(m, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
+    st_shader_set_int(m, "toth_edges_width", gw);
+    st_shader_set_int(m, "toth_edges_height", gh);
     st_shader_set_int(m, "toth_samples", (int)t->p[P_SAMPLES]);
     st_shader_set_int(m, "toth_jitter", t->p[P_JITTER] != 0);
     st_shader_set_int(m, "toth_bisect", (int)t->p[P_BISECT]);
@@ -489,10 +490,10 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     st_shader_set_int(m, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
     st_shader_set_int(m, "toth_probes", (int)t->p[P_PROBES]);
     glBindImageTexture(0, refined->color[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, t->groups);
-    glDispatchComputeIndirect(0);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT); // compose and keep read toth.refined
+    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)fbo);
+    glViewport(vp[0], vp[1], vp[2], vp[3]);
     return true;
 }
 

@@ -1,9 +1,9 @@
 // toth's edges pass, select step: in the blocks edges.vert keeps, each pixel
 // whose upsampling taps disagree (toth/upsample.glsl) or whose block is bent
 // (toth/kink.glsl) is appended to the list (toth/edges_list.glsl) that the
-// march step marches at full resolution, one compute invocation per pixel.
-// Nothing is written here: toth.refined stays at its cleared -1, which
-// compose reads as "upsample", where no ray is marched.
+// march step marches at full resolution, one densely packed fragment per
+// pixel. Nothing is written here: toth.refined stays at its cleared -1,
+// which compose reads as "upsample", where no ray is marched.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
 #define TOTH_EDGES_SELECT 1 // the border judged with mirrored taps (upsample.glsl)
@@ -17,5 +17,5 @@ void main() {
     float spread = 0.0;
     toth_upsample(p, g, spread);
     if (spread > toth_refine || toth_kinked(p / toth_scale))
-        toth_edges_append(p);
+        toth_edges_list[atomicAdd(toth_edges_count, 1u)] = uint(p.x) | (uint(p.y) << 16);
 }

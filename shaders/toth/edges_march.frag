@@ -1,13 +1,11 @@
-// toth's edges pass, march step: each invocation marches one listed pixel
-// (toth/edges_list.glsl) at full resolution, as the march does at reduced
-// resolution (the same call and inputs as a full-resolution march of that
-// pixel), into toth.refined. Consecutive entries were listed together by
-// one block of the select step, so a group's lanes march neighbouring rays.
+// toth's edges pass, march step: each fragment marches the listed pixel of
+// its grid cell (toth/edges_list.glsl) at full resolution, as the march does
+// at reduced resolution (the same call and inputs as a full-resolution
+// march of that pixel), into toth.refined; cells past the list's end return.
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
 #include "toth/visibility.glsl"
 #include "toth/edges_list.glsl"
-layout(local_size_x = TOTH_EDGES_GROUP) in;
 uniform sampler2D st_gbuffer;
 uniform int toth_samples; // visibility steps of a refined pixel
 uniform int toth_jitter;
@@ -15,8 +13,8 @@ uniform int toth_bisect;
 layout(rgba32f, binding = 0) uniform writeonly image2D toth_refined_img;
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= toth_edges_count) return;
+    int i = toth_edges_index(ivec2(gl_FragCoord.xy));
+    if (i >= int(toth_edges_count)) return;
     uint e = toth_edges_list[i];
     ivec2 p = ivec2(e & 0xffffu, e >> 16);
     vec4 g = texelFetch(st_gbuffer, p, 0);
