@@ -155,7 +155,7 @@ typedef struct toth {
     st_world *w;
     const double *p;
     struct toth_shaders {
-        st_shader *march, *gather, *edges, *edges_march, *compose;
+        st_shader *march, *march_cs, *gather, *edges, *edges_march, *compose;
         st_shader *keep, *compose_reuse; // reuse=on
     } sh;
     GLuint vao; // the edges pass's points and quad (attribute-less)
@@ -166,6 +166,7 @@ typedef struct toth {
     int list_pixels;
     st_pass_info info;
     int height;     // image rows the targets were declared for
+    bool dispatch;  // this frame's march is dispatched (march_cs), not drawn
     int decl_scale; // the divisor they were declared with
     // The airlight table (compose=table) and the phase function it holds.
     GLuint airlight;
@@ -240,6 +241,7 @@ static bool declare_targets(toth *t, int height, st_err *err) {
 
 static void destroy_shaders(struct toth_shaders *sh) {
     st_shader_destroy(sh->march);
+    st_shader_destroy(sh->march_cs);
     st_shader_destroy(sh->gather);
     st_shader_destroy(sh->edges);
     st_shader_destroy(sh->edges_march);
@@ -257,7 +259,8 @@ static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, 
     snprintf(rdef, sizeof rdef, "%sTOTH_REUSE 1\n", cdef);
     const char *vs = "common/fullscreen.vert";
     *sh = (struct toth_shaders){0};
-    if ((sh->march = st_shader_load_compute("toth/march.comp", defines, err)) &&
+    if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
+        (sh->march_cs = st_shader_load_compute("toth/march.comp", defines, err)) &&
         (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
         (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
         (sh->edges_march =
@@ -309,7 +312,7 @@ static const st_pass_info *pass_info(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        // A compute dispatch (on_pass; march.comp says why).
+        // Drawn or dispatched by on_pass (march.comp says why).
         t->info = (st_pass_info){"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march", 0};
         break;
     case PASS_GATHER:
@@ -356,6 +359,13 @@ static bool needed(void *self, int pass, const st_frame *f) {
     if (pass == 0 && scale(t, f->height) != t->decl_scale) {
         st_err ignore = {0}; // only fails for a bad name, which create already caught
         declare_targets(t, f->height, &ignore);
+    }
+    // A march of fewer than 4 llvmpipe tiles (64 x 64) is dispatched: drawn,
+    // its tiles would leave threads idle (march.comp).
+    if (pass == 0) {
+        int s = t->decl_scale, tx = ((f->width + s - 1) / s + 63) / 64,
+            ty = ((f->height + s - 1) / s + 63) / 64;
+        t->dispatch = tx * ty < 4;
     }
     bool any = medium_scatters(f->scene) && f->scene->num_lights > 0;
     // reuse=on: a frame whose only change since the march last ran is the
@@ -497,8 +507,8 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     return true;
 }
 
-// The march: 8 x 8 texel groups writing toth.march as an image, visible to
-// the texelFetch of the passes after it.
+// The march of fewer than 4 llvmpipe tiles: 8 x 8 texel groups writing
+// toth.march as an image, visible to the texelFetch of the passes after it.
 static bool dispatch_march(toth *t, st_err *err) {
     const st_target *m = st_world_get_target(t->w, "toth.march", err);
     if (!m) return false;
@@ -514,18 +524,23 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     const st_target *src = st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
     // march and gather draw into the target they write, bound by the world.
     switch (pass_kind(t, pass)) {
-    case PASS_MARCH:
-        set_common(t, sh->march);
-        st_shader_set_int(sh->march, "toth_samples", (int)t->p[P_SAMPLES]);
-        st_shader_set_int(sh->march, "toth_jitter", t->p[P_JITTER] != 0);
-        st_shader_set_int(sh->march, "toth_integrator", (int)t->p[P_INTEGRATOR]);
-        st_shader_set_int(sh->march, "toth_sampling", sampling(t, f->scene));
-        st_shader_set_int(sh->march, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(sh->march, "toth_exact", t->p[P_EXACT] != 0);
-        st_shader_set_int(sh->march, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
-        st_shader_set_int(sh->march, "toth_probes", (int)t->p[P_PROBES]);
-        if (!dispatch_march(t, err)) return false;
+    case PASS_MARCH: {
+        st_shader *m = t->dispatch ? sh->march_cs : sh->march;
+        set_common(t, m);
+        st_shader_set_int(m, "toth_samples", (int)t->p[P_SAMPLES]);
+        st_shader_set_int(m, "toth_jitter", t->p[P_JITTER] != 0);
+        st_shader_set_int(m, "toth_integrator", (int)t->p[P_INTEGRATOR]);
+        st_shader_set_int(m, "toth_sampling", sampling(t, f->scene));
+        st_shader_set_int(m, "toth_bisect", (int)t->p[P_BISECT]);
+        st_shader_set_int(m, "toth_exact", t->p[P_EXACT] != 0);
+        st_shader_set_int(m, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
+        st_shader_set_int(m, "toth_probes", (int)t->p[P_PROBES]);
+        if (!t->dispatch)
+            st_draw_fullscreen(); // into toth.march, bound by the world
+        else if (!dispatch_march(t, err))
+            return false;
         break;
+    }
     case PASS_GATHER: {
         const st_target *march = st_world_get_target(t->w, "toth.march", err);
         if (!march) return false;
@@ -590,7 +605,7 @@ static st_shader *shader(void *self, int pass) {
     toth *t = self;
     switch (pass_kind(t, pass)) {
     case PASS_MARCH:
-        return t->sh.march;
+        return t->dispatch ? t->sh.march_cs : t->sh.march;
     case PASS_GATHER:
         return t->sh.gather;
     case PASS_EDGES:
