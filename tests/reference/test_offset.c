@@ -7,6 +7,15 @@
 // blocker and darkened the lit points.
 #include "ref_test_util.h"
 
+// The scene's geometry; on failure the test fails and the scene is freed.
+static bool build(st_ref_geometry *g, st_scene *s) {
+    st_err err = {0};
+    if (st_ref_geometry_build(g, s, &err)) return true;
+    CHECK(0, "geometry: %s", err.msg);
+    st_scene_free(s);
+    return false;
+}
+
 // Direct light at the floor point below (x, z), seen from above.
 static double direct_at(const st_ref_geometry *g, double x, double z, double p_out[3]) {
     const double o[3] = {x, 1.0, z}, d[3] = {0, -1, 0};
@@ -37,12 +46,7 @@ static void shadow_edge(void) {
     add_quad(&s, (double[]){-10, 0, -10}, (double[]){0, 0, 20}, (double[]){20, 0, 0}, rho, 0);
     add_quad(&s, (double[]){-10, 2, -10}, (double[]){0, 0, 20}, (double[]){10.5, 0, 0}, 0.5, 0);
     st_ref_geometry g;
-    st_err err = {0};
-    if (!st_ref_geometry_build(&g, &s, &err)) {
-        CHECK(0, "geometry: %s", err.msg);
-        st_scene_free(&s);
-        return;
-    }
+    if (!build(&g, &s)) return;
     const double sides[] = {2e-5, 5e-5, 1e-3, -2e-5, -5e-5, -1e-3};
     for (int k = 0; k < 6; k++) {
         for (int q = 0; q < 5; q++) { // a few z: different triangles, different rounding
@@ -76,12 +80,7 @@ static void grazing_plane(bool back) {
     st_mesh *m = back ? add_quad(&s, c, v, u, rho, 0) : add_quad(&s, c, u, v, rho, 0);
     m->double_sided = back;
     st_ref_geometry g;
-    st_err err = {0};
-    if (!st_ref_geometry_build(&g, &s, &err)) {
-        CHECK(0, "geometry: %s", err.msg);
-        st_scene_free(&s);
-        return;
-    }
+    if (!build(&g, &s)) return;
     int bad = 0, n = 0;
     for (int a = -9; a <= 9; a++)
         for (int b = 0; b < 3; b++) {

@@ -11,6 +11,7 @@
 #include "st_test.h" // first: it defines _GNU_SOURCE
 #include "st_gl.h"
 #include "st_shader.h"
+#include "glsl_program.h"
 #include <math.h>
 
 static GLuint build(const char *file, const char *after) {
@@ -25,27 +26,7 @@ static GLuint build(const char *file, const char *after) {
     char *full = malloc(n);
     snprintf(full, n, "%s\n#line 1 31\n%s\n", src, after);
     free(src);
-    GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-    const char *srcs[] = {full};
-    glShaderSource(sh, 1, srcs, NULL);
-    glCompileShader(sh);
-    free(full);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        CHECK(0, "compile %s: %s", file, log);
-        glDeleteShader(sh);
-        return 0;
-    }
-    GLuint prog = glCreateProgram();
-    glAttachShader(prog, sh);
-    glLinkProgram(prog);
-    glDeleteShader(sh);
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    CHECK(ok, "link %s", file);
-    return prog;
+    return toth_glsl_program(full, file);
 }
 
 // Isotropic phase, no extinction: the integrand is 1 / (4 pi) everywhere, so

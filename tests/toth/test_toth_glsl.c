@@ -8,6 +8,7 @@
 #include "st_gl.h"
 #include "st_physics.h"
 #include "st_shader.h"
+#include "glsl_program.h"
 
 // Builds a compute program from `file` (preprocessed with its includes), a
 // prototype section inserted before the file and a body appended after it.
@@ -27,27 +28,7 @@ static GLuint build(const char *file, const char *before, const char *after) {
     char *full = malloc(n);
     snprintf(full, n, "%.*s%s\n%s\n#line 1 31\n%s\n", (int)head, src, before, src + head, after);
     free(src);
-    GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-    const char *srcs[] = {full};
-    glShaderSource(sh, 1, srcs, NULL);
-    glCompileShader(sh);
-    free(full);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        CHECK(0, "compile %s: %s", file, log);
-        glDeleteShader(sh);
-        return 0;
-    }
-    GLuint prog = glCreateProgram();
-    glAttachShader(prog, sh);
-    glLinkProgram(prog);
-    glDeleteShader(sh);
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    CHECK(ok, "link %s", file);
-    return prog;
+    return toth_glsl_program(full, file);
 }
 
 static GLuint ssbo(size_t bytes, const void *data, GLuint binding) {
