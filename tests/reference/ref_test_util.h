@@ -42,7 +42,7 @@ static inline st_mesh *add_quad(st_scene *s, const double c[3], const double u[3
 }
 
 static inline void add_light(st_scene *s, const double p[3], double intensity) {
-    st_light_desc l;
+    st_light_desc l = {0}; // a point light: every other field zero, not stack garbage
     v3(l.position, p[0], p[1], p[2]);
     v3(l.intensity, intensity, intensity, intensity);
     st_err err = {0};
