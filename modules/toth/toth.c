@@ -160,10 +160,10 @@ typedef struct toth {
     } sh;
     GLuint vao; // the edges pass's points and quad (attribute-less)
     // The edges pass's list of pixels to march (toth/edges_list.glsl), for
-    // list_pixels pixels, and the framebuffer without attachments its march
-    // step draws into.
+    // grid_w x grid_h pixels, and the framebuffer without attachments of that
+    // size its march step draws into.
     GLuint list, list_fbo;
-    int list_pixels;
+    int grid_w, grid_h;
     st_pass_info info;
     int height;     // image rows the targets were declared for
     bool dispatch;  // this frame's march is dispatched (march_cs), not drawn
@@ -428,12 +428,23 @@ static void set_refine(toth *t, st_shader *sh) {
     st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
 }
 
+// How a ray's visible fraction is marched (toth/visibility.glsl): the march
+// pass and the edges pass's march step share it.
+static void set_march(toth *t, st_shader *sh) {
+    st_shader_set_int(sh, "toth_samples", (int)t->p[P_SAMPLES]);
+    st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
+    st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
+    st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
+    st_shader_set_int(sh, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
+    st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
+}
+
 // The list of the edges pass (toth/edges_list.glsl: a count, then one entry
 // per pixel) for a width x height image, and the march step's grid: the
 // image's size rounded up to 4 x 4 blocks holds a list of every pixel.
 static bool edges_list(toth *t, int width, int height, st_err *err) {
     int gw = (width + 3) & ~3, gh = (height + 3) & ~3;
-    if (t->list && t->list_pixels == gw * gh) return true;
+    if (t->list && t->grid_w == gw && t->grid_h == gh) return true;
     if (t->list) {
         st_world_untrack(t->w, "toth.edges_list");
         glDeleteBuffers(1, &t->list);
@@ -441,7 +452,7 @@ static bool edges_list(toth *t, int width, int height, st_err *err) {
     glCreateBuffers(1, &t->list);
     glNamedBufferStorage(t->list, sizeof(GLuint) * (1 + (size_t)gw * gh), NULL,
                          GL_DYNAMIC_STORAGE_BIT);
-    t->list_pixels = gw * gh;
+    t->grid_w = gw, t->grid_h = gh;
     if (!t->list_fbo) glCreateFramebuffers(1, &t->list_fbo);
     glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, gw);
     glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, gh);
@@ -461,7 +472,6 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     const st_target *refined = st_world_target(t->w, "toth.refined");
     if (!src || !refined) return st_fail(err, ST_ERR_RUNTIME, "toth: no march or refined target");
     if (!edges_list(t, f->width, f->height, err)) return false;
-    int gw = (f->width + 3) & ~3, gh = (f->height + 3) & ~3;
     set_common(t, sh);
     st_shader_set_int(sh, "toth_blocks_x", bx);
     set_refine(t, sh);
@@ -486,19 +496,14 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
     glGetIntegerv(GL_VIEWPORT, vp);
     glBindFramebuffer(GL_FRAMEBUFFER, t->list_fbo);
-    glViewport(0, 0, gw, gh);
+    glViewport(0, 0, t->grid_w, t->grid_h);
     st_shader_use(m);
     st_world_apply_uniforms(t->w, m, f);
     set_common(t, m);
     st_shader_texture(m, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
-    st_shader_set_int(m, "toth_edges_width", gw);
-    st_shader_set_int(m, "toth_edges_height", gh);
-    st_shader_set_int(m, "toth_samples", (int)t->p[P_SAMPLES]);
-    st_shader_set_int(m, "toth_jitter", t->p[P_JITTER] != 0);
-    st_shader_set_int(m, "toth_bisect", (int)t->p[P_BISECT]);
-    st_shader_set_int(m, "toth_exact", t->p[P_EXACT] != 0);
-    st_shader_set_int(m, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
-    st_shader_set_int(m, "toth_probes", (int)t->p[P_PROBES]);
+    st_shader_set_int(m, "toth_edges_width", t->grid_w);
+    st_shader_set_int(m, "toth_edges_height", t->grid_h);
+    set_march(t, m);
     glBindImageTexture(0, refined->color[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT); // compose and keep read toth.refined
@@ -522,19 +527,15 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     toth *t = self;
     struct toth_shaders *sh = &t->sh;
     const st_target *src = st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
-    // march and gather draw into the target they write, bound by the world.
+    // The march draws (or dispatches) into toth.march and the gather draws
+    // into toth.gather, the targets the world binds.
     switch (pass_kind(t, pass)) {
     case PASS_MARCH: {
         st_shader *m = t->dispatch ? sh->march_cs : sh->march;
         set_common(t, m);
-        st_shader_set_int(m, "toth_samples", (int)t->p[P_SAMPLES]);
-        st_shader_set_int(m, "toth_jitter", t->p[P_JITTER] != 0);
+        set_march(t, m);
         st_shader_set_int(m, "toth_integrator", (int)t->p[P_INTEGRATOR]);
         st_shader_set_int(m, "toth_sampling", sampling(t, f->scene));
-        st_shader_set_int(m, "toth_bisect", (int)t->p[P_BISECT]);
-        st_shader_set_int(m, "toth_exact", t->p[P_EXACT] != 0);
-        st_shader_set_int(m, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
-        st_shader_set_int(m, "toth_probes", (int)t->p[P_PROBES]);
         if (!t->dispatch)
             st_draw_fullscreen(); // into toth.march, bound by the world
         else if (!dispatch_march(t, err))

@@ -1,12 +1,25 @@
-// The toth GLSL unit tests' last step: a compute program from a complete
-// source (the shader file preprocessed plus the test's kernel), with the
-// compile log reported as a test failure. Takes and frees `full`.
+// The toth GLSL unit tests' compute programs: the shader file preprocessed
+// with its includes, then a program from that plus the test's kernel, with
+// the compile log reported as a test failure.
 #ifndef TOTH_GLSL_PROGRAM_H
 #define TOTH_GLSL_PROGRAM_H
 #include "st_test.h"
 #include "st_gl.h"
+#include "st_shader.h"
 #include <stdlib.h>
 
+// `file` with its includes, as a compute stage (NULL: a failed check).
+static char *toth_glsl_source(const char *file) {
+    char names[32][128];
+    int num = 0;
+    st_err err = {0};
+    char *src =
+        st_shader_preprocess_stage(file, "ST_MAX_LIGHTS 8\n", GL_COMPUTE_SHADER, names, &num, &err);
+    CHECK(src != NULL, "preprocess %s: %s", file, err.msg);
+    return src;
+}
+
+// Takes and frees `full`.
 static GLuint toth_glsl_program(char *full, const char *file) {
     GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
     const char *srcs[] = {full};

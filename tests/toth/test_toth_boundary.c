@@ -15,12 +15,7 @@
 #include <math.h>
 
 static GLuint build(const char *file, const char *after) {
-    char names[32][128];
-    int num = 0;
-    st_err err = {0};
-    char *src =
-        st_shader_preprocess_stage(file, "ST_MAX_LIGHTS 8\n", GL_COMPUTE_SHADER, names, &num, &err);
-    CHECK(src != NULL, "preprocess %s: %s", file, err.msg);
+    char *src = toth_glsl_source(file);
     if (!src) return 0;
     size_t n = strlen(src) + strlen(after) + 64;
     char *full = malloc(n);

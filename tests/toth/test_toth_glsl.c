@@ -13,12 +13,7 @@
 // Builds a compute program from `file` (preprocessed with its includes), a
 // prototype section inserted before the file and a body appended after it.
 static GLuint build(const char *file, const char *before, const char *after) {
-    char names[32][128];
-    int num = 0;
-    st_err err = {0};
-    char *src =
-        st_shader_preprocess_stage(file, "ST_MAX_LIGHTS 8\n", GL_COMPUTE_SHADER, names, &num, &err);
-    CHECK(src != NULL, "preprocess %s: %s", file, err.msg);
+    char *src = toth_glsl_source(file);
     if (!src) return 0;
     // The preprocessor's output starts with #version and #defines; the
     // included files begin at the first #line.
