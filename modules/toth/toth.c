@@ -60,6 +60,7 @@ enum {
     P_REFINE_KINK,
     P_REUSE,
     P_EXACT_SOLVE,
+    P_UPSAMPLE_KINK,
     P_COUNT
 };
 enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
@@ -147,6 +148,10 @@ static const st_param_def params[P_COUNT] = {
     {"exact_solve", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "equiangular, exact_edges: a shadow boundary is located from the blocking triangle's shadow "
      "volume in closed form, checked by ~2 rays (off: bisected with bisect + 4 exact rays)"},
+    {"upsample_kink", ST_PARAM_FLOAT, 0.001, 0, 1, NULL,
+     "equiangular below full resolution: where the visible fraction's second difference over "
+     "the 4 x 4 march texels around a pixel (all on its surface) exceeds this, the upsampling "
+     "places a kink between two lines instead of interpolating bilinearly (0 = bilinear)"},
 };
 
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_KEEP, PASS_COMPOSE };
@@ -426,6 +431,7 @@ static void set_refine(toth *t, st_shader *sh) {
     st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
     st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
     st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
+    st_shader_set_float(sh, "toth_upsample_kink", (float)t->p[P_UPSAMPLE_KINK]);
 }
 
 // How a ray's visible fraction is marched (toth/visibility.glsl): the march
@@ -585,6 +591,10 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         st_shader_set_int(compose, "toth_sampling", sampling(t, f->scene));
         st_shader_set_int(compose, "toth_nodes", (int)t->p[P_NODES]);
         set_refine(t, compose);
+        // The kink rule is for the visible fraction (sampling=uniform
+        // upsamples in-scattered light).
+        if (sampling(t, f->scene) != SAMPLING_EQUIANGULAR)
+            st_shader_set_float(compose, "toth_upsample_kink", 0.0f);
         st_shader_set_int(compose, "toth_has_inscatter", src != NULL);
         st_shader_set_int(compose, "toth_glow", (int)t->p[P_GLOW]);
         st_shader_set_float(compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);

@@ -12,6 +12,61 @@ uniform int toth_refine_taps; // fewer taps on the pixel's surface than this: ma
 uniform sampler2D toth_refined_tex; // the edges pass's fractions (-1: not marched there)
 #include "toth/kink.glsl" // toth_refine_kink: the edges pass also marched bent blocks
 
+#ifndef TOTH_EDGES_SELECT
+uniform float toth_upsample_kink; // second difference above which a kink is reconstructed (0: off)
+
+// The visible fraction at x in [0, 1] between taps v0 (at 0) and v1 (at 1),
+// with their outer neighbours vm (at -1) and v2 (at 2). The fraction is
+// piecewise linear with kinks where a view ray starts or stops touching a
+// shaft; one kink at c between two lines gives second differences
+// a = (sR - sL)(1 - c) at 0 and b = (sR - sL) c at 1, of one sign. The left
+// line extended is linear interpolation minus x a, the right one minus
+// (1 - x) b; they meet at c = b / (a + b), so the kink is the smaller of the
+// two corrections (Harten's subcell resolution). Exact for one kink anywhere
+// in [-1, 2]; where the signs differ (an inflection) or both differences are
+// small (smooth curvature, for which two lines are worse than one), or where
+// an outer tap is unusable (`on` false), linear.
+vec4 toth_kink_1d(vec4 vm, vec4 v0, vec4 v1, vec4 v2, float x, bool on) {
+    vec4 a = vm - 2.0 * v0 + v1, b = v0 - 2.0 * v1 + v2;
+    vec4 bend = sign(a) * min(x * abs(a), (1.0 - x) * abs(b));
+    vec4 k = step(0.0, a * b) * step(toth_upsample_kink, max(abs(a), abs(b)));
+    return mix(v0, v1, x) - (on ? k * bend : vec4(0.0));
+}
+
+// The 4 x 4 march texels around p (b - 1 .. b + 2), its rows reconstructed
+// at fr.x, then that column at fr.y: exact for the minimum or maximum of two
+// planes (a straight kink at any angle). The inner four show p's surface
+// (the caller checks); an outer tap counts where it shows the surface of the
+// tap beside it toward the centre (a chain, so a floor seen at a grazing
+// angle, whose distance changes by more than edge_tolerance over 3 texels,
+// still counts), and a row or the column with a tap that does not (a
+// silhouette beside the kink) or beyond the image is interpolated linearly.
+vec4 toth_upsample_kinked(ivec2 b, vec2 fr) {
+    ivec2 size = textureSize(toth_inscatter_tex, 0);
+    vec4 t[16], gt[16];
+    bool in_image[16];
+    for (int k = 0; k < 16; k++) {
+        ivec2 q = b + ivec2(k & 3, k >> 2) - 1;
+        in_image[k] = all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size));
+        q = clamp(q, ivec2(0), size - 1);
+        t[k] = texelFetch(toth_inscatter_tex, q, 0);
+        gt[k] = texelFetch(st_gbuffer, toth_full_pixel(q), 0);
+    }
+    // The outer rows' inner taps against the inner rows' (the column's taps).
+    bool column = in_image[1] && in_image[2] && in_image[13] && in_image[14] &&
+                  toth_similar(gt[1], gt[5]) && toth_similar(gt[2], gt[6]) &&
+                  toth_similar(gt[13], gt[9]) && toth_similar(gt[14], gt[10]);
+    vec4 r[4];
+    for (int j = 0; j < 4; j++) {
+        int k = 4 * j;
+        bool row = in_image[k] && in_image[k + 3] && toth_similar(gt[k], gt[k + 1]) &&
+                   toth_similar(gt[k + 3], gt[k + 2]) && (column || (j == 1 || j == 2));
+        r[j] = toth_kink_1d(t[k], t[k + 1], t[k + 2], t[k + 3], fr.x, row);
+    }
+    return toth_kink_1d(r[0], r[1], r[2], r[3], fr.y, column);
+}
+#endif
+
 // spread: how much the taps that were mixed differ (max - min over the
 // channels), 1 when none showed the pixel's surface.
 vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
@@ -82,6 +137,10 @@ vec4 toth_upsample(ivec2 p, vec4 g, out float spread) {
     settled = settled && !clamped;
 #endif
     spread = used >= toth_refine_taps && !clamped ? max(max(d.x, d.y), max(d.z, d.w)) : settled ? 0.0 : 1.0;
+#ifndef TOTH_EDGES_SELECT
+    // Compose and keep: a kink between the taps reconstructed (upsample_kink).
+    if (toth_upsample_kink > 0.0 && used == 4 && !clamped) return toth_upsample_kinked(b, fr);
+#endif
     return wsum > 0.0 ? sum / wsum : nearest;
 }
 
