@@ -5,7 +5,8 @@
 //    all 4 x 4 taps lie on the pixel's surface, which bilinear interpolation
 //    misses by up to a quarter of the slope jump; a gently curved field (second
 //    differences below the threshold) keeps the bilinear value; a silhouette
-//    beside the kink never makes the result worse than bilinear.
+//    beside the kink never makes the result worse than bilinear, and taps
+//    across a crease (continuous distance) still count.
 // 2. The whole pipeline (compose) on godrays_hidden_hole 160 x 120 at
 //    quarter resolution, refine_kink=0, against a full-resolution march of
 //    the same steps: the rule takes the upsampling error well below
@@ -61,13 +62,19 @@ static double field(int kind, double x, double y) {
 static float march[MW * MH * 4], gbuf[W * H * 4], out[W * H * 4];
 
 // toth_upsample at every pixel for field `kind` with threshold `kink`; the
-// gbuffer shows one plane at distance 5, or, with silhouette, a second
-// surface at distance 10 left of full-resolution column 20.
-static void upsample(GLuint prog, int kind, double kink, bool silhouette) {
+// gbuffer shows one plane at distance 5; left of full-resolution column 36 (the kink runs
+// from column 39 to 52)
+// a second surface at distance 10 (a silhouette) or one at distance 5 facing
+// another way (a crease).
+enum { ONE_SURFACE, SILHOUETTE, CREASE, EDGE = 36 };
+static void upsample(GLuint prog, int kind, double kink, int geometry) {
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             float *g = &gbuf[4 * (y * W + x)];
-            g[0] = 0, g[1] = 0, g[2] = 1, g[3] = silhouette && x < 20 ? 10.0f : 5.0f;
+            bool left = x < EDGE;
+            g[0] = geometry == CREASE && left ? 1.0f : 0.0f, g[1] = 0;
+            g[2] = geometry == CREASE && left ? 0.0f : 1.0f;
+            g[3] = geometry == SILHOUETTE && left ? 10.0f : 5.0f;
         }
     for (int j = 0; j < MH; j++)
         for (int i = 0; i < MW; i++)
@@ -96,6 +103,32 @@ static void upsample(GLuint prog, int kind, double kink, bool silhouette) {
     glDeleteTextures(1, &tm);
 }
 
+// Pixels whose four inner taps lie inside the march.
+static bool unclamped(int x, int y) {
+    int bx = (int)floor((x - 1) / 4.0), by = (int)floor((y - 1) / 4.0);
+    return bx >= 0 && by >= 0 && bx + 1 <= MW - 1 && by + 1 <= MH - 1;
+}
+
+// Pixels whose four inner taps lie right of column EDGE.
+static bool right(int x) {
+    return 4 * (int)floor((x - 1) / 4.0) + 1 >= EDGE;
+}
+
+// Bilinear interpolation of the march texels at pixel (x, y), in double.
+static double bilinear(int x, int y) {
+    double fx = (x - 1) / 4.0, fy = (y - 1) / 4.0;
+    int bx = (int)floor(fx), by = (int)floor(fy);
+    double v = 0;
+    for (int k = 0; k < 4; k++) {
+        int i = bx + (k & 1), j = by + (k >> 1);
+        double w = ((k & 1) ? fx - bx : 1 - (fx - bx)) * ((k >> 1) ? fy - by : 1 - (fy - by));
+        i = i < 0 ? 0 : i >= MW ? MW - 1 : i;
+        j = j < 0 ? 0 : j >= MH ? MH - 1 : j;
+        v += w * march[4 * (j * MW + i)];
+    }
+    return v;
+}
+
 // Pixels whose 4 x 4 taps lie inside the march (b - 1 >= 0, b + 2 < size).
 static bool interior(int x, int y) {
     int bx = (int)floor((x - 1) / 4.0), by = (int)floor((y - 1) / 4.0);
@@ -107,9 +140,9 @@ static void test_glsl(void) {
     if (!prog) return;
     static float bil[W * H * 4];
     // 1. The kink: exact with the rule, not bilinear.
-    upsample(prog, FIELD_KINK, 0.0, false);
+    upsample(prog, FIELD_KINK, 0.0, ONE_SURFACE);
     memcpy(bil, out, sizeof bil);
-    upsample(prog, FIELD_KINK, 0.001, false);
+    upsample(prog, FIELD_KINK, 0.001, ONE_SURFACE);
     double worst_b = 0, worst_k = 0, sse_b = 0, sse_k = 0;
     int n = 0;
     for (int y = 0; y < H; y++)
@@ -129,9 +162,9 @@ static void test_glsl(void) {
     CHECK(worst_b > 5e-3, "bilinear misses the kink: worst %.3g", worst_b);
     CHECK(worst_k < 2e-6, "kink rule exact for two planes: worst %.3g", worst_k);
     // 2. A gentle curve (second differences 3.2e-4 < 0.001): bilinear kept.
-    upsample(prog, FIELD_CURVED, 0.0, false);
+    upsample(prog, FIELD_CURVED, 0.0, ONE_SURFACE);
     memcpy(bil, out, sizeof bil);
-    upsample(prog, FIELD_CURVED, 0.001, false);
+    upsample(prog, FIELD_CURVED, 0.001, ONE_SURFACE);
     double diff = 0;
     for (int i = 0; i < W * H; i++)
         diff = fmax(diff, fabs(out[4 * i] - bil[4 * i]));
@@ -139,23 +172,35 @@ static void test_glsl(void) {
     // bilinear's weights carry 1e-3 each for taps on the surface (taps
     // differ by < 0.01 here): equal within 1e-5.
     CHECK(diff < 1e-5, "below the threshold the rule is bilinear: %.3g", diff);
-    // 3. A silhouette at column 20 beside the kink: rows or columns with a
-    // tap across it fall back to linear; never worse than bilinear.
-    upsample(prog, FIELD_KINK, 0.0, true);
-    memcpy(bil, out, sizeof bil);
-    upsample(prog, FIELD_KINK, 0.001, true);
+    // 3. A silhouette at column 36 beside the kink: rows or columns with a
+    // tap across it fall back to linear; where the four inner taps lie right
+    // of it, never worse than (exact) bilinear interpolation of the taps.
+    upsample(prog, FIELD_KINK, 0.001, SILHOUETTE);
     double worse = 0;
     int finite = 1;
     for (int y = 0; y < H; y++)
-        for (int x = 20; x < W; x++) { // the surface right of the silhouette
-            double want = field(FIELD_KINK, x, y);
+        for (int x = 0; x < W; x++) {
             finite &= isfinite(out[4 * (y * W + x)]);
-            worse =
-                fmax(worse, fabs(out[4 * (y * W + x)] - want) - fabs(bil[4 * (y * W + x)] - want));
+            // Elsewhere toth_upsample's bilinear path (depth-aware, clamped
+            // at the border, each tap weighted 1e-3 more) runs, as before.
+            if (!right(x) || !unclamped(x, y)) continue;
+            double want = field(FIELD_KINK, x, y);
+            worse = fmax(worse, fabs(out[4 * (y * W + x)] - want) - fabs(bilinear(x, y) - want));
         }
     printf("  silhouette: kink error above bilinear's at most %.2e\n", worse);
     CHECK(finite, "silhouette: finite");
     CHECK(worse < 1e-5, "silhouette: kink no worse than bilinear (by %.3g)", worse);
+    // 4. A crease at column 36 (distance continuous, normals 90 degrees
+    // apart): the fraction stays continuous, so outer taps across it count
+    // and pixels whose four inner taps lie right of it stay exact.
+    upsample(prog, FIELD_KINK, 0.001, CREASE);
+    double worst_c = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            if (interior(x, y) && right(x))
+                worst_c = fmax(worst_c, fabs(out[4 * (y * W + x)] - field(FIELD_KINK, x, y)));
+    printf("  crease: worst %.2e right of it\n", worst_c);
+    CHECK(worst_c < 2e-6, "crease: taps across it count: worst %.3g", worst_c);
     glDeleteProgram(prog);
 }
 
