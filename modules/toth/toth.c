@@ -19,7 +19,8 @@
 //   compose (full resolution)  the unshadowed integral per pixel: a point
 //           light's from the airlight table (airlight.h, compose=table), a
 //           spot's by Gauss-Legendre in that angle, times the fraction
-//           upsampled depth-aware (or the edges pass's), added to the image
+//           upsampled depth-aware, kinks placed between two lines
+//           (upsample_kink), or the edges pass's, added to the image
 //           the regular pass attenuated by e^(-sigma_t s)
 //   keep    (reuse=on, box stills)  the first frame's fractions per pixel
 //           and a copy of its gbuffer; the jittered frames that follow run

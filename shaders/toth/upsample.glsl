@@ -2,6 +2,9 @@
 // the bilinear taps that show the pixel's own surface, else the tap nearest in
 // distance, so shafts do not bleed across silhouettes; and whether the taps
 // disagree so much that the pixel's own ray must be marched (`spread`).
+// Compose and keep reconstruct kinks of the visible fraction from the 4 x 4
+// taps around the pixel where all four bilinear taps show its surface
+// (upsample_kink).
 #ifndef TOTH_UPSAMPLE_GLSL
 #define TOTH_UPSAMPLE_GLSL
 #include "toth/common.glsl"
