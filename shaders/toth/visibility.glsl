@@ -52,6 +52,18 @@ float toth_exact_at(int l, toth_eq e, vec3 o, vec3 dir, float delta) {
     return toth_exact_tri(l, e, o, dir, delta) >= 0 ? 0.0 : 1.0;
 }
 
+// The last two exact lookups of toth_vis_exact_or_map (light, angle, the
+// blocking triangle or -1): a step's shadow walk and a boundary's search
+// start from a step end that was often traced already (-2: not here).
+int toth_memo_l[2] = int[2](-1, -1), toth_memo_t[2] = int[2](-2, -2);
+float toth_memo_d[2] = float[2](0.0, 0.0);
+
+int toth_memo(int l, float delta) {
+    for (int k = 0; k < 2; k++)
+        if (toth_memo_l[k] == l && toth_memo_d[k] == delta) return toth_memo_t[k];
+    return -2;
+}
+
 // exact_edges: the map's verdict at the ray point at angle delta, taken
 // only where the map can decide it. `amb`: undecided in shadow_map.refine's
 // sense for a point without a normal (one of 8 taps two texels around it
@@ -71,7 +83,13 @@ float toth_vis_exact_or_map(int l, toth_eq e, vec3 o, vec3 dir, float delta, out
         float bias = st_shadow_texel(distance(x, st_light_pos[l])) * st_shadow_bias;
         v = st_shadow_visibility_amb(l, x, bias, 0.0, true, amb);
     }
-    return amb ? toth_exact_at(l, e, o, dir, delta) : v;
+    for (int once = 0; once < (amb ? 1 : 0); once++) {
+        int t = toth_exact_tri(l, e, o, dir, delta);
+        toth_memo_l[1] = toth_memo_l[0], toth_memo_d[1] = toth_memo_d[0], toth_memo_t[1] = toth_memo_t[0];
+        toth_memo_l[0] = l, toth_memo_d[0] = delta, toth_memo_t[0] = t;
+        v = t >= 0 ? 0.0 : 1.0;
+    }
+    return v;
 }
 
 // The lit part of the step [a, b] whose visibility changes at x (lit_first:
@@ -150,11 +168,13 @@ vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
     bool lit_first = va > 0.5;
     float sh = lit_first ? b : a, li = lit_first ? a : b; // shadowed and lit ends
     float nudge = 1e-4 * (b - a), x = sh, lo = sh, hi = li;
-    // stage 0: trace the shadowed end; 1: a triangle blocks sh, trace just
-    // past its shadow's end x; 2: lit there, trace halfway to li; 3: bisect;
-    // 4: done, the boundary at x. (Work that only some lanes need sits in
-    // loops run once: see toth_vis_step_exact.)
-    int stage = toth_exact_solve == 0 ? 3 : tri < -1 ? 0 : 1, tries = 0, halvings = 0;
+    // stage 0: trace the shadowed end (unless its lookup did: toth_memo);
+    // 1: a triangle blocks sh, trace just past its shadow's end x; 2: lit
+    // there, trace halfway to li; 3: bisect; 4: done, the boundary at x.
+    // (Work that only some lanes need sits in loops run once: see
+    // toth_vis_step_exact.)
+    if (tri < -1) tri = toth_memo(l, sh);
+    int stage = toth_exact_solve == 0 ? 3 : tri < -1 ? 0 : tri < 0 ? 4 : 1, tries = 0, halvings = 0;
     for (int it = 0; it < TOTH_EXACT_TRIES * 2 + 2 + n && stage < 4; it++) {
         for (int once = 0; once < (stage == 1 ? 1 : 0); once++) {
             bool ok = tries < TOTH_EXACT_TRIES;
@@ -245,7 +265,8 @@ vec3 toth_vis_step_exact(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
             vm = va;
             for (int it = 0; it < TOTH_EXACT_TRIES + 2 && stage < 3; it++) {
                 float q = stage == 0 ? a : stage == 1 ? pos + nudge : m;
-                int t = toth_exact_tri(l, e, o, dir, q);
+                int t = stage == 0 ? toth_memo(l, a) : -2;
+                for (int once = 0; once < (t < -1 ? 1 : 0); once++) t = toth_exact_tri(l, e, o, dir, q);
                 if (stage == 2) {
                     tm = t, vm = t >= 0 ? 0.0 : 1.0, stage = 3;
                 } else if (t < 0) {
