@@ -8,13 +8,13 @@
 //  - a step whose ends both lie in shadow, one in each square's, with its
 //    midpoint in the second shadow (toth_vis_step_exact): the midpoint alone
 //    called the whole step shadowed and lost the gap;
-//  - a step from the first shadow to past the second (toth_vis_probed): one
-//    boundary search per step found one of its three boundaries and lost the
-//    gap (godrays_window 320x240 at 24 steps: 3-4% of a pixel's light).
-// The map is left unbound with a bias of 1.5 times the light distance: it
-// calls every point lit, only thanks to the bias, so exact_edges traces each
-// lookup (shadow_map/visibility.glsl's ambiguity rule), and the probes (map
-// only) see nothing.
+//  - a step from the first shadow to past the second (toth_vis_probed), whose
+//    probes see the second shadow: one boundary search per step found one
+//    of its three boundaries and lost the gap (godrays_window 320x240 at 24
+//    steps: 3-4% of a pixel's light).
+// The shadow cube is written here from the squares (the distance to them
+// per texel, 128 x 128 per face): the probes see both shadows, lookups near
+// an edge are undecided and take exact rays (shadow_map.refine's rule).
 #include "st_test.h" // first: it defines _GNU_SOURCE
 #include "st_gl.h"
 #include "st_shader.h"
@@ -79,6 +79,38 @@ static void bind_squares(GLuint bufs[2]) {
 // (toth_eq_frame: the angle from the ray start seen from the light).
 static const double P[3] = {0.0, 5.0, 0.0}, O[3] = {-5.0, 1.0, 0.2};
 
+// The light's shadow cube (a cube map array of one layer): per texel the
+// distance from the light to the squares along its centre direction (GL's
+// face orientations), far where it misses them.
+enum { FACE = 128 };
+static GLuint shadow_cube(void) {
+    float *d = malloc(sizeof(float) * FACE * FACE * 6);
+    for (int f = 0; f < 6; f++)
+        for (int j = 0; j < FACE; j++)
+            for (int i = 0; i < FACE; i++) {
+                double sc = 2.0 * (i + 0.5) / FACE - 1.0, tc = 2.0 * (j + 0.5) / FACE - 1.0;
+                double v[6][3] = {{1, -tc, -sc}, {-1, -tc, sc}, {sc, 1, tc},
+                                  {sc, -1, -tc}, {sc, -tc, 1},  {-sc, -tc, -1}};
+                double *r = v[f], n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+                double dist = 1e9;
+                if (r[1] < 0) {
+                    double t = (3.0 - P[1]) / (r[1] / n), x = P[0] + t * r[0] / n,
+                           z = P[2] + t * r[2] / n;
+                    bool in = fabs(z) <= 1 && ((x >= -1.5 && x <= -0.3) || (x >= 0.2 && x <= 2.5));
+                    if (in) dist = t;
+                }
+                d[(f * FACE + j) * FACE + i] = (float)dist;
+            }
+    GLuint tex;
+    glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &tex);
+    glTextureStorage3D(tex, 1, GL_R32F, FACE, FACE, 6);
+    glTextureSubImage3D(tex, 0, 0, 0, 0, FACE, FACE, 6, GL_RED, GL_FLOAT, d);
+    glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    free(d);
+    return tex;
+}
+
 static double angle(double t) {
     double lr[3] = {P[0] - O[0], P[1] - O[1], P[2] - O[2]};
     double h = sqrt(lr[1] * lr[1] + lr[2] * lr[2]), a = -lr[0];
@@ -103,8 +135,9 @@ int main(void) {
         st_context_destroy(ctx);
         return st_test_summary("toth_slivers");
     }
-    GLuint bvh[2], out;
+    GLuint bvh[2], out, cube = shadow_cube();
     bind_squares(bvh);
+    glBindTextureUnit(0, cube);
     glCreateBuffers(1, &out);
     glNamedBufferData(out, 16, NULL, GL_DYNAMIC_COPY);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out);
@@ -117,9 +150,9 @@ int main(void) {
     glUniform1i(glGetUniformLocation(prog, "st_light_type[0]"), 0);
     glUniform3f(glGetUniformLocation(prog, "st_light_pos[0]"), (float)P[0], (float)P[1],
                 (float)P[2]);
-    // texel(d) = 2 d / 512: the bias 384 texels is 1.5 d (see the top).
-    glUniform1f(glGetUniformLocation(prog, "st_shadow_res"), 512.0f);
-    glUniform1f(glGetUniformLocation(prog, "st_shadow_bias"), 384.0f);
+    glUniform1i(glGetUniformLocation(prog, "st_shadow_cubes"), 0);
+    glUniform1f(glGetUniformLocation(prog, "st_shadow_res"), (float)FACE);
+    glUniform1f(glGetUniformLocation(prog, "st_shadow_bias"), 1.5f);
     glUniform1i(glGetUniformLocation(prog, "st_shadow_pcf"), 0);
     glUniform1i(glGetUniformLocation(prog, "st_shadow_refine"), 1);
     glUniform1i(glGetUniformLocation(prog, "st_shadow_suns"), 1); // not the cubes' unit
@@ -167,6 +200,7 @@ int main(void) {
     CHECK(glGetError() == GL_NO_ERROR, "no GL error");
     glDeleteBuffers(2, bvh);
     glDeleteBuffers(1, &out);
+    glDeleteTextures(1, &cube);
     glDeleteProgram(prog);
     st_context_destroy(ctx);
     return st_test_summary("toth_slivers");
