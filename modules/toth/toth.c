@@ -136,8 +136,8 @@ static const st_param_def params[P_COUNT] = {
      "`glow` applies"},
     {"probes", ST_PARAM_INT, 3, 0, 7, NULL,
      "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
-     "splits "
-     "the step there (finds lit slivers and thin occluders between the ends)"},
+     "splits the step there (finds lit slivers and thin occluders between the ends); a step "
+     "whose ends disagree is split there too where they see a second boundary"},
     {"refine_kink", ST_PARAM_FLOAT, 0.01, 0, 1, NULL,
      "equiangular below full resolution: a block whose march texel's visible fraction has a "
      "second difference (along its row or column) above this marches its pixels' own rays (0 = "
