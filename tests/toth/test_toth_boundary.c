@@ -14,16 +14,6 @@
 #include "glsl_program.h"
 #include <math.h>
 
-static GLuint build(const char *file, const char *after) {
-    char *src = toth_glsl_source(file);
-    if (!src) return 0;
-    size_t n = strlen(src) + strlen(after) + 64;
-    char *full = malloc(n);
-    snprintf(full, n, "%s\n#line 1 31\n%s\n", src, after);
-    free(src);
-    return toth_glsl_program(full, file);
-}
-
 // Isotropic phase, no extinction: the integrand is 1 / (4 pi) everywhere, so
 // the lit part times 4 pi is the lit length in the step's parameter.
 static const char *MAIN =
@@ -67,11 +57,7 @@ static void bind_square(GLuint bufs[2]) {
         -1, 3, -1, 0, 2, 0, 0, 0, 2, 0, 2, 0, // (-1,-1) (1,-1) (1,1): x >= z
         -1, 3, -1, 0, 2, 0, 2, 0, 0, 0, 2, 0, // (-1,-1) (1,1) (-1,1): x <= z
     };
-    glCreateBuffers(2, bufs);
-    glNamedBufferData(bufs[0], sizeof nodes, nodes, GL_STATIC_DRAW);
-    glNamedBufferData(bufs[1], sizeof tris, tris, GL_STATIC_DRAW);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bufs[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, bufs[1]);
+    toth_glsl_bind_bvh(bufs, nodes, sizeof nodes, tris, sizeof tris);
 }
 
 typedef struct {
@@ -83,29 +69,14 @@ typedef struct {
 } bcase;
 
 int main(void) {
-    st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    CHECK(ctx != NULL, "headless context: %s", err.msg);
+    GLuint prog = 0;
+    GLuint out = 0;
+    st_context *ctx = toth_glsl_visibility_test(MAIN, &prog, &out);
     if (!ctx) return st_test_summary("toth_boundary");
-    GLuint prog = build("toth/visibility.glsl", MAIN);
-    if (!prog) {
-        st_context_destroy(ctx);
-        return st_test_summary("toth_boundary");
-    }
-    GLuint bvh[2], out;
+    GLuint bvh[2];
     bind_square(bvh);
-    glCreateBuffers(1, &out);
-    glNamedBufferData(out, 16, NULL, GL_DYNAMIC_COPY);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out);
-    glUseProgram(prog);
-    // Frame uniforms the equi-angular frame reads (h_min), the phase, and a
-    // shadow map that would call every point lit (a huge bias, no map
+    // A shadow map that would call every point lit (a huge bias, no map
     // bound), should anything ask it: every verdict comes from the BVH.
-    glUniform1f(glGetUniformLocation(prog, "st_fov_y"), 1.0f);
-    glUniform2f(glGetUniformLocation(prog, "st_resolution"), 1000.0f, 1000.0f);
-    glUniform1f(glGetUniformLocation(prog, "st_near"), 0.1f);
-    glUniform1i(glGetUniformLocation(prog, "st_phase_kind"), 0);
-    glUniform1i(glGetUniformLocation(prog, "st_num_lights"), 1);
     glUniform1f(glGetUniformLocation(prog, "st_shadow_res"), 512.0f);
     glUniform1f(glGetUniformLocation(prog, "st_shadow_bias"), 1e9f);
     glUniform1i(glGetUniformLocation(prog, "st_shadow_sun_slot[0]"), -1);

@@ -21,16 +21,6 @@
 #include "glsl_program.h"
 #include <math.h>
 
-static GLuint build(const char *file, const char *after) {
-    char *src = toth_glsl_source(file);
-    if (!src) return 0;
-    size_t n = strlen(src) + strlen(after) + 64;
-    char *full = malloc(n);
-    snprintf(full, n, "%s\n#line 1 31\n%s\n", src, after);
-    free(src);
-    return toth_glsl_program(full, file);
-}
-
 // Isotropic phase, no extinction: the integrand is 1 / (4 pi) everywhere, so
 // the lit part times 4 pi is the lit angle.
 static const char *MAIN =
@@ -68,11 +58,7 @@ static void bind_squares(GLuint bufs[2]) {
         };
         memcpy(&tris[24 * s], t, sizeof t);
     }
-    glCreateBuffers(2, bufs);
-    glNamedBufferData(bufs[0], sizeof nodes, nodes, GL_STATIC_DRAW);
-    glNamedBufferData(bufs[1], sizeof tris, tris, GL_STATIC_DRAW);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bufs[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, bufs[1]);
+    toth_glsl_bind_bvh(bufs, nodes, sizeof nodes, tris, sizeof tris);
 }
 
 // The light, the view ray o + t (1, 0, 0), and its equi-angular angle at t
@@ -126,27 +112,13 @@ typedef struct {
 } scase;
 
 int main(void) {
-    st_err err = {0};
-    st_context *ctx = st_context_create_headless(&err);
-    CHECK(ctx != NULL, "headless context: %s", err.msg);
+    GLuint prog = 0;
+    GLuint out = 0;
+    st_context *ctx = toth_glsl_visibility_test(MAIN, &prog, &out);
     if (!ctx) return st_test_summary("toth_slivers");
-    GLuint prog = build("toth/visibility.glsl", MAIN);
-    if (!prog) {
-        st_context_destroy(ctx);
-        return st_test_summary("toth_slivers");
-    }
-    GLuint bvh[2], out, cube = shadow_cube();
+    GLuint bvh[2], cube = shadow_cube();
     bind_squares(bvh);
     glBindTextureUnit(0, cube);
-    glCreateBuffers(1, &out);
-    glNamedBufferData(out, 16, NULL, GL_DYNAMIC_COPY);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out);
-    glUseProgram(prog);
-    glUniform1f(glGetUniformLocation(prog, "st_fov_y"), 1.0f);
-    glUniform2f(glGetUniformLocation(prog, "st_resolution"), 1000.0f, 1000.0f);
-    glUniform1f(glGetUniformLocation(prog, "st_near"), 0.1f);
-    glUniform1i(glGetUniformLocation(prog, "st_phase_kind"), 0);
-    glUniform1i(glGetUniformLocation(prog, "st_num_lights"), 1);
     glUniform1i(glGetUniformLocation(prog, "st_light_type[0]"), 0);
     glUniform3f(glGetUniformLocation(prog, "st_light_pos[0]"), (float)P[0], (float)P[1],
                 (float)P[2]);
