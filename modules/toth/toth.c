@@ -33,6 +33,7 @@
 // without lights no pass runs: the view ray's extinction belongs to the
 // regular pass (docs/physics.md), toth only adds in-scattered light.
 #include "airlight.h"
+#include "st_gl.h"
 #include "st_world.h"
 #include "st_physics.h"
 #include <math.h>
@@ -356,6 +357,26 @@ static int sampling(const toth *t, const st_scene *sc) {
     return st_density_varies(&sc->density) ? SAMPLING_UNIFORM : (int)t->p[P_SAMPLING];
 }
 
+// llvmpipe gives a shader invocation (8 lanes) one budget of 65535 loop
+// iterations for all its loops and then leaves every loop silently (Mesa's
+// gallivm, lp_exec_endloop): the equi-angular march's steps, probes and
+// exact rays run out of it between 384 steps (still exact, godrays_window
+// 320x240) and 512 (whole shaft edges dark, rmse 1.2e-6 -> 6.5e-5), so a
+// ray may take at most 256 of them there. A GPU driver has no such budget.
+#define TOTH_LLVMPIPE_MAX_STEPS 256
+
+static bool steps_fit(const toth *t, const st_scene *sc, st_err *err) {
+    int m = interleave(t), n = (int)t->p[P_SAMPLES], per_ray = (n + m * m - 1) / (m * m);
+    if (sampling(t, sc) != SAMPLING_EQUIANGULAR || per_ray <= TOTH_LLVMPIPE_MAX_STEPS ||
+        !strstr(st_context_renderer(), "llvmpipe"))
+        return true;
+    return st_fail(err, ST_ERR_INPUT,
+                   "toth.samples=%d: %d equi-angular steps per ray exceed llvmpipe's loop budget "
+                   "(at most %d per ray; beyond it Mesa cuts the march short without an error); "
+                   "use toth.samples <= %d, toth.interleave, or a GPU driver",
+                   n, per_ray, TOTH_LLVMPIPE_MAX_STEPS, TOTH_LLVMPIPE_MAX_STEPS);
+}
+
 // Nothing runs without a scattering medium or without lights: toth adds
 // in-scattered light only (the regular pass applies the view's extinction).
 static bool needed(void *self, int pass, const st_frame *f) {
@@ -538,6 +559,7 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     // into toth.gather, the targets the world binds.
     switch (pass_kind(t, pass)) {
     case PASS_MARCH: {
+        if (!steps_fit(t, f->scene, err)) return false;
         st_shader *m = t->dispatch ? sh->march_cs : sh->march;
         set_common(t, m);
         set_march(t, m);
