@@ -46,11 +46,17 @@ float toth_ray_length(vec4 gb, ivec2 px) {
     return st_far / max(dot(toth_view_dir(px), toth_ndc_dir(vec2(0.0))), 1e-3);
 }
 
-// Do two gbuffer texels show the same surface closely enough to share
-// in-scattered light? Background matches background only.
-bool toth_similar(vec4 a, vec4 b) {
+// Do two gbuffer texels' rays end at continuous distances (within
+// edge_tolerance)? Background matches background only.
+bool toth_continuous(vec4 a, vec4 b) {
     bool bga = a.w < 0.0, bgb = b.w < 0.0;
     if (bga || bgb) return bga && bgb;
-    return abs(a.w - b.w) <= toth_tolerance * max(a.w, b.w) && dot(a.xyz, b.xyz) >= 0.8;
+    return abs(a.w - b.w) <= toth_tolerance * max(a.w, b.w);
+}
+
+// Do they show the same surface closely enough to share in-scattered light:
+// continuous, and (off the background) normals within ~37 degrees?
+bool toth_similar(vec4 a, vec4 b) {
+    return toth_continuous(a, b) && (a.w < 0.0 || dot(a.xyz, b.xyz) >= 0.8);
 }
 #endif

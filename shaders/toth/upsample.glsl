@@ -36,26 +36,18 @@ vec4 toth_kink_1d(vec4 vm, vec4 v0, vec4 v1, vec4 v2, float x, bool on) {
     return mix(v0, v1, x) - (on ? k * bend : vec4(0.0));
 }
 
-// Whether two march texels' rays end at continuous distances (within
-// edge_tolerance, background with background): the fraction is continuous
-// between them. Normals may differ: at a crease the ray length, and so the
-// fraction, bends, which is one more kink (godrays_hidden_hole's shaft
-// beside the floor's crease: rmse 5.3e-5 -> 3.4e-5 at samples=256 quarter
-// against requiring toth_similar there).
-bool toth_continuous(vec4 a, vec4 b) {
-    bool bga = a.w < 0.0, bgb = b.w < 0.0;
-    if (bga || bgb) return bga && bgb;
-    return abs(a.w - b.w) <= toth_tolerance * max(a.w, b.w);
-}
-
 // The 4 x 4 march texels around p (b - 1 .. b + 2), its rows reconstructed
 // at fr.x, then that column at fr.y: exact for the minimum or maximum of two
 // planes (a straight kink at any angle). The inner four show p's surface
 // (the caller checks); an outer tap counts where it is continuous with the
-// tap beside it toward the centre (a chain, so a floor seen at a grazing
-// angle, whose distance changes by more than edge_tolerance over 3 texels,
-// still counts), and a row or the column with a tap that is not (a
-// silhouette beside the kink) or beyond the image is interpolated linearly.
+// tap beside it toward the centre (toth_continuous; a chain, so a floor
+// seen at a grazing angle, whose distance changes by more than
+// edge_tolerance over 3 texels, still counts), and a row or the column with
+// a tap that is not (a silhouette beside the kink) or beyond the image is
+// interpolated linearly. Normals may differ: at a crease the ray length,
+// and so the fraction, bends, one more kink (godrays_hidden_hole's shaft
+// beside the floor's crease: rmse 5.3e-5 -> 3.4e-5 at samples=256 quarter
+// against requiring toth_similar).
 vec4 toth_upsample_kinked(ivec2 b, vec2 fr) {
     ivec2 size = textureSize(toth_inscatter_tex, 0);
     vec4 t[16], gt[16];

@@ -142,6 +142,15 @@ vec2 toth_tri_shadow(int l, int i, vec3 o, vec3 dir) {
     return r;
 }
 
+// Where triangle i's shadow on the ray ends, as an angle: the exit toward
+// larger angles, or toward smaller ones (backward: the entry). `hit` false
+// where the ray misses the shadow volume.
+float toth_tri_shadow_end(int l, int i, toth_eq e, vec3 o, vec3 dir, bool backward, out bool hit) {
+    vec2 r = toth_tri_shadow(l, i, o, dir);
+    hit = r.x <= r.y;
+    return toth_eq_angle(e, backward ? r.x : r.y);
+}
+
 // exact_edges: the lit part of [a, b] between exact ends va != vb (one lit,
 // one shadowed). The shadowed end's exact ray names the triangle that
 // blocks it (tri, when the caller traced it already; -2: not yet); that
@@ -188,9 +197,9 @@ vec3 toth_exact_boundary(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
         for (int once = 0; once < (stage == 1 ? 1 : 0); once++) {
             bool ok = tries < TOTH_EXACT_TRIES;
             tries++;
-            vec2 r = toth_tri_shadow(l, tri, o, dir);
-            x = toth_eq_angle(e, lit_first ? r.x : r.y);
-            ok = ok && r.x <= r.y && (lit_first ? x > li && x < sh : x > sh && x < li);
+            bool hit;
+            x = toth_tri_shadow_end(l, tri, e, o, dir, lit_first, hit);
+            ok = ok && hit && (lit_first ? x > li && x < sh : x > sh && x < li);
             if (!ok) stage = 3, lo = sh, hi = li;
         }
         if (stage == 3 && halvings >= n) {
@@ -290,9 +299,9 @@ vec3 toth_vis_step_exact(int l, toth_eq e, vec3 o, vec3 dir, float a, float b, f
                     nudge *= 8.0; // float rounding at the triangle's edge
                 } else {
                     ts = t;
-                    vec2 r = toth_tri_shadow(l, t, o, dir);
-                    float x = toth_eq_angle(e, r.y);
-                    if (!(r.x <= r.y) || !(x > pos) || it >= TOTH_EXACT_TRIES) stage = 2;
+                    bool hit;
+                    float x = toth_tri_shadow_end(l, t, e, o, dir, false, hit);
+                    if (!hit || !(x > pos) || it >= TOTH_EXACT_TRIES) stage = 2;
                     else if (x >= b) stage = 3; // covered: no sliver
                     else pos = x, stage = 1;
                 }
