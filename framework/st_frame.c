@@ -29,6 +29,8 @@ static void make_frame(st_world *w, st_frame *f) {
     f->albedo = w->cam.scene.color[2];
     f->depth = w->cam.scene.depth;
     f->hdr_in = w->cam.current;
+    f->filter = w->opts.filter;
+    if (w->opts.filter == ST_FILTER_BOX) memcpy(f->jitter, w->jitter, sizeof f->jitter);
 }
 
 static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
@@ -68,6 +70,32 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
     return st_gl_check("regular pass", err);
 }
 
+// A compute pass (ABI 1.4): one invocation per texel (and layer, unless
+// ST_PASS_PLANE) of the first world-owned target the pass writes, bound as
+// image unit 0; its writes are visible to the image loads and texture
+// fetches of the passes after it.
+static bool dispatch(st_world *w, const st_slot *s, st_err *err) {
+    int i = 0;
+    while (i < w->targets.n && !st_list_has(s->info.writes, w->targets.t[i].name))
+        i++;
+    if (i == w->targets.n)
+        return st_fail(err, ST_ERR_RUNTIME, "compute pass '%s' writes no declared target",
+                       s->info.name);
+    if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return false;
+    const st_target *t = &w->targets.t[i].t;
+    GLint prog = 0, size[3] = {1, 1, 1};
+    glGetIntegerv(GL_CURRENT_PROGRAM, &prog);
+    glGetProgramiv((GLuint)prog, GL_COMPUTE_WORK_GROUP_SIZE, size);
+    int depth = (s->info.flags & ST_PASS_PLANE) || t->layers < 1 ? 1 : t->layers;
+    bool layered = t->type == GL_TEXTURE_2D_ARRAY || t->type == GL_TEXTURE_CUBE_MAP_ARRAY;
+    glBindImageTexture(0, t->color[0], 0, layered, 0, GL_WRITE_ONLY, t->color_format);
+    glDispatchCompute((GLuint)((t->width + size[0] - 1) / size[0]),
+                      (GLuint)((t->height + size[1] - 1) / size[1]),
+                      (GLuint)((depth + size[2] - 1) / size[2]));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    return true;
+}
+
 static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     if (!s->mod) return regular_pass(w, f, err);
     st_module_inst *mi = s->mod;
@@ -99,22 +127,25 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     } else {
         glDisable(GL_DEPTH_TEST);
     }
-    st_shader *sh = st_passes_shader(mi, s->pass);
+    st_shader *sh = NULL;
     st_passes_frame(mi, s->pass, f);
-    if (sh) {
-        st_shader_use(sh);
-        st_world_apply_uniforms(w, sh, f);
-        st_shader_texture(sh, "st_hdr_in", GL_TEXTURE_2D, f->hdr_in);
-        st_shader_texture(sh, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
-        st_shader_texture(sh, "st_albedo_tex", GL_TEXTURE_2D, f->albedo);
-        st_passes_set_params(mi, sh);
+    if (!st_passes_shader(w, mi, s->pass, f, &sh, err)) {
+        st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);
+        return false;
     }
+    f->shader = p->passes ? sh : NULL;
+    if (sh) st_passes_bind(w, mi, sh, f);
     if (p->on_pass && !p->on_pass(mi->self, s->pass, f, err)) {
         st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);
         return false;
     }
-    if (sh && (s->info.flags & ST_PASS_SCENE)) st_world_draw(w, sh);
-    if (sh && (s->info.flags & ST_PASS_FULLSCREEN)) st_draw_fullscreen();
+    if (sh && sh->cs[0]) {
+        if (!dispatch(w, s, err)) return false;
+    } else if (sh && (s->info.flags & ST_PASS_SCENE)) {
+        st_world_draw(w, sh);
+    } else if (sh && (s->info.flags & ST_PASS_FULLSCREEN)) {
+        st_draw_fullscreen();
+    }
     if (p->after_pass) p->after_pass(mi->self, s->pass, f);
     glDisable(GL_DEPTH_TEST);
     if (to_hdr) {

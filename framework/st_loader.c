@@ -1,5 +1,6 @@
 // Plugin loading: find by name, dlopen, ABI checks, parameter helpers.
 #define _GNU_SOURCE
+#include "st_list.h"
 #include "st_module.h"
 #include <dirent.h>
 #include <dlfcn.h>
@@ -13,6 +14,7 @@ struct st_plugin_lib {
     void *handle;
     st_plugin desc; // zero-extended copy
     char path[1024];
+    st_pass_decl *passes; // an older minor's pass table, rows zero-extended (desc.passes)
 };
 
 void st_plugin_dirs(char *out, size_t n) {
@@ -36,9 +38,11 @@ static void register_shaders(const char *path, const char *name) {
 // Structs the plugin embeds, fills or indexes as arrays must match exactly;
 // those the world allocates and the plugin only reads through a pointer may
 // have grown at the end since.
-static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) {
+// *pass_decl: the plugin's sizeof(st_pass_decl) (ours where it does not say).
+static bool check_sizes(void *h, const char *nm, const char *path, size_t *pass_decl, st_err *err) {
     st_abi_sizes_fn fn;
     *(void **)&fn = dlsym(h, ST_PLUGIN_SIZES_SYMBOL);
+    *pass_decl = sizeof(st_pass_decl);
     if (!fn) return true; // a hand-written descriptor: abi_major/minor only
     const st_abi_sizes *theirs = fn();
     static const st_abi_sizes ours = ST_ABI_SIZES;
@@ -51,10 +55,10 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
         bool grows; // may be smaller in the plugin
     } fields[] = {
 #define F(f, g) {"st_" #f, offsetof(st_abi_sizes, f), g}
-        F(plugin, true),       F(param_def, false), F(pass_info, false),  F(uniform, false),
-        F(frame, true),        F(scene, true),      F(light_desc, false), F(mesh, false),
-        F(shader, true),       F(target, false),    F(buffer, false),     F(err, false),
-        F(target_desc, false), F(pass_decl, false),
+        F(plugin, true),       F(param_def, false), F(pass_info, false),    F(uniform, false),
+        F(frame, true),        F(scene, true),      F(light_desc, false),   F(mesh, false),
+        F(shader, true),       F(target, false),    F(buffer, false),       F(err, false),
+        F(target_desc, false), F(pass_decl, true),  F(program_decl, false), F(export_decl, false),
 #undef F
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
@@ -62,6 +66,7 @@ static bool check_sizes(void *h, const char *nm, const char *path, st_err *err) 
         uint32_t a, b;
         memcpy(&a, (const char *)theirs + fields[i].offset, sizeof a);
         memcpy(&b, (const char *)&ours + fields[i].offset, sizeof b);
+        if (fields[i].offset == offsetof(st_abi_sizes, pass_decl)) *pass_decl = a;
         if (a == b || (fields[i].grows && a < b)) continue;
         return st_fail(
             err, ST_ERR_INPUT,
@@ -79,6 +84,39 @@ static bool valid_pass_table(const st_plugin *d) {
     for (int i = 0; i < d->num_pass_decls; i++)
         if (d->passes[i].count < ST_PER_LIGHT || d->passes[i].count > 1) return false;
     return true;
+}
+
+static int find_program(const st_plugin *d, const char *name) {
+    for (int i = 0; name && i < d->num_programs; i++)
+        if (d->programs[i].name && !strcmp(d->programs[i].name, name)) return i;
+    return -1;
+}
+
+// Programs and exports (ABI 1.4): every program named and either graphics or
+// compute, every pass's program in the table, every export one parameter of
+// the module or one target. "" when valid, else what is wrong.
+static const char *bad_programs(const st_plugin *d) {
+    if (d->num_programs < 0 || d->num_programs > ST_MAX_PROGRAMS ||
+        (d->num_programs > 0 && !d->programs))
+        return "program table";
+    if (d->num_exports < 0 || (d->num_exports > 0 && !d->exports)) return "export table";
+    for (int i = 0; i < d->num_programs; i++) {
+        const st_program_decl *q = &d->programs[i];
+        if (!q->name || !q->frag == !q->comp || find_program(d, q->name) != i)
+            return "program table (each: a unique name, and frag or comp)";
+        char tok[ST_NAME_MAX];
+        for (const char *s = q->param_defines; (s = st_list_next(s, tok, NULL));)
+            if (tok[0] && st_param_index(d, tok) < 0) return "program parameter define";
+    }
+    for (int i = 0; i < d->num_pass_decls; i++)
+        if (d->passes[i].program && find_program(d, d->passes[i].program) < 0)
+            return "pass program (not in the program table)";
+    for (int i = 0; i < d->num_exports; i++) {
+        const st_export_decl *e = &d->exports[i];
+        if (!e->uniform || !e->param == !e->target || (e->param && st_param_index(d, e->param) < 0))
+            return "export (each: a uniform, and one parameter or target)";
+    }
+    return "";
 }
 
 static bool valid_name(const char *name) {
@@ -143,6 +181,8 @@ static bool check_desc(const st_plugin *d, const char *nm, const char *path, st_
         return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad parameter table", nm, path);
     if (!valid_pass_table(d))
         return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad pass table (ST_PASSES)", nm, path);
+    const char *bad = bad_programs(d);
+    if (bad[0]) return st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad %s", nm, path, bad);
     return true;
 }
 
@@ -176,7 +216,8 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
         dlclose(h);
         return NULL;
     }
-    if (!check_sizes(h, nm, path, err)) {
+    size_t row_size = sizeof(st_pass_decl);
+    if (!check_sizes(h, nm, path, &row_size, err)) {
         dlclose(h);
         return NULL;
     }
@@ -189,9 +230,26 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     size_t n = d->struct_size < sizeof lib->desc ? d->struct_size : sizeof lib->desc;
     memcpy(&lib->desc, d, n);
     lib->handle = h;
+    // A pass table of an older minor has shorter rows: copied into ours,
+    // the fields it does not know zero (ABI 1.4 appended `program`).
+    if (row_size < sizeof(st_pass_decl) && lib->desc.passes && lib->desc.num_pass_decls > 0 &&
+        lib->desc.num_pass_decls <= 4096) {
+        lib->passes = calloc((size_t)lib->desc.num_pass_decls, sizeof *lib->passes);
+        if (!lib->passes) {
+            dlclose(h);
+            free(lib);
+            st_fail(err, ST_ERR_RUNTIME, "out of memory");
+            return NULL;
+        }
+        for (int i = 0; i < lib->desc.num_pass_decls; i++)
+            memcpy(&lib->passes[i], (const char *)lib->desc.passes + (size_t)i * row_size,
+                   row_size);
+        lib->desc.passes = lib->passes;
+    }
     snprintf(lib->path, sizeof lib->path, "%s", path);
     if (!check_desc(&lib->desc, nm, path, err)) {
         dlclose(h);
+        free(lib->passes);
         free(lib);
         return NULL;
     }
@@ -207,6 +265,7 @@ void st_plugin_close(st_plugin_lib *lib) {
     if (!lib) return;
     if (lib->desc.cleanup) lib->desc.cleanup();
     dlclose(lib->handle);
+    free(lib->passes);
     free(lib);
 }
 

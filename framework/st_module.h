@@ -54,10 +54,11 @@ extern "C" {
 #endif
 
 #define ST_ABI_MAJOR 1
-#define ST_ABI_MINOR 3
+#define ST_ABI_MINOR 4
 #define ST_PLUGIN_SYMBOL "strahl_plugin"
 #define ST_MAX_PARAMS 32
 #define ST_MAX_LIGHTS 8
+#define ST_MAX_PROGRAMS 32 // declared programs per plugin
 
 #if defined(__GNUC__)
 #define ST_EXPORT __attribute__((visibility("default")))
@@ -85,6 +86,11 @@ enum {
     ST_PASS_SCENE = 1u << 0,       // the world draws every model with shader(pass)
     ST_PASS_FULLSCREEN = 1u << 1,  // the world draws a full-screen triangle with shader(pass)
     ST_PASS_SIDE_EFFECT = 1u << 2, // never culled (e.g. only sets uniforms or state)
+    // ABI 1.4: a pass whose program is a compute program is dispatched over the
+    // first target it writes (bound as image unit 0), one invocation per texel
+    // and layer; with ST_PASS_PLANE per texel only (the program loops over the
+    // layers itself).
+    ST_PASS_PLANE = 1u << 3,
 };
 
 // What a pass reads and writes, as comma-separated resource names. The
@@ -120,7 +126,39 @@ typedef struct st_pass_decl {
     st_target_desc target;   // format != 0: the target `writes` names (one "<module>.<x>")
     const char *scale_param; // a FLOAT parameter whose value is target.scale (re-declared when
                              // it changes); NULL: target.scale as given
+    // ABI 1.4: the pass's program, by name, from st_plugin.programs (instead of
+    // vert/frag); the program hook may pick another one per frame.
+    const char *program;
 } st_pass_decl;
+
+// A program the world compiles on first use, hot-reloads and deletes for the
+// module (ABI 1.4). Graphics: vert (NULL: "common/fullscreen.vert") and frag;
+// compute: comp. Parameters named in param_defines are compiled in as
+// "<MODULE>_<PARAM> <value>" (upper case; ints, bools and enum indices as
+// integers, floats as %.9g) and the program is recompiled when one of them
+// changes (the change is refused, the value kept, if it does not compile).
+enum {
+    ST_PROGRAM_LIGHTS = 1u << 0, // prepend st_world_light_defines (light types, medium density)
+};
+typedef struct st_program_decl {
+    const char *name;          // what passes and messages call it
+    const char *vert, *frag;   // a graphics program
+    const char *comp;          // or a compute program
+    const char *defines;       // fixed defines ("NAME VALUE" lines), NULL for none
+    const char *param_defines; // comma-separated parameter names
+    unsigned flags;            // ST_PROGRAM_*
+} st_program_decl;
+
+// A uniform a module exports to every program the world binds, its own and
+// other modules' (ABI 1.4): a parameter's value (set as the uniform's GLSL
+// type: float, int or bool) or one of the module's targets (bound as a texture
+// of the target's type; allocated on first use). Exactly one of param and
+// target is set. Values the table cannot say stay st_uniform callbacks.
+typedef struct st_export_decl {
+    const char *uniform;
+    const char *param;
+    const char *target;
+} st_export_decl;
 
 // What changed since a pass last ran (accumulated while it was skipped or culled).
 enum {
@@ -159,6 +197,10 @@ typedef struct st_frame {
     const double *params;
     st_shader *shader;
     int row, instance;
+    // ABI 1.4: the still's pixel filter (box stills accumulate jittered frames)
+    // and this frame's sub-pixel offset in pixels (0, 0 with the point filter).
+    st_pixel_filter filter;
+    float jitter[2];
 } st_frame;
 
 // A uniform: a name and a callback that sets it on every shader that uses it
@@ -230,6 +272,20 @@ typedef struct st_plugin {
     // on a declared pass's program as the uniform prefix + name, if the
     // program has it (float uniforms as float, int and bool as int).
     const char *param_uniforms;
+
+    // ABI 1.4: programs the world compiles and owns (ST_PROGRAMS(table));
+    // st_pass_decl.program names one, st_world_program / st_frame_use_program
+    // hand out any by its index.
+    const st_program_decl *programs;
+    int num_programs;
+    // ABI 1.4: uniforms set from the module's parameters and targets on every
+    // program the world binds (ST_EXPORTS(table)).
+    const st_export_decl *exports;
+    int num_exports;
+    // ABI 1.4, optional: the program (index into programs) declared pass k
+    // runs this frame, where it depends on the frame or the parameters; -1:
+    // none (the plugin draws with its own calls). Default: the row's program.
+    int (*program)(void *self, int pass, const st_frame *f);
 } st_plugin;
 
 typedef const st_plugin *(*st_plugin_fn)(void);
@@ -279,7 +335,8 @@ typedef struct st_abi_sizes {
     uint32_t struct_size; // sizeof(st_abi_sizes): fields past it are unknown to the plugin
     uint32_t plugin, param_def, pass_info, uniform, frame, scene, light_desc, mesh, shader, target,
         buffer, err, target_desc;
-    uint32_t pass_decl; // ABI 1.3
+    uint32_t pass_decl;                 // ABI 1.3
+    uint32_t program_decl, export_decl; // ABI 1.4
 } st_abi_sizes;
 
 #define ST_ABI_SIZES                                                                               \
@@ -287,7 +344,8 @@ typedef struct st_abi_sizes {
         sizeof(st_abi_sizes), sizeof(st_plugin), sizeof(st_param_def), sizeof(st_pass_info),       \
             sizeof(st_uniform), sizeof(st_frame), sizeof(st_scene), sizeof(st_light_desc),         \
             sizeof(st_mesh), sizeof(st_shader), sizeof(st_target), sizeof(st_buffer),              \
-            sizeof(st_err), sizeof(st_target_desc), sizeof(st_pass_decl)                           \
+            sizeof(st_err), sizeof(st_target_desc), sizeof(st_pass_decl), sizeof(st_program_decl), \
+            sizeof(st_export_decl)                                                                 \
     }
 typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
 
@@ -299,6 +357,11 @@ typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
 // ST_PASSES(table) sets .passes and .num_pass_decls from a static array of st_pass_decl.
 #define ST_PASSES(table)                                                                           \
     .passes = (table), .num_pass_decls = (int)(sizeof(table) / sizeof((table)[0]))
+// ST_PROGRAMS(table), ST_EXPORTS(table): the same for st_program_decl and st_export_decl.
+#define ST_PROGRAMS(table)                                                                         \
+    .programs = (table), .num_programs = (int)(sizeof(table) / sizeof((table)[0]))
+#define ST_EXPORTS(table)                                                                          \
+    .exports = (table), .num_exports = (int)(sizeof(table) / sizeof((table)[0]))
 #define ST_PLUGIN(...)                                                                             \
     static const st_plugin st_plugin_descriptor_ = {.abi_major = ST_ABI_MAJOR,                     \
                                                     .abi_minor = ST_ABI_MINOR,                     \

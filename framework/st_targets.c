@@ -118,10 +118,51 @@ bool st_targets_track(st_targets *s, const char *name, GLenum identifier, GLuint
 void st_targets_untrack(st_targets *s, const char *name) {
     for (int i = 0; i < s->nk; i++) {
         if (strcmp(s->k[i].name, name)) continue;
+        if (s->k[i].owned && s->k[i].identifier == GL_BUFFER) glDeleteBuffers(1, &s->k[i].obj);
+        if (s->k[i].owned && s->k[i].identifier == GL_TEXTURE) glDeleteTextures(1, &s->k[i].obj);
         memmove(&s->k[i], &s->k[i + 1], (size_t)(s->nk - i - 1) * sizeof s->k[0]);
         s->nk--;
         return;
     }
+}
+
+static int tracked(const st_targets *s, const char *name) {
+    for (int i = 0; i < s->nk; i++)
+        if (!strcmp(s->k[i].name, name)) return i;
+    return -1;
+}
+
+// Tracks a new object as the registry's own (deleted on failure too).
+static GLuint own(st_targets *s, const char *name, GLenum identifier, GLuint obj, st_err *err) {
+    st_targets_untrack(s, name);
+    if (!st_targets_track(s, name, identifier, obj, err)) {
+        if (identifier == GL_BUFFER) glDeleteBuffers(1, &obj);
+        if (identifier == GL_TEXTURE) glDeleteTextures(1, &obj);
+        return 0;
+    }
+    s->k[tracked(s, name)].owned = true;
+    return obj;
+}
+
+GLuint st_targets_buffer(st_targets *s, const char *name, size_t bytes, const void *data,
+                         st_err *err) {
+    int i = tracked(s, name);
+    if (i >= 0 && s->k[i].owned && s->k[i].identifier == GL_BUFFER && s->k[i].bytes == bytes) {
+        if (data) glNamedBufferSubData(s->k[i].obj, 0, (GLsizeiptr)bytes, data);
+        return s->k[i].obj;
+    }
+    GLuint b = 0;
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(b, (GLsizeiptr)(bytes ? bytes : 1), data, GL_DYNAMIC_STORAGE_BIT);
+    return own(s, name, GL_BUFFER, b, err);
+}
+
+GLuint st_targets_buffer_texture(st_targets *s, const char *name, GLuint buf, GLenum format,
+                                 st_err *err) {
+    GLuint t = 0;
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &t);
+    glTextureBuffer(t, format, buf);
+    return own(s, name, GL_TEXTURE, t, err);
 }
 
 static bool owned_by(const char *name, const char *module) {

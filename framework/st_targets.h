@@ -22,6 +22,7 @@ typedef struct st_targets {
         GLenum identifier; // GL_BUFFER or GL_TEXTURE
         GLuint obj;
         size_t bytes;
+        bool owned; // created by the registry (st_targets_buffer): deleted with its entry
     } k[ST_MAX_TRACKED];
     int nk;
 } st_targets;
@@ -34,6 +35,13 @@ bool st_targets_declare(st_targets *s, const char *name, const st_target_desc *d
 bool st_targets_ensure(st_targets *s, int i, int sw, int sh, st_err *err);
 bool st_targets_track(st_targets *s, const char *name, GLenum identifier, GLuint obj, st_err *err);
 void st_targets_untrack(st_targets *s, const char *name);
+// A buffer the registry owns: `bytes` of dynamic storage (re-created when the
+// size changes), filled from data unless NULL; 0 on failure.
+GLuint st_targets_buffer(st_targets *s, const char *name, size_t bytes, const void *data,
+                         st_err *err);
+// A buffer texture the registry owns over buffer `buf` in `format`; 0 on failure.
+GLuint st_targets_buffer_texture(st_targets *s, const char *name, GLuint buf, GLenum format,
+                                 st_err *err);
 // Frees the targets and forgets the tracked objects of `module` ("<module>.*";
 // NULL: all).
 void st_targets_free(st_targets *s, const char *module);

@@ -123,4 +123,5 @@ void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
             if (l >= 0) u->set(w->mods[m]->self, sh, l, f);
         }
     }
+    st_passes_apply_exports(w, sh);
 }

@@ -63,6 +63,29 @@ const st_target *st_world_alloc_target(st_world *w, const char *name, const st_t
 bool st_world_track(st_world *w, const char *name, GLenum identifier, GLuint obj, st_err *err);
 void st_world_untrack(st_world *w, const char *name);
 
+// ---- Buffers and programs owned by the world (ABI 1.4) --------------------
+
+// Buffer `name` ("<module>.<name>"), `bytes` of dynamic storage, created on
+// the first call and re-created (contents undefined) when `bytes` changes;
+// data, unless NULL, is uploaded into it. Labelled, counted in
+// st_world_memory and deleted when the module is switched off. 0 on failure.
+GLuint st_world_buffer(st_world *w, const char *name, size_t bytes, const void *data, st_err *err);
+// A buffer texture over buffer `buf` (texelFetch on a samplerBuffer), owned
+// like a buffer; re-created by every call. 0 on failure.
+GLuint st_world_buffer_texture(st_world *w, const char *name, GLuint buf, GLenum format,
+                               st_err *err);
+
+// The module's declared program k (st_plugin.programs), compiled on first
+// use with the current parameters; `params` names the module (the array
+// create received, st_frame.params). Valid until the module's next parameter
+// change or shader reload. NULL (and err) when it does not compile.
+st_shader *st_world_program(st_world *w, const double *params, int k, st_err *err);
+// Program k bound, with every uniform the world sets on a pass's program: the
+// built-ins, every module's uniforms and exports, st_hdr_in, st_gbuffer,
+// st_albedo_tex and the module's param_uniforms. For a second program inside
+// a pass (a draw or dispatch the plugin issues itself).
+st_shader *st_frame_use_program(const st_frame *f, int k, st_err *err);
+
 #ifdef __cplusplus
 }
 #endif

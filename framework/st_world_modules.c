@@ -249,6 +249,10 @@ bool st_world_set_param(st_world *w, const char *module, const char *param, doub
                            value);
     }
     if (mi->params[k] == value) return true;
+    if (!st_passes_param_programs(w, mi, k, value, err)) {
+        st_err_prefix(err, "%s.%s: ", module, param);
+        return false;
+    }
     mi->params[k] = value;
     mi->params_dirty = true;
     if (mi->p->param_changed) mi->p->param_changed(mi->self, k);

@@ -49,6 +49,10 @@ typedef struct st_module_inst {
     st_decl_pass *decl; // declared passes, expanded (NULL for a plugin without a table)
     int num_decl;
     st_shader **decl_sh; // one program per table row (NULL: the row has none)
+    // ABI 1.4: the declared programs (NULL until first use), each row's
+    // program (-1: none) and each export's parameter (-1: a target).
+    st_shader **progs;
+    int *row_prog, *export_param;
 } st_module_inst;
 
 // One pass in frame order. mod == NULL is the world's regular pass.
@@ -144,8 +148,17 @@ void st_passes_destroy(st_module_inst *mi);
 bool st_passes_reload(st_module_inst *mi, st_err *err);
 // Declares the targets the passes write (again after a parameter change).
 bool st_passes_declare_targets(st_world *w, st_module_inst *mi, st_err *err);
-// The program of pass k: the declared one, else the plugin's shader hook.
-st_shader *st_passes_shader(const st_module_inst *mi, int k);
+// The program pass k runs this frame (NULL: none): the program hook's choice,
+// the row's declared program, the row's vert/frag, else the shader hook.
+bool st_passes_shader(st_world *w, st_module_inst *mi, int k, const st_frame *f, st_shader **out,
+                      st_err *err);
+// Binds `sh` with every uniform the world sets on a pass's program.
+void st_passes_bind(st_world *w, const st_module_inst *mi, st_shader *sh, const st_frame *f);
+// Recompiles the programs that compile parameter k in, for its new value;
+// false (nothing changed) when one does not compile.
+bool st_passes_param_programs(st_world *w, st_module_inst *mi, int k, double value, st_err *err);
+// Sets every module's exports (ST_EXPORTS) on `sh`.
+void st_passes_apply_exports(st_world *w, st_shader *sh);
 // Fills st_frame's params, shader, row and instance for pass k (mi NULL: the world's).
 void st_passes_frame(const st_module_inst *mi, int k, st_frame *f);
 // Sets the module's parameters as uniforms on `sh` (st_plugin.param_uniforms).

@@ -33,3 +33,12 @@ bool st_world_track(st_world *w, const char *name, GLenum identifier, GLuint obj
 void st_world_untrack(st_world *w, const char *name) {
     st_targets_untrack(&w->targets, name);
 }
+
+GLuint st_world_buffer(st_world *w, const char *name, size_t bytes, const void *data, st_err *err) {
+    return st_targets_buffer(&w->targets, name, bytes, data, err);
+}
+
+GLuint st_world_buffer_texture(st_world *w, const char *name, GLuint buf, GLenum format,
+                               st_err *err) {
+    return st_targets_buffer_texture(&w->targets, name, buf, format, err);
+}
