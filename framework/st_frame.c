@@ -1,6 +1,6 @@
 // One frame: the regular pass, each live and needed module pass with its
 // target bound, timing; reading the final image.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,7 +1,7 @@
 // The frame graph: resource names interned per pass list, the pass list
 // (slots) built from the modules' passes, and culling: a pass runs when a
 // later live pass reads what it writes.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <string.h>
 

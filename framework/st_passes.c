@@ -3,7 +3,7 @@
 // destroys their programs, declares their targets (again when the parameter
 // that scales them changes) and sets parameters as uniforms. A plugin
 // without a table answers num_passes/pass_info itself; both kinds meet here.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -4,7 +4,7 @@
 // inputs did not change are skipped (their cached output stays valid).
 #define _POSIX_C_SOURCE 200809L
 #include "st_physics.h"
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

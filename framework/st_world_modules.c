@@ -1,7 +1,7 @@
 // Modules in a world: load (parameters, light types), ordering by
 // `requires`, instances, switching on and off, parameters, progress and
 // shader reload.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
