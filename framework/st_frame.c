@@ -80,14 +80,10 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     } else if (to_hdr) {
         st_target_bind(&w->cam.post[w->cam.post_out]);
     } else {
-        // The world-owned target this pass writes, if any.
-        for (int i = 0; i < w->targets.n; i++) { // (1D lookup tables are not drawn into)
-            if (w->targets.t[i].desc.type == GL_TEXTURE_1D ||
-                !st_list_has(s->info.writes, w->targets.t[i].name))
-                continue;
-            if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return false;
-            st_target_bind(&w->targets.t[i].t);
-            break;
+        int t = st_graph_target(w, s); // the world-owned target this pass writes, if any
+        if (t >= 0) {
+            if (!st_targets_ensure(&w->targets, t, w->cam.width, w->cam.height, err)) return false;
+            st_target_bind(&w->targets.t[t].t);
         }
     }
     if (to_hdr) glViewport(0, 0, w->cam.width, w->cam.height);

@@ -59,6 +59,8 @@ typedef struct st_slot {
     int pass;
     st_pass_info info;
     st_resset reads, writes; // info.reads/writes as ids
+    int target;              // the world-owned target it draws into (-1: none), st_graph_target
+    unsigned target_gen;     // the targets' generation `target` was resolved at
     unsigned pending;        // changes since the pass last ran
     bool needed, live;
     GLuint query[2]; // GL_TIMESTAMP before and after
@@ -126,6 +128,9 @@ static inline void st_resset_add(st_resset *a, const st_resset *b) {
 bool st_graph_build(st_world *w, st_err *err);
 void st_graph_free(st_world *w);
 void st_graph_cull(st_world *w, st_frame *f);
+// The world-owned target slot s draws into (-1: none), resolved by name
+// again only when the targets changed since (st_targets.gen).
+int st_graph_target(st_world *w, st_slot *s);
 
 // st_world_stats.c: the statistics entry of a pass (created on first use).
 st_pass_stats *st_stats_entry(st_world *w, const char *module, const char *pass);
