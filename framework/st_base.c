@@ -1,6 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
 #include "st_base.h"
-#include "st_file.h"
 #include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -44,10 +43,6 @@ void *st_calloc(size_t size, st_err *err) {
     void *p = calloc(1, size);
     if (!p) st_fail(err, ST_ERR_RUNTIME, "out of memory (%zu bytes)", size);
     return p;
-}
-
-char *st_read_file(const char *path, size_t *len, st_err *err) {
-    return st_read_input(path, 256ull << 20, "file", len, err);
 }
 
 void st_path_join(char *out, size_t n, const char *dir, const char *rel) {

@@ -99,6 +99,12 @@ char *st_read_input(const char *path, uint64_t cap, const char *what, size_t *le
     return NULL;
 }
 
+// st_base.h's whole-file read, which the SDK gives plugins: a user's input
+// like any other, under a fixed cap.
+char *st_read_file(const char *path, size_t *len, st_err *err) {
+    return st_read_input(path, 256ull << 20, "file", len, err);
+}
+
 FILE *st_fopen_input(const char *path, uint64_t cap, const char *what, st_err *err) {
     int fd = st_open_input(path, cap, what, NULL, err);
     if (fd < 0) return NULL;

@@ -3,7 +3,7 @@
 // shifted Halton sequences, and the world accumulates the frames' mean until
 // the difference of the two halves says the mean image's NRMSE is below the
 // tolerance.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdlib.h>

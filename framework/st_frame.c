@@ -1,6 +1,6 @@
 // One frame: the regular pass, each live and needed module pass with its
 // target bound, timing; reading the final image.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,11 +74,9 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
 // ST_PASS_PLANE) of the first world-owned target the pass writes, bound as
 // image unit 0; its writes are visible to the image loads and texture
 // fetches of the passes after it.
-static bool dispatch(st_world *w, const st_slot *s, st_err *err) {
-    int i = 0;
-    while (i < w->targets.n && !st_list_has(s->info.writes, w->targets.t[i].name))
-        i++;
-    if (i == w->targets.n)
+static bool dispatch(st_world *w, st_slot *s, st_err *err) {
+    int i = st_graph_target(w, s);
+    if (i < 0)
         return st_fail(err, ST_ERR_RUNTIME, "compute pass '%s' writes no declared target",
                        s->info.name);
     if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return false;
@@ -108,14 +106,10 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     } else if (to_hdr) {
         st_target_bind(&w->cam.post[w->cam.post_out]);
     } else {
-        // The world-owned target this pass writes, if any.
-        for (int i = 0; i < w->targets.n; i++) { // (1D lookup tables are not drawn into)
-            if (w->targets.t[i].desc.type == GL_TEXTURE_1D ||
-                !st_list_has(s->info.writes, w->targets.t[i].name))
-                continue;
-            if (!st_targets_ensure(&w->targets, i, w->cam.width, w->cam.height, err)) return false;
-            st_target_bind(&w->targets.t[i].t);
-            break;
+        int t = st_graph_target(w, s); // the world-owned target this pass writes, if any
+        if (t >= 0) {
+            if (!st_targets_ensure(&w->targets, t, w->cam.width, w->cam.height, err)) return false;
+            st_target_bind(&w->targets.t[t].t);
         }
     }
     if (to_hdr) glViewport(0, 0, w->cam.width, w->cam.height);

@@ -1,7 +1,7 @@
 // The frame graph: resource names interned per pass list, the pass list
 // (slots) built from the modules' passes, and culling: a pass runs when a
 // later live pass reads what it writes.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -28,6 +28,18 @@ static bool res_parse(st_world *w, const char *list, st_resset *out, st_err *err
     return true;
 }
 
+// Names resolve to indices here, when the pass list or the targets change;
+// a frame reads the index (a `needed` hook may re-declare a target mid-frame).
+static void resolve_target(st_world *w, st_slot *s) {
+    s->target = st_targets_written(&w->targets, s->info.writes);
+    s->target_gen = w->targets.gen;
+}
+
+int st_graph_target(st_world *w, st_slot *s) {
+    if (s->target_gen != w->targets.gen) resolve_target(w, s);
+    return s->target;
+}
+
 static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_info *info,
                      st_err *err) {
     if (w->num_slots >= MAX_SLOTS)
@@ -45,6 +57,7 @@ static bool add_slot(st_world *w, st_module_inst *mi, int pass, const st_pass_in
     if (!res_parse(w, s->info.reads, &s->reads, err) ||
         !res_parse(w, s->info.writes, &s->writes, err))
         return false;
+    resolve_target(w, s);
     const char *mname = mi ? mi->p->name : "world";
     char pname[ST_NAME_MAX];
     snprintf(pname, sizeof pname, "%s", s->info.name);

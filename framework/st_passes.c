@@ -6,7 +6,7 @@
 // name as defines, and recompiled when one of those changes; exports set a
 // module's parameters and targets on every program. A plugin without a table
 // answers num_passes/pass_info itself; both kinds meet here.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,6 @@
 // The world's registry of module GPU memory (st_targets.h).
 #include "st_targets.h"
+#include "st_list.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -7,6 +8,12 @@
 int st_targets_find(const st_targets *s, const char *name) {
     for (int i = 0; i < s->n; i++)
         if (!strcmp(s->t[i].name, name)) return i;
+    return -1;
+}
+
+int st_targets_written(const st_targets *s, const char *writes) {
+    for (int i = 0; i < s->n; i++)
+        if (s->t[i].desc.type != GL_TEXTURE_1D && st_list_has(writes, s->t[i].name)) return i;
     return -1;
 }
 
@@ -30,6 +37,7 @@ bool st_targets_declare(st_targets *s, const char *name, const st_target_desc *d
         st_target_destroy(&s->t[i].t);
         memmove(&s->t[i], &s->t[i + 1], (size_t)(s->n - i - 1) * sizeof s->t[0]);
         s->n--;
+        s->gen++;
         return true;
     }
     if (d->type == GL_TEXTURE_CUBE_MAP_ARRAY && d->width != d->height)
@@ -41,8 +49,10 @@ bool st_targets_declare(st_targets *s, const char *name, const st_target_desc *d
         i = s->n++;
         memset(&s->t[i], 0, sizeof s->t[i]);
         snprintf(s->t[i].name, ST_NAME_MAX, "%s", name);
+        s->gen++;
     } else if (!desc_equal(&s->t[i].desc, d)) {
         st_target_destroy(&s->t[i].t); // re-created at the next use
+        s->gen++;
     }
     s->t[i].desc = *d;
     return true;
@@ -176,6 +186,7 @@ void st_targets_free(st_targets *s, const char *module) {
         st_target_destroy(&s->t[i].t);
         memmove(&s->t[i], &s->t[i + 1], (size_t)(s->n - i - 1) * sizeof s->t[0]);
         s->n--;
+        s->gen++;
     }
     for (int i = s->nk - 1; i >= 0; i--)
         if (!module || owned_by(s->k[i].name, module)) st_targets_untrack(s, s->k[i].name);

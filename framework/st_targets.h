@@ -17,6 +17,9 @@ typedef struct st_targets {
         st_target t; // t.color[0] == 0 until first use
     } t[ST_MAX_TARGETS];
     int n;
+    // Bumped whenever a name, its index or a description changes, so a
+    // lookup resolved by name (st_targets_written) is redone only then.
+    unsigned gen;
     struct {
         char name[ST_NAME_MAX];
         GLenum identifier; // GL_BUFFER or GL_TEXTURE
@@ -28,6 +31,9 @@ typedef struct st_targets {
 } st_targets;
 
 int st_targets_find(const st_targets *s, const char *name);
+// The first target drawn into (not a 1D table) whose name is in the list
+// `writes` (a pass's outputs), -1 when none.
+int st_targets_written(const st_targets *s, const char *writes);
 // Declares, re-describes (the texture is re-created at the next use if the
 // description changed) or, with d == NULL, forgets target `name`.
 bool st_targets_declare(st_targets *s, const char *name, const st_target_desc *d, st_err *err);

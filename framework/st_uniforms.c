@@ -1,7 +1,7 @@
 // The built-in uniforms (thesis: Camera and Light are uniform providers):
 // a name and a setter each, applied with the modules' own to every shader
 // the world binds.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <cglm/cglm.h>
 
 #define W(self) ((st_world *)(self))

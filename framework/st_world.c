@@ -4,7 +4,9 @@
 // inputs did not change are skipped (their cached output stays valid).
 #define _POSIX_C_SOURCE 200809L
 #include "st_physics.h"
-#include "st_world_priv.h"
+#include "st_world_modules.h"
+#include "st_world_regular.h"
+#include "st_world_state.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,43 +19,6 @@ static void light_defines(st_world *w) {
     snprintf(w->light_defines, sizeof w->light_defines, "ST_MAX_LIGHTS %d\nST_LIGHT_TYPES %u\n",
              ST_MAX_LIGHTS, types);
     st_medium_gpu_defines(w->scene, w->light_defines, sizeof w->light_defines);
-}
-
-bool st_world_build_regular(st_world *w, st_err *err) {
-    char defines[1024];
-    // Exact primary visibility (regular.geom) only with the point filter: a
-    // pixel is then one sample at its centre, which the rasteriser's edge
-    // snapping (1/256 px on llvmpipe) can put on the wrong side of a
-    // silhouette for the whole pixel. Under the box filter it moves at most
-    // that sliver of an edge pixel's area, well inside the filter's
-    // tolerance, and the geometry stage costs 4.3x the frame on a 161k-
-    // triangle scene on llvmpipe (docs/physics.md, "Primary visibility").
-    bool exact = w->opts.filter == ST_FILTER_POINT;
-    int n = snprintf(defines, sizeof defines, "%s%s", w->light_defines,
-                     exact ? "ST_EXACT_PRIMARY 1\n" : "");
-    for (int m = 0; m < w->num_mods; m++)
-        if (w->mods[m]->p->regular_include)
-            n += snprintf(defines + n, sizeof defines - (size_t)n, "#include \"%s\"\n",
-                          w->mods[m]->p->regular_include);
-    st_shader *sh =
-        exact ? st_shader_load_gs("common/regular.vert", "common/regular.geom",
-                                  "common/regular.frag", defines, err)
-              : st_shader_load("common/regular.vert", "common/regular.frag", defines, err);
-    if (!sh) return false;
-    st_shader *bg = NULL;
-    if (w->scene->has_background) {
-        bg = st_shader_load("common/fullscreen.vert", "common/background.frag", w->light_defines,
-                            err);
-        if (!bg) {
-            st_shader_destroy(sh);
-            return false;
-        }
-    }
-    st_shader_destroy(w->regular);
-    st_shader_destroy(w->background);
-    w->regular = sh;
-    w->background = bg;
-    return true;
 }
 
 static bool create_targets(st_world *w, st_err *err) {
@@ -262,4 +227,12 @@ bool st_world_set_light(st_world *w, int i, const float pos[3], const float inte
 uint32_t st_world_accumulated(const st_world *w, bool *done) {
     if (done) *done = w->opts.filter == ST_FILTER_BOX && w->acc_done;
     return w->opts.filter == ST_FILTER_BOX ? w->acc_n : 0;
+}
+
+int st_world_num_modules(const st_world *w) {
+    return w->num_mods;
+}
+st_module_info st_world_module(const st_world *w, int i) {
+    st_module_info mi = {w->mods[i]->p, (double *)w->mods[i]->params};
+    return mi;
 }

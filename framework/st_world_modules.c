@@ -1,7 +1,9 @@
 // Modules in a world: load (parameters, light types), ordering by
 // `requires`, instances, switching on and off, parameters, progress and
 // shader reload.
-#include "st_world_priv.h"
+#include "st_world_modules.h"
+#include "st_world_regular.h"
+#include "st_world_state.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -313,12 +315,4 @@ bool st_world_reload_shaders(st_world *w, st_err *err) {
     }
     w->changes |= ST_CHANGE_CAMERA;
     return true;
-}
-
-int st_world_num_modules(const st_world *w) {
-    return w->num_mods;
-}
-st_module_info st_world_module(const st_world *w, int i) {
-    st_module_info mi = {w->mods[i]->p, (double *)w->mods[i]->params};
-    return mi;
 }

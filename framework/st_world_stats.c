@@ -1,6 +1,6 @@
 // Pass statistics (runs, skips, culls, timing samples) and the GPU memory
 // report (every allocation of the world as a row).
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 // Targets owned by the world and objects tracked by name: thin wrappers
 // over the registry (st_targets.c) at the camera's size.
-#include "st_world_priv.h"
+#include "st_world_state.h"
 
 bool st_world_declare_target(st_world *w, const char *name, const st_target_desc *d, st_err *err) {
     return st_targets_declare(&w->targets, name, d, err);

@@ -2,6 +2,7 @@
 // it (docs/architecture.md "Where the world lives" maps them):
 //   st_world.c          creation, destruction, camera targets, accessors
 //   st_world_modules.c  module load, `requires` ordering, switch, params, reload
+//   st_world_regular.c  the regular pass's program
 //   st_passes.c         declared passes: expansion, programs, targets
 //   st_graph.c          resource interning, the pass list (slots), culling
 //   st_frame.c          one frame: the regular pass, module passes, timing
@@ -9,8 +10,8 @@
 //   st_uniforms.c       the built-in uniform table
 //   st_world_targets.c  world-owned targets and tracked objects (wrappers)
 //   st_world_stats.c    pass statistics and the GPU memory report
-#ifndef ST_WORLD_PRIV_H
-#define ST_WORLD_PRIV_H
+#ifndef ST_WORLD_STATE_H
+#define ST_WORLD_STATE_H
 #include "st_list.h"
 #include "st_medium_gpu.h"
 #include "st_targets.h"
@@ -62,6 +63,8 @@ typedef struct st_slot {
     int pass;
     st_pass_info info;
     st_resset reads, writes; // info.reads/writes as ids
+    int target;              // the world-owned target it draws into (-1: none), st_graph_target
+    unsigned target_gen;     // the targets' generation `target` was resolved at
     unsigned pending;        // changes since the pass last ran
     bool needed, live;
     GLuint query[2]; // GL_TIMESTAMP before and after
@@ -129,6 +132,9 @@ static inline void st_resset_add(st_resset *a, const st_resset *b) {
 bool st_graph_build(st_world *w, st_err *err);
 void st_graph_free(st_world *w);
 void st_graph_cull(st_world *w, st_frame *f);
+// The world-owned target slot s draws into (-1: none), resolved by name
+// again only when the targets changed since (st_targets.gen).
+int st_graph_target(st_world *w, st_slot *s);
 
 // st_world_stats.c: the statistics entry of a pass (created on first use).
 st_pass_stats *st_stats_entry(st_world *w, const char *module, const char *pass);
@@ -164,16 +170,4 @@ void st_passes_frame(const st_module_inst *mi, int k, st_frame *f);
 // Sets the module's parameters as uniforms on `sh` (st_plugin.param_uniforms).
 void st_passes_set_params(const st_module_inst *mi, st_shader *sh);
 
-// st_world_modules.c
-int st_world_find_module(const st_world *w, const char *name);
-bool st_world_load(st_world *w, const char *name, st_err *err);
-void st_world_unload(st_world *w, int m);
-// The plugin's destroy (if it has one) for an instance that was created.
-void st_world_destroy_instance(st_module_inst *mi);
-bool st_world_resolve(st_world *w, st_err *err);
-bool st_world_instantiate(st_world *w, int m, st_err *err);
-
-// st_world.c: (re)builds the regular pass's shader for the loaded modules'
-// includes; the old one stays on failure.
-bool st_world_build_regular(st_world *w, st_err *err);
 #endif
