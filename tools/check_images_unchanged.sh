@@ -22,20 +22,21 @@ size=${ST_CHECK_SIZE:-96x96}
 frames=${ST_CHECK_FRAMES:-4}
 mkdir -p "$out/scenes" "$out/before" "$out/after"
 
-# The scenes, and the variants (absolute asset paths so they render from $out).
-python3 - "$root/scenes" "$out/scenes" <<'EOF'
+# The scenes, the Cycles cross-check cases (tests/data/crosscheck, as
+# xc_<case>) and the variants (absolute asset paths so they render from $out).
+python3 - "$root/scenes" "$out/scenes" "$root/tests/data/crosscheck" <<'EOF'
 import json, os, sys
-src, dst = sys.argv[1], sys.argv[2]
-def fix(node):
+src, dst, xc = sys.argv[1], sys.argv[2], sys.argv[3]
+def fix(node, base=src):
     if isinstance(node, dict):
         for k, v in node.items():
             if k in ("gltf", "vdb", "file") and isinstance(v, str) and not os.path.isabs(v):
-                node[k] = os.path.join(src, v)
+                node[k] = os.path.join(base, v)
             else:
-                fix(v)
+                fix(v, base)
     elif isinstance(node, list):
         for v in node:
-            fix(v)
+            fix(v, base)
 def write(name, s):
     with open(os.path.join(dst, name + ".json"), "w") as f:
         json.dump(s, f, indent=1)
@@ -45,6 +46,11 @@ for n in sorted(os.listdir(src)):
     s = json.load(open(os.path.join(src, n)))
     fix(s)
     write(n[:-5], s)
+for n in sorted(os.listdir(xc)):
+    if n.endswith(".json") and not n.endswith(".cycles.json"):
+        s = json.load(open(os.path.join(xc, n)))
+        fix(s, xc)
+        write("xc_" + n[:-5], s)
 base = json.load(open(os.path.join(src, "cornell.json")))
 ssgi = dict(base, modules=[{"name": "ssgi", "params": {"samples": 64}}])
 write("variant_ssgi", ssgi)
