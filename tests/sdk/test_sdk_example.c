@@ -78,11 +78,12 @@ int main(void) {
     int rc = st_test_sh("%s --install %s --prefix %s >/dev/null", ST_TEST_CMAKE, ST_TEST_BINARY_DIR,
                         prefix);
     CHECK(rc == 0, "cmake --install (rc %d)", rc);
-    // The SDK's headers are what a plugin needs, each one compiling on its own;
-    // the host's side of the world, statistics, images, files and physics are
-    // not installed.
-    static const char *const sdk[] = {"st_base.h",   "st_gl.h",    "st_gpu.h",    "st_model.h",
-                                      "st_module.h", "st_scene.h", "st_shader.h", "st_world_api.h"};
+    // The SDK's headers are what a plugin needs (with the shared model and
+    // services), each one compiling on its own; the host's side of the world,
+    // statistics, images and files are not installed.
+    static const char *const sdk[] = {"st_base.h",  "st_bvh.h",    "st_gl.h",       "st_godray.h",
+                                      "st_gpu.h",   "st_model.h",  "st_module.h",   "st_physics.h",
+                                      "st_scene.h", "st_shader.h", "st_world_api.h"};
     char listing[1024] = "";
     char cmd[2048];
     snprintf(cmd, sizeof cmd, "LC_ALL=C ls %s/include/strahl | tr '\\n' ' '", prefix);
