@@ -17,11 +17,14 @@ struct st_plugin_lib {
     st_pass_decl *passes; // an older minor's pass table, rows zero-extended (desc.passes)
 };
 
+// An installed strahl (st_install_prefix non-empty) searches its own prefix
+// but never the build tree it was built in: a plugin missing from the prefix
+// and from $STRAHL_MODULE_PATH must not be picked up from a stale build.
 void st_plugin_dirs(char *out, size_t n) {
     const char *env = getenv("STRAHL_MODULE_PATH");
     const char *pre = st_install_prefix();
-    snprintf(out, n, "%s%s%s%s%s:%s", env ? env : "", env && env[0] ? ":" : "", pre,
-             pre[0] ? "/lib/strahl/modules:" : "", ST_MODULE_BUILD_DIR, ST_MODULE_INSTALL_DIR);
+    snprintf(out, n, "%s%s%s%s%s", env ? env : "", env && env[0] ? ":" : "", pre,
+             pre[0] ? "/lib/strahl/modules:" : ST_MODULE_BUILD_DIR ":", ST_MODULE_INSTALL_DIR);
 }
 
 // The plugin's own shader folder, <dir of the .so>/shaders/<name>/ (the

@@ -380,7 +380,8 @@ typedef const st_abi_sizes *(*st_abi_sizes_fn)(void);
 typedef struct st_plugin_lib st_plugin_lib;
 
 // Finds "<name>.so" in the module directories ($STRAHL_MODULE_PATH entries
-// separated by ':', the build dir, the install dir) and checks it.
+// separated by ':', then the build dir for a strahl run from its build tree,
+// the install dir for an installed one) and checks it.
 st_plugin_lib *st_plugin_open(const char *name, st_err *err);
 // Opens a specific file (tests); same checks.
 st_plugin_lib *st_plugin_open_file(const char *path, st_err *err);

@@ -7,9 +7,9 @@
 // and the results add up (thesis 3.1).
 //
 // Nothing runs that the scene does not need: without a scattering medium, or
-// when a light's fade (godray_screen.h) is 0, its blur pass is not needed and
+// when a light's fade (st_godray.h) is 0, its blur pass is not needed and
 // the world culls its occlusion pass; a static view reuses the occlusion image.
-#include "godray_screen.h"
+#include "st_godray.h"
 #include "st_world_api.h"
 #include <math.h>
 #include <stdio.h>
@@ -107,7 +107,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
 static bool needed(void *self, int pass, const st_frame *f) {
     mitchell *m = self;
     if (f->row == BLUR)
-        return m->p[P_EXPOSURE] > 0 && godray_light_active(f, f->instance, m->p[P_FADE_MARGIN]);
+        return m->p[P_EXPOSURE] > 0 && st_godray_light_active(f, f->instance, m->p[P_FADE_MARGIN]);
     // The occlusion image depends on the view, the scene and our parameters;
     // it is only drawn when its blur is live (the world culls it otherwise).
     return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
@@ -196,7 +196,7 @@ static void after_pass(void *self, int pass, const st_frame *f) {
         !disc_geometry(m, f, &f->scene->lights[k], t->width, t->height, &d))
         return;
     float tint[3];
-    godray_tint(f->scene->lights, f->scene->num_lights, k, m->p[P_LIGHT_RADIUS], tint);
+    st_godray_tint(f->scene->lights, f->scene->num_lights, k, m->p[P_LIGHT_RADIUS], tint);
     for (int c = 0; c < 3; c++)
         tint[c] *= d.scale;
     st_shader *sh = m->disc_sh;
@@ -223,8 +223,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         return st_gl_check("mitchell occlusion", err);
     }
     float tint[3];
-    godray_light l =
-        godray_light_state(f, f->instance, m->p[P_FADE_MARGIN], m->p[P_LIGHT_RADIUS], tint);
+    st_godray_light l =
+        st_godray_light_state(f, f->instance, m->p[P_FADE_MARGIN], m->p[P_LIGHT_RADIUS], tint);
     char name[ST_NAME_MAX];
     snprintf(name, sizeof name, "mitchell.occlusion%d", f->instance);
     const st_target *occ = st_world_target(m->w, name);
@@ -247,4 +247,4 @@ ST_PLUGIN(.name = "mitchell",
                          "radial blur of an occlusion image toward each light",
           ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_", .create = create,
           .destroy = destroy, .needed = needed, .on_pass = on_pass, .after_pass = after_pass,
-          .reload = reload, .light_types = GODRAY_LIGHT_TYPES)
+          .reload = reload, .light_types = ST_GODRAY_LIGHT_TYPES)

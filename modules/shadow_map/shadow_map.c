@@ -8,7 +8,7 @@
 // and optional PCF. refine=true settles the hard lookups that are ambiguous
 // (a shadow edge within two texels, a receiver lit only thanks to the bias)
 // with an exact ray against the scene's triangles (a BVH on the GPU,
-// modules/common/st_bvh.h), so surface shadow edges are where the geometry
+// framework/st_bvh.h), so surface shadow edges are where the geometry
 // puts them, not where the map's texels do.
 #include "cascades.h"
 #include "st_bvh.h"

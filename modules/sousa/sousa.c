@@ -6,10 +6,10 @@
 //
 // The mask is read from the G-buffer's camera distance, so the scene is not
 // drawn a second time. Passes run only when needed: without a scattering
-// medium, or when a light's fade (godray_screen.h) is 0, the light's last
+// medium, or when a light's fade (st_godray.h) is 0, the light's last
 // pass is not needed and the world culls the rest of its chain and the mask;
 // a static view reuses the mask and the first two blur passes.
-#include "godray_screen.h"
+#include "st_godray.h"
 #include "st_world_api.h"
 #include <math.h>
 #include <stdio.h>
@@ -62,7 +62,7 @@ static bool needed(void *self, int pass, const st_frame *f) {
     const unsigned view =
         ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_CAMERA | ST_CHANGE_SIZE | ST_CHANGE_PARAMS;
     if (f->row == MASK) return f->changes & view;
-    if (!(p[P_BRIGHTNESS] > 0) || !godray_light_active(f, f->instance, p[P_FADE_MARGIN]))
+    if (!(p[P_BRIGHTNESS] > 0) || !st_godray_light_active(f, f->instance, p[P_FADE_MARGIN]))
         return false;
     const float *bg = f->scene->background; // a black sky emits nothing
     if (f->scene->has_background && !(bg[0] > 0 || bg[1] > 0 || bg[2] > 0)) return false;
@@ -85,7 +85,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     st_shader_set_vec2(sh, "u_out_size", (float)w, (float)(last ? f->height : src->height));
     if (f->row == MASK) return st_gl_check("sousa mask", err);
     float tint[3];
-    godray_light l = godray_light_state(f, f->instance, p[P_FADE_MARGIN], p[P_LIGHT_RADIUS], tint);
+    st_godray_light l =
+        st_godray_light_state(f, f->instance, p[P_FADE_MARGIN], p[P_LIGHT_RADIUS], tint);
     // The mask's far value 1 is the sky; a scene background gives it its
     // radiance. (Only the last pass's program has u_color and u_fade.)
     for (int c = 0; c < 3 && f->scene->has_background; c++)
@@ -103,4 +104,4 @@ ST_PLUGIN(.name = "sousa",
           .description = "sun shafts (Sousa, CryEngine 2): linear depth mask blurred toward each "
                          "light in 3 passes with steps TAPS^-1, TAPS^-2, TAPS^-3",
           ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_", .needed = needed,
-          .on_pass = on_pass, .light_types = GODRAY_LIGHT_TYPES)
+          .on_pass = on_pass, .light_types = ST_GODRAY_LIGHT_TYPES)

@@ -1,5 +1,5 @@
 // Exact visibility: any-hit traversal of the triangle BVH of
-// modules/common/st_bvh.h (layout there) along an open segment. The binding
+// framework/st_bvh.h (layout there) along an open segment. The binding
 // points match ST_BVH_BINDING_NODES / _TRIS; st_bvh_bind() binds them.
 #ifndef ST_BVH_GLSL
 #define ST_BVH_GLSL

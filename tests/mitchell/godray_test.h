@@ -6,7 +6,7 @@
 #define GODRAY_TEST_H
 #include "st_test_render.h"
 #include "st_world.h"
-#include "godray_screen.h"
+#include "st_godray.h"
 #include "st_test_support.h"
 #include <cjson/cJSON.h>
 
@@ -250,7 +250,7 @@ static inline const char *gt_scene_json(char *buf, size_t n, int res, const char
 // light's screen projection in the first world.
 typedef struct {
     st_image with, without, effect;
-    godray_light light;
+    st_godray_light light;
 } gt_pair;
 
 static inline void gt_pair_free(gt_pair *r) {
@@ -268,8 +268,8 @@ static inline bool gt_render_pair(const char *json_with, const char *json_withou
     bool ok = gt_frames(wa, 1, &r->with) && gt_frames(wb, 1, &r->without);
     const st_camera *c = st_world_camera(wa);
     if (a.num_lights > 0)
-        r->light =
-            godray_project(c->view_proj, c->near_z, a.width, a.height, a.lights[0].position, 0.5);
+        r->light = st_godray_project(c->view_proj, c->near_z, a.width, a.height,
+                                     a.lights[0].position, 0.5);
     st_world_destroy(wa);
     st_world_destroy(wb);
     st_scene_free(&a);

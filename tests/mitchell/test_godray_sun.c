@@ -17,7 +17,7 @@
 //   the passes are skipped/culled then.
 #include "st_test_support.h"
 #include "mitchell/godray_test.h"
-#include "godray_screen.h"
+#include "st_godray.h"
 #include "st_physics.h"
 
 #define RES 33
@@ -98,7 +98,7 @@ static void test_screen_position(void) {
     // Toward the sun at 10 deg right of the axis and 5 deg up.
     double th = 10 * ST_PI / 180, ph = 5 * ST_PI / 180;
     float to[3] = {(float)(sin(th) * cos(ph)), (float)sin(ph), (float)(-cos(th) * cos(ph))};
-    godray_light l = godray_project_dir(c->view_proj, RES, RES, to, 0.5);
+    st_godray_light l = st_godray_project_dir(c->view_proj, RES, RES, to, 0.5);
     double u = 0.5 + 0.5 * (to[0] / -to[2]) / T20, v = 0.5 + 0.5 * (to[1] / -to[2]) / T20;
     printf("sun at (10, 5) deg: uv (%.6f, %.6f), expected (%.6f, %.6f), fade %g, w %.6f\n", l.uv[0],
            l.uv[1], u, v, l.fade, l.w);
@@ -108,7 +108,7 @@ static void test_screen_position(void) {
           l.w);
     // The limit of a point light far along the direction (inside far = 100).
     float p[3] = {50 * to[0], 50 * to[1], 5 + 50 * to[2]};
-    godray_light q = godray_project(c->view_proj, c->near_z, RES, RES, p, 0.5);
+    st_godray_light q = st_godray_project(c->view_proj, c->near_z, RES, RES, p, 0.5);
     CHECK(fabs(q.uv[0] - l.uv[0]) < 1e-5 && fabs(q.uv[1] - l.uv[1]) < 1e-5,
           "a point 50 m along the direction lands on the sun: (%g, %g) vs (%g, %g)", q.uv[0],
           q.uv[1], l.uv[0], l.uv[1]);
@@ -119,7 +119,7 @@ static void test_screen_position(void) {
     const float *cases[4] = {behind, side, grazing, grazing2};
     const char *names[4] = {"behind", "on the camera plane", "w = 1e-30", "w = 1e-7"};
     for (int k = 0; k < 4; k++) {
-        l = godray_project_dir(c->view_proj, RES, RES, cases[k], 0.5);
+        l = st_godray_project_dir(c->view_proj, RES, RES, cases[k], 0.5);
         CHECK(l.fade == 0 && isfinite(l.uv[0]) && isfinite(l.uv[1]) && isfinite(l.w),
               "sun %s: fade %g uv (%g, %g)", names[k], l.fade, l.uv[0], l.uv[1]);
     }
@@ -131,7 +131,7 @@ static void test_screen_position(void) {
     for (int s = 0; s <= 1800; s++) {
         double a = s * 0.1 * ST_PI / 180;
         float d[3] = {(float)sin(a), 0, (float)-cos(a)};
-        l = godray_project_dir(c->view_proj, RES, RES, d, 0.5);
+        l = st_godray_project_dir(c->view_proj, RES, RES, d, 0.5);
         bad += !isfinite(l.fade) || !isfinite(l.uv[0]);
         jump = fmax(jump, fabs(l.fade - prev));
         prev = l.fade;
@@ -159,21 +159,21 @@ static void test_source_radiance(void) {
     st_light_desc sun = {.type = ST_LIGHT_DIRECTIONAL, .intensity = {2, 1, 0.5}},
                   pt = {.type = ST_LIGHT_POINT, .intensity = {100, 100, 100}};
     double L[3], Om = disc_solid_angle(0.53);
-    godray_source_radiance(&sun, 0.1, L); // angular_diameter 0: the default 0.53 deg
+    st_godray_source_radiance(&sun, 0.1, L); // angular_diameter 0: the default 0.53 deg
     CHECK_REL(L[0], 2 / Om, 1e-6, 0);
     CHECK_REL(L[2], 0.5 / Om, 1e-6, 0);
     printf("sun E = 2 W/m^2, 0.53 deg: source radiance %.1f W/(m^2 sr) (Omega %.4e sr)\n", L[0],
            Om);
-    godray_source_radiance(&pt, 0.1, L);
+    st_godray_source_radiance(&pt, 0.1, L);
     CHECK_REL(L[1], 100 / (ST_PI * 0.01), 1e-6, 0);
     // Mixed: the brightest source is 1, the other keeps the physical ratio.
     sun.intensity[0] = 0.2f, sun.angular_diameter = (float)(10 * ST_PI / 180);
     st_light_desc both[2] = {pt, sun};
     float t[3];
-    godray_tint(both, 2, 1, 0.1, t);
+    st_godray_tint(both, 2, 1, 0.1, t);
     double want = (0.2 / disc_solid_angle(10)) / (100 / (ST_PI * 0.01));
     CHECK_REL(t[0], want, 1e-5, 0);
-    godray_tint(both, 2, 0, 0.1, t);
+    st_godray_tint(both, 2, 0, 0.1, t);
     CHECK(t[0] == 1 && t[1] == 1, "the point light is the brightest: tint %g", t[0]);
 }
 

@@ -13,7 +13,7 @@
 //   inside the near range; every parameter at its range limits: all finite.
 #include "st_test_support.h"
 #include "mitchell/godray_test.h"
-#include "godray_screen.h"
+#include "st_godray.h"
 #include <cjson/cJSON.h>
 
 #define RES 33
@@ -265,14 +265,14 @@ static void test_fade(void) {
     const st_camera *c = st_world_camera(w);
     const float at_cam[3] = {0, 0, 5}, behind[3] = {0, 0, 6}, ahead[3] = {0, 0, 0},
                 near_[3] = {0, 0, 4.925f};
-    godray_light l = godray_project(c->view_proj, c->near_z, RES, RES, at_cam, 0.5);
+    st_godray_light l = st_godray_project(c->view_proj, c->near_z, RES, RES, at_cam, 0.5);
     CHECK(l.fade == 0 && isfinite(l.uv[0]), "light at the camera: fade %g", l.fade);
-    l = godray_project(c->view_proj, c->near_z, RES, RES, behind, 0.5);
+    l = st_godray_project(c->view_proj, c->near_z, RES, RES, behind, 0.5);
     CHECK(l.fade == 0, "light behind the camera: fade %g", l.fade);
-    l = godray_project(c->view_proj, c->near_z, RES, RES, ahead, 0.5);
+    l = st_godray_project(c->view_proj, c->near_z, RES, RES, ahead, 0.5);
     CHECK(l.fade == 1 && fabsf(l.uv[0] - 0.5f) < 1e-6f && fabsf(l.uv[1] - 0.5f) < 1e-6f,
           "light ahead: fade %g uv (%g, %g)", l.fade, l.uv[0], l.uv[1]);
-    l = godray_project(c->view_proj, c->near_z, RES, RES, near_, 0.5); // w = 1.5 near: half way
+    l = st_godray_project(c->view_proj, c->near_z, RES, RES, near_, 0.5); // w = 1.5 near: half way
     CHECK(fabs(l.fade - 0.5) < 1e-3, "light at 1.5 near: fade %g (0.5)", l.fade);
     st_world_destroy(w);
     st_scene_free(&sc);

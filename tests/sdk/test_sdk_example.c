@@ -5,6 +5,7 @@
 //   L = L_s T + R (1 - T),  L_s = rho/pi I cos / r^2,  T = e^(-tau),
 //   tau = a e^(-b (y0 - h)) (1 - e^(-b d dir_y)) / (b dir_y)
 // along the pixel's ray (d the distance to the plane).
+#include "sdk_test.h"
 #include "st_test_render.h"
 
 #define N 33
@@ -73,16 +74,16 @@ int main(void) {
     snprintf(scene, sizeof scene, "%s/fog.json", ST_TEST_SCRATCH);
     snprintf(json, sizeof json, scene_fmt, N, N, H, HL, I, I, I, RHO, RHO, RHO, A, B, HF, R);
     st_test_write(scene, json);
-    st_test_sh("rm -rf %s %s %s", prefix, fog, pc);
+    st_test_sh("rm -rf %s", pc);
 
-    int rc = st_test_sh("%s --install %s --prefix %s >/dev/null", ST_TEST_CMAKE, ST_TEST_BINARY_DIR,
-                        prefix);
+    int rc = sdk_install(prefix);
     CHECK(rc == 0, "cmake --install (rc %d)", rc);
-    // The SDK's headers are what a plugin needs, each one compiling on its own;
-    // the host's side of the world, statistics, images, files and physics are
-    // not installed.
-    static const char *const sdk[] = {"st_base.h",   "st_gl.h",    "st_gpu.h",    "st_model.h",
-                                      "st_module.h", "st_scene.h", "st_shader.h", "st_world_api.h"};
+    // The SDK's headers are what a plugin needs (with the shared model and
+    // services), each one compiling on its own; the host's side of the world,
+    // statistics, images and files are not installed.
+    static const char *const sdk[] = {"st_base.h",  "st_bvh.h",    "st_gl.h",       "st_godray.h",
+                                      "st_gpu.h",   "st_model.h",  "st_module.h",   "st_physics.h",
+                                      "st_scene.h", "st_shader.h", "st_world_api.h"};
     char listing[1024] = "";
     char cmd[2048];
     snprintf(cmd, sizeof cmd, "LC_ALL=C ls %s/include/strahl | tr '\\n' ' '", prefix);
@@ -99,9 +100,9 @@ int main(void) {
     }
     CHECK(!strcmp(listing, want), "installed headers: '%s', expected '%s'", listing, want);
     // find_package(strahl) and strahl_add_plugin.
-    rc = st_test_sh(
-        "%s -S %s/examples/plugin -B %s -G '%s' -DCMAKE_PREFIX_PATH=%s >/dev/null && %s --build %s",
-        ST_TEST_CMAKE, ST_TEST_SOURCE_DIR, fog, ST_TEST_GENERATOR, prefix, ST_TEST_CMAKE, fog);
+    char src[1200];
+    snprintf(src, sizeof src, "%s/examples/plugin", ST_TEST_SOURCE_DIR);
+    rc = sdk_build(src, fog, prefix, NULL);
     CHECK(rc == 0, "example configures and builds against the installed SDK (rc %d)", rc);
     // pkg-config, by hand: the .so and its shaders/height_fog/ beside it.
     rc = st_test_sh(

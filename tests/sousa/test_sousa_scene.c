@@ -12,7 +12,7 @@
 //   every parameter at its range limits: all finite.
 #include "st_test_support.h"
 #include "mitchell/godray_test.h"
-#include "godray_screen.h"
+#include "st_godray.h"
 #include <cjson/cJSON.h>
 
 #define RES 40

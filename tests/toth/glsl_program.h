@@ -59,7 +59,7 @@ static inline GLuint toth_glsl_program_after(const char *file, const char *after
 }
 
 // The scene's BVH for shaders/common/bvh.glsl (bindings 6 and 7; the layout
-// of modules/common/st_bvh.h: node = (min, first), (max, count); triangle =
+// of framework/st_bvh.h: node = (min, first), (max, count); triangle =
 // v0, e1, e2), from the test's arrays.
 static inline void toth_glsl_bind_bvh(GLuint bufs[2], const float *nodes, size_t nodes_size,
                                       const float *tris, size_t tris_size) {

@@ -46,7 +46,7 @@ static void cross3(const double *a, const double *b, double *c) {
 }
 
 // The square |x|, |z| <= 1 at y = 3 as two triangles sharing the diagonal
-// x = z, in one BVH leaf (modules/common/st_bvh.h's layout: node = (min,
+// x = z, in one BVH leaf (framework/st_bvh.h's layout: node = (min,
 // first), (max, count); triangle = v0, e1, e2).
 static void bind_square(GLuint bufs[2]) {
     float nodes[8] = {-1, 3, -1, 0, 1, 3, 1, 0};

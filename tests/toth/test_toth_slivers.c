@@ -41,7 +41,7 @@ static const char *MAIN =
 
 // Two squares at y = 3, z in [-1, 1]: x in [-1.5, -0.3] and [0.2, 2.5],
 // each as two triangles sharing its diagonal, in one BVH leaf
-// (modules/common/st_bvh.h's layout: node = (min, first), (max, count);
+// (framework/st_bvh.h's layout: node = (min, first), (max, count);
 // triangle = v0, e1, e2).
 static void bind_squares(GLuint bufs[2]) {
     float nodes[8] = {-1.5f, 3, -1, 0, 2.5f, 3, 1, 0};

@@ -1,5 +1,5 @@
-// See godray_screen.h.
-#include "godray_screen.h"
+// See st_godray.h.
+#include "st_godray.h"
 #include "st_physics.h"
 #include <math.h>
 
@@ -9,9 +9,9 @@ static double smoothstep(double e0, double e1, double x) {
     return t * t * (3 - 2 * t);
 }
 
-godray_light godray_project(const float *view_proj, float near_z, int width, int height,
-                            const float p[3], double margin) {
-    godray_light r = {{0.5f, 0.5f}, 0.0f, 0.0f};
+st_godray_light st_godray_project(const float *view_proj, float near_z, int width, int height,
+                                  const float p[3], double margin) {
+    st_godray_light r = {{0.5f, 0.5f}, 0.0f, 0.0f};
     double c[4];
     for (int i = 0; i < 4; i++)
         c[i] = (double)view_proj[i] * p[0] + (double)view_proj[4 + i] * p[1] +
@@ -31,9 +31,9 @@ godray_light godray_project(const float *view_proj, float near_z, int width, int
     return r;
 }
 
-godray_light godray_project_dir(const float *view_proj, int width, int height,
-                                const float to_light[3], double margin) {
-    godray_light r = {{0.5f, 0.5f}, 0.0f, 0.0f};
+st_godray_light st_godray_project_dir(const float *view_proj, int width, int height,
+                                      const float to_light[3], double margin) {
+    st_godray_light r = {{0.5f, 0.5f}, 0.0f, 0.0f};
     double c[4];
     for (int i = 0; i < 4; i++) // w = 0: no translation
         c[i] = (double)view_proj[i] * to_light[0] + (double)view_proj[4 + i] * to_light[1] +
@@ -52,7 +52,7 @@ godray_light godray_project_dir(const float *view_proj, int width, int height,
     return r;
 }
 
-void godray_source_radiance(const st_light_desc *l, double point_radius, double out[3]) {
+void st_godray_source_radiance(const st_light_desc *l, double point_radius, double out[3]) {
     double area;
     if (l->type == ST_LIGHT_DIRECTIONAL) {
         double half = 0.5 * st_light_angular_diameter(l);
@@ -65,11 +65,11 @@ void godray_source_radiance(const st_light_desc *l, double point_radius, double 
         out[c] = area > 0 && l->intensity[c] > 0 ? l->intensity[c] / area : 0.0;
 }
 
-void godray_tint(const st_light_desc *lights, int num_lights, int k, double point_radius,
-                 float out[3]) {
+void st_godray_tint(const st_light_desc *lights, int num_lights, int k, double point_radius,
+                    float out[3]) {
     double mx = 0, L[3], Lk[3] = {0, 0, 0};
     for (int i = 0; i < num_lights; i++) {
-        godray_source_radiance(&lights[i], point_radius, L);
+        st_godray_source_radiance(&lights[i], point_radius, L);
         for (int c = 0; c < 3; c++) {
             if (L[c] > mx) mx = L[c];
             if (i == k) Lk[c] = L[c];
@@ -79,29 +79,29 @@ void godray_tint(const st_light_desc *lights, int num_lights, int k, double poin
         out[c] = mx > 0 && Lk[c] > 0 ? (float)(Lk[c] / mx) : 0.0f;
 }
 
-bool godray_medium_active(const st_scene *s) {
+bool st_godray_medium_active(const st_scene *s) {
     return s->medium.present &&
            (s->medium.sigma_s[0] > 0 || s->medium.sigma_s[1] > 0 || s->medium.sigma_s[2] > 0);
 }
 
 // Where light k lands on the screen and its fade.
-static godray_light light_screen(const st_frame *f, int k, double margin) {
+static st_godray_light light_screen(const st_frame *f, int k, double margin) {
     const st_light_desc *l = &f->scene->lights[k];
     if (l->type == ST_LIGHT_DIRECTIONAL) {
         const float to_light[3] = {-l->direction[0], -l->direction[1], -l->direction[2]};
-        return godray_project_dir(f->view_proj, f->width, f->height, to_light, margin);
+        return st_godray_project_dir(f->view_proj, f->width, f->height, to_light, margin);
     }
-    return godray_project(f->view_proj, f->near_z, f->width, f->height, l->position, margin);
+    return st_godray_project(f->view_proj, f->near_z, f->width, f->height, l->position, margin);
 }
 
-godray_light godray_light_state(const st_frame *f, int k, double margin, double point_radius,
-                                float tint[3]) {
-    godray_tint(f->scene->lights, f->scene->num_lights, k, point_radius, tint);
+st_godray_light st_godray_light_state(const st_frame *f, int k, double margin, double point_radius,
+                                      float tint[3]) {
+    st_godray_tint(f->scene->lights, f->scene->num_lights, k, point_radius, tint);
     return light_screen(f, k, margin);
 }
 
-bool godray_light_active(const st_frame *f, int k, double margin) {
-    if (!godray_medium_active(f->scene)) return false;
+bool st_godray_light_active(const st_frame *f, int k, double margin) {
+    if (!st_godray_medium_active(f->scene)) return false;
     const st_light_desc *d = &f->scene->lights[k];
     if (!(d->intensity[0] > 0 || d->intensity[1] > 0 || d->intensity[2] > 0)) return false;
     return light_screen(f, k, margin).fade > 0;
