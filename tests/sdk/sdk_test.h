@@ -17,7 +17,7 @@ static inline int sdk_install(const char *prefix) {
 // pointed at `prefix`, and builds it on two cores. With a `log`, both steps
 // write there instead of the test's output. The exit code.
 static inline int sdk_build(const char *src, const char *out, const char *prefix, const char *log) {
-    char redirect[1200] = "";
+    char redirect[1400] = "";
     if (log) snprintf(redirect, sizeof redirect, ">%s 2>&1", log);
     st_test_sh("rm -rf %s", out);
     return st_test_sh("{ %s -S %s -B %s -G '%s' -DCMAKE_PREFIX_PATH=%s >/dev/null && %s --build %s "

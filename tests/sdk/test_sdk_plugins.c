@@ -49,7 +49,7 @@ static bool loaded(const char *log, const char *path) {
 // image must equal the in-tree one, bit for bit.
 static bool same_render(const char *prefix, const char *modules, const char *name,
                         const char *scene, const char *dir) {
-    char in[1200], oot[1200], log[1200], so[1300];
+    char in[1400], oot[1400], log[1400], so[1500];
     snprintf(in, sizeof in, "%s/intree.exr", dir);
     snprintf(oot, sizeof oot, "%s/oot.exr", dir);
     snprintf(log, sizeof log, "%s/ld.log", dir);
