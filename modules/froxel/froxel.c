@@ -17,7 +17,7 @@
 // The grid covers the screen in x and y (image / tile, or grid_x x grid_y)
 // and the view depth [0, far] in `slices` exponential slices. Without a
 // scattering medium or without lights no pass runs.
-#include "st_world.h"
+#include "st_world_api.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -78,14 +78,35 @@ static const st_param_def params[P_COUNT] = {
      "transmittance there"},
 };
 
-enum { PASS_INJECT, PASS_INTEGRATE, PASS_COMPOSE, PASS_COUNT };
+// The programs, compiled with the light defines. The taps are a compile-time
+// choice (FROXEL_TAPS, the enum's index): llvmpipe runs both sides of a
+// branch on a uniform, so the 4 taps' lookups would cost the single-tap
+// program too.
+static const st_program_decl programs[] = {
+    {"inject", .comp = "froxel/inject.comp", .param_defines = "taps", .flags = ST_PROGRAM_LIGHTS},
+    {"integrate", .comp = "froxel/integrate.comp", .flags = ST_PROGRAM_LIGHTS},
+    {"compose", .frag = "froxel/compose.frag", .flags = ST_PROGRAM_LIGHTS},
+};
+
+// inject: one invocation per froxel, over froxel.inject (bound at image unit
+// 0 by the world); integrate: one per column (ST_PASS_PLANE), writing
+// froxel.integrated at unit 0 and reading froxel.inject at unit 1; compose:
+// the image. The volumes are declared below (their size is the grid's).
+enum { PASS_INJECT, PASS_INTEGRATE, PASS_COMPOSE };
+static const st_pass_decl passes[] = {
+    {{"inject", ST_STAGE_POST, "shadow_map", "froxel.inject", 0}, .program = "inject"},
+    {{"integrate", ST_STAGE_POST, "froxel.inject", "froxel.integrated", ST_PASS_PLANE},
+     .program = "integrate"},
+    {{"compose", ST_STAGE_POST, "hdr,gbuffer,froxel.inject,froxel.integrated", "hdr",
+      ST_PASS_FULLSCREEN},
+     .program = "compose"},
+};
 
 typedef struct froxel {
     st_world *w;
     const double *p;
-    st_shader *inject, *integrate, *compose;
-    st_pass_info info;
     int gx, gy, gz; // the grid the targets were declared for
+    int fw, fh;     // the last frame's size (0 before the first)
     // temporal: the previous frame's matrices, and whether froxel.history
     // holds that frame's grid
     float prev_view_proj[16], prev_view[16], prev_cam[3];
@@ -114,7 +135,7 @@ static void grid_size(const froxel *x, int w, int h, int *gx, int *gy) {
 // each slice. Linear in x and y (the compose pass interpolates columns), the
 // slices are read one by one.
 static bool declare_targets(froxel *x, int w, int h, st_err *err) {
-    if (w < 1 || h < 1) { // before the world's first resize: the scene's size
+    if (w < 1 || h < 1) { // before the first frame: the scene's size
         w = st_world_scene(x->w)->width;
         h = st_world_scene(x->w)->height;
     }
@@ -129,69 +150,16 @@ static bool declare_targets(froxel *x, int w, int h, st_err *err) {
            st_world_declare_target(x->w, "froxel.history", x->p[P_TEMPORAL] != 0 ? &d : NULL, err);
 }
 
-static void destroy_shaders(froxel *x) {
-    st_shader_destroy(x->inject);
-    st_shader_destroy(x->integrate);
-    st_shader_destroy(x->compose);
-    x->inject = x->integrate = x->compose = NULL;
-}
-
-// The taps are a compile-time choice: llvmpipe runs both sides of a branch
-// on a uniform, so the 4 taps' lookups would cost the single-tap program too.
-static bool load_shaders(froxel *x, st_err *err) {
-    char defines[4096];
-    snprintf(defines, sizeof defines, "%sFROXEL_TAPS %d\n", st_world_light_defines(x->w),
-             x->p[P_TAPS] != 0 ? 4 : 1);
-    x->inject = st_shader_load_compute("froxel/inject.comp", defines, err);
-    x->integrate = x->inject ? st_shader_load_compute("froxel/integrate.comp", defines, err) : NULL;
-    x->compose = x->integrate
-                     ? st_shader_load("common/fullscreen.vert", "froxel/compose.frag", defines, err)
-                     : NULL;
-    if (x->compose) return true;
-    destroy_shaders(x);
-    return false;
-}
-
 static void *create(st_world *w, const double *p, st_err *err) {
     froxel *x = st_calloc(sizeof *x, err);
     if (!x) return NULL;
     x->w = w;
     x->p = p;
-    const st_camera *c = st_world_camera(w);
-    if (!declare_targets(x, c->width, c->height, err) || !load_shaders(x, err)) {
+    if (!declare_targets(x, 0, 0, err)) {
         free(x);
         return NULL;
     }
     return x;
-}
-
-static void destroy(void *self) {
-    destroy_shaders(self);
-    free(self);
-}
-
-static int num_passes(void *self) {
-    (void)self;
-    return PASS_COUNT;
-}
-
-static const st_pass_info *pass_info(void *self, int pass) {
-    froxel *x = self;
-    switch (pass) {
-    case PASS_INJECT:
-        x->info = (st_pass_info){"inject", ST_STAGE_POST, "shadow_map", "froxel.inject", 0};
-        break;
-    case PASS_INTEGRATE:
-        x->info =
-            (st_pass_info){"integrate", ST_STAGE_POST, "froxel.inject", "froxel.integrated", 0};
-        break;
-    default:
-        x->info =
-            (st_pass_info){"compose", ST_STAGE_POST, "hdr,gbuffer,froxel.inject,froxel.integrated",
-                           "hdr", ST_PASS_FULLSCREEN};
-        break;
-    }
-    return &x->info;
 }
 
 static bool medium_scatters(const st_scene *sc) {
@@ -204,6 +172,7 @@ static bool medium_scatters(const st_scene *sc) {
 static bool needed(void *self, int pass, const st_frame *f) {
     froxel *x = self;
     int gx, gy;
+    x->fw = f->width, x->fh = f->height;
     grid_size(x, f->width, f->height, &gx, &gy);
     if (pass == 0 && (gx != x->gx || gy != x->gy)) {
         st_err ignore = {0}; // only fails for a bad name, which create already caught
@@ -234,54 +203,54 @@ static void set_grid(const froxel *x, st_shader *sh, const st_frame *f) {
     st_shader_set_float(sh, "froxel_near_scale", (float)x->p[P_NEAR_RADIUS]);
 }
 
-static bool dispatch(froxel *x, int pass, const st_frame *f, st_err *err) {
-    const st_target *in = st_world_get_target(x->w, "froxel.inject", err);
-    const st_target *out = in ? st_world_get_target(x->w, "froxel.integrated", err) : NULL;
-    if (!out) return false;
-    st_shader *sh = pass == PASS_INJECT ? x->inject : x->integrate;
-    set_grid(x, sh, f);
-    glBindImageTexture(0, in->color[0], 0, GL_TRUE, 0,
-                       pass == PASS_INJECT ? GL_WRITE_ONLY : GL_READ_ONLY, GL_RGBA32F);
-    if (pass == PASS_INJECT) {
-        const st_target *hist = NULL;
-        if (x->p[P_TEMPORAL] != 0 && !(hist = st_world_get_target(x->w, "froxel.history", err)))
-            return false;
-        st_shader_set_int(sh, "froxel_temporal", hist && x->has_history);
-        st_shader_set_float(sh, "froxel_history", (float)x->p[P_HISTORY]);
-        st_shader_set_mat4(sh, "froxel_prev_view_proj", x->prev_view_proj);
-        st_shader_set_mat4(sh, "froxel_prev_view", x->prev_view);
-        glUniform3fv(st_shader_loc(sh, "froxel_prev_cam"), 1, x->prev_cam);
-        if (hist) glBindImageTexture(2, hist->color[0], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glDispatchCompute((GLuint)(x->gx + 3) / 4, (GLuint)(x->gy + 3) / 4,
-                          (GLuint)(x->gz + 3) / 4);
-        if (hist) { // this frame's grid becomes the next one's history
-            glMemoryBarrier(GL_ALL_BARRIER_BITS);
-            glCopyImageSubData(in->color[0], GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, hist->color[0],
-                               GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, x->gx, x->gy, x->gz);
-            memcpy(x->prev_view_proj, f->view_proj, sizeof x->prev_view_proj);
-            memcpy(x->prev_view, f->view, sizeof x->prev_view);
-            memcpy(x->prev_cam, f->cam_pos, sizeof x->prev_cam);
-            x->history_frames += x->has_history;
-            x->has_history = true;
-        }
-    } else {
-        glBindImageTexture(1, out->color[0], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glDispatchCompute((GLuint)(x->gx + 7) / 8, (GLuint)(x->gy + 7) / 8, 1);
-    }
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    return st_gl_check(pass == PASS_INJECT ? "froxel inject" : "froxel integrate", err);
+// inject's temporal inputs: the history (image unit 2) and the previous
+// frame's matrices.
+static bool inject_history(froxel *x, st_shader *sh, st_err *err) {
+    const st_target *hist = NULL;
+    if (x->p[P_TEMPORAL] != 0 && !(hist = st_world_get_target(x->w, "froxel.history", err)))
+        return false;
+    st_shader_set_int(sh, "froxel_temporal", hist && x->has_history);
+    st_shader_set_float(sh, "froxel_history", (float)x->p[P_HISTORY]);
+    st_shader_set_mat4(sh, "froxel_prev_view_proj", x->prev_view_proj);
+    st_shader_set_mat4(sh, "froxel_prev_view", x->prev_view);
+    glUniform3fv(st_shader_loc(sh, "froxel_prev_cam"), 1, x->prev_cam);
+    if (hist) glBindImageTexture(2, hist->color[0], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+    return true;
 }
 
+// The world dispatches inject and integrate over the target each writes and
+// draws compose; here their other inputs.
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     froxel *x = self;
-    if (pass != PASS_COMPOSE) return dispatch(x, pass, f, err);
+    st_shader *sh = f->shader;
     const st_target *in = st_world_get_target(x->w, "froxel.inject", err);
     const st_target *vol = in ? st_world_get_target(x->w, "froxel.integrated", err) : NULL;
     if (!vol) return false;
-    set_grid(x, x->compose, f);
-    st_shader_texture(x->compose, "froxel_inject_tex", GL_TEXTURE_2D_ARRAY, in->color[0]);
-    st_shader_texture(x->compose, "froxel_integrated_tex", GL_TEXTURE_2D_ARRAY, vol->color[0]);
+    set_grid(x, sh, f);
+    if (pass == PASS_INJECT) return inject_history(x, sh, err);
+    if (pass == PASS_INTEGRATE) {
+        glBindImageTexture(1, in->color[0], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+        return st_gl_check("froxel integrate", err);
+    }
+    st_shader_texture(sh, "froxel_inject_tex", GL_TEXTURE_2D_ARRAY, in->color[0]);
+    st_shader_texture(sh, "froxel_integrated_tex", GL_TEXTURE_2D_ARRAY, vol->color[0]);
     return st_gl_check("froxel compose", err);
+}
+
+// temporal: this frame's grid becomes the next one's history.
+static void after_pass(void *self, int pass, const st_frame *f) {
+    froxel *x = self;
+    const st_target *in = st_world_target(x->w, "froxel.inject");
+    const st_target *hist = x->p[P_TEMPORAL] != 0 ? st_world_target(x->w, "froxel.history") : NULL;
+    if (pass != PASS_INJECT || !in || !hist) return;
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    glCopyImageSubData(in->color[0], GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, hist->color[0],
+                       GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, x->gx, x->gy, x->gz);
+    memcpy(x->prev_view_proj, f->view_proj, sizeof x->prev_view_proj);
+    memcpy(x->prev_view, f->view, sizeof x->prev_view);
+    memcpy(x->prev_cam, f->cam_pos, sizeof x->prev_cam);
+    x->history_frames += x->has_history;
+    x->has_history = true;
 }
 
 // temporal: frames until the first frame's weight in the blend, history^n,
@@ -304,34 +273,12 @@ static bool progress(void *self, st_progress *out) {
     return true;
 }
 
-static st_shader *shader(void *self, int pass) {
-    froxel *x = self;
-    return pass == PASS_INJECT ? x->inject : pass == PASS_INTEGRATE ? x->integrate : x->compose;
-}
-
-static bool reload(void *self, st_err *err);
-
 static void param_changed(void *self, int index) {
     froxel *x = self;
     st_err ignore = {0}; // only fails for a bad name, which create already caught
-    if (index == P_TAPS && !reload(x, &ignore))
-        fprintf(stderr, "froxel: taps: %s\n", ignore.msg); // the old program stays
     if (index == P_TILE || index == P_MIN_ROWS || index == P_TEMPORAL || index == P_GRID_X ||
-        index == P_GRID_Y || index == P_SLICES) {
-        const st_camera *c = st_world_camera(x->w);
-        declare_targets(x, c->width, c->height, &ignore);
-    }
-}
-
-static bool reload(void *self, st_err *err) {
-    froxel *x = self;
-    froxel fresh = *x;
-    if (!load_shaders(&fresh, err)) return false;
-    destroy_shaders(x);
-    x->inject = fresh.inject;
-    x->integrate = fresh.integrate;
-    x->compose = fresh.compose;
-    return true;
+        index == P_GRID_Y || index == P_SLICES)
+        declare_targets(x, x->fw, x->fh, &ignore);
 }
 
 ST_PLUGIN(.name = "froxel",
@@ -339,7 +286,7 @@ ST_PLUGIN(.name = "froxel",
                          "per-froxel density and in-scattering from every light with shadow-map "
                          "visibility, front-to-back energy-conserving integration, looked up "
                          "per pixel",
-          ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
-          .num_passes = num_passes, .pass_info = pass_info, .needed = needed, .on_pass = on_pass,
-          .shader = shader, .param_changed = param_changed, .reload = reload, .progress = progress,
+          ST_PARAMS(params), ST_PROGRAMS(programs), ST_PASSES(passes), .requires = "shadow_map",
+          .create = create, .destroy = free, .needed = needed, .on_pass = on_pass,
+          .after_pass = after_pass, .param_changed = param_changed, .progress = progress,
           .light_types = ST_LIGHT_BITS_ALL)

@@ -60,6 +60,10 @@ static const float SKY_COLOR[3] = {0.2f, 0.3f, 0.6f}; // thesis figure 3.6(a)
 
 enum { OCCLUSION, BLUR }; // table rows
 
+// The light's disc, drawn into the occlusion image after the scene.
+enum { PROG_DISC };
+static const st_program_decl programs[] = {{"disc", "mitchell/disc.vert", "mitchell/disc.frag"}};
+
 // Per light an occlusion image, owned by the world: `resolution` of the
 // screen, with depth for the scene pass, taps outside reading no emitter (no
 // clamped edge streaks); then its blur onto the image. The world sets the
@@ -79,14 +83,12 @@ static const st_pass_decl passes[] = {
 typedef struct mitchell {
     st_world *w;
     const double *p;
-    st_shader *disc_sh; // the light's disc, drawn after the scene (a custom program)
-    GLuint empty_vao;
+    GLuint empty_vao; // the disc's quad has no vertex data
 } mitchell;
 
 static void destroy(void *self) {
     mitchell *m = self;
     if (m->empty_vao) glDeleteVertexArrays(1, &m->empty_vao);
-    st_shader_destroy(m->disc_sh);
     free(m);
 }
 
@@ -95,11 +97,6 @@ static void *create(st_world *w, const double *p, st_err *err) {
     if (!m) return NULL;
     m->w = w;
     m->p = p;
-    m->disc_sh = st_shader_load("mitchell/disc.vert", "mitchell/disc.frag", NULL, err);
-    if (!m->disc_sh) {
-        destroy(m);
-        return NULL;
-    }
     glCreateVertexArrays(1, &m->empty_vao);
     return m;
 }
@@ -199,8 +196,9 @@ static void after_pass(void *self, int pass, const st_frame *f) {
     st_godray_tint(f->scene->lights, f->scene->num_lights, k, m->p[P_LIGHT_RADIUS], tint);
     for (int c = 0; c < 3; c++)
         tint[c] *= d.scale;
-    st_shader *sh = m->disc_sh;
-    st_shader_use(sh);
+    st_err ignore = {0}; // on_pass compiled it, reporting a failure
+    st_shader *sh = st_frame_use_program(f, PROG_DISC, &ignore);
+    if (!sh) return;
     st_shader_set_vec2(sh, "u_disc_center", d.center[0], d.center[1]);
     st_shader_set_vec2(sh, "u_disc_extent", d.extent[0], d.extent[1]);
     st_shader_set_float(sh, "u_disc_depth", d.depth);
@@ -218,9 +216,10 @@ static void after_pass(void *self, int pass, const st_frame *f) {
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     mitchell *m = self;
-    if (f->row == OCCLUSION) {
+    if (f->row == OCCLUSION) { // the disc's program too, where a failure can be told
         occlusion_clear(m, f);
-        return st_gl_check("mitchell occlusion", err);
+        return st_world_program(m->w, m->p, PROG_DISC, err) &&
+               st_gl_check("mitchell occlusion", err);
     }
     float tint[3];
     st_godray_light l =
@@ -238,13 +237,9 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     return st_gl_check("mitchell blur", err);
 }
 
-static bool reload(void *self, st_err *err) {
-    return st_shader_reload(((mitchell *)self)->disc_sh, err);
-}
-
 ST_PLUGIN(.name = "mitchell",
           .description = "volumetric light scattering as a post-process (Mitchell, GPU Gems 3): "
                          "radial blur of an occlusion image toward each light",
-          ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_", .create = create,
-          .destroy = destroy, .needed = needed, .on_pass = on_pass, .after_pass = after_pass,
-          .reload = reload, .light_types = ST_GODRAY_LIGHT_TYPES)
+          ST_PARAMS(params), ST_PASSES(passes), ST_PROGRAMS(programs), .param_uniforms = "u_",
+          .create = create, .destroy = destroy, .needed = needed, .on_pass = on_pass,
+          .after_pass = after_pass, .light_types = ST_GODRAY_LIGHT_TYPES)

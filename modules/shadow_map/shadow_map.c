@@ -12,7 +12,7 @@
 // puts them, not where the map's texels do.
 #include "cascades.h"
 #include "st_bvh.h"
-#include "st_world.h"
+#include "st_world_api.h"
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdlib.h>
@@ -57,19 +57,41 @@ static const st_param_def params[P_COUNT] = {
      "decides"},
 };
 
+// The distance to a point light (cube faces) and a sun's path from where it
+// enters the scene (cascades); compiled on first use, so a scene without a
+// sun never compiles the cascade program.
+enum { PROG_DEPTH, PROG_CASCADE };
+static const st_program_decl programs[] = {
+    {"depth", "shadow_map/depth.vert", "shadow_map/depth.frag"},
+    {"cascade", "shadow_map/depth.vert", "shadow_map/cascade.frag"},
+};
+
+// What shaders including shadow_map/visibility.glsl read that a parameter or
+// a target says as it is (the world sets them by the uniform's GLSL type);
+// the uniforms derived from the scene and the camera are callbacks below.
+static const st_export_decl exports[] = {
+    {"st_shadow_cubes", .target = "shadow_map.cubes"},
+    {"st_shadow_suns", .target = "shadow_map.suns"},
+    {"st_shadow_res", "resolution"},
+    {"st_shadow_sun_res", "cascade_resolution"},
+    {"st_shadow_bias", "bias"},
+    {"st_shadow_slope", "slope_bias"},
+    {"st_shadow_pcf", "pcf"},
+    {"st_shadow_pcf_radius", "pcf_radius"},
+    {"st_shadow_cascade_count", "cascades"},
+};
+
 typedef struct shadow_map {
     st_world *w;
     const double *p;
-    int size, sun_size; // the cube faces' and the cascades' size in texels
     float lo[3], hi[3]; // scene bounds, re-taken when the geometry changes
-    st_shader *depth;
     st_pass_info info;
     // Directional lights: slot per light (-1 none), cascades in a 2D array.
     int sun_slot[ST_MAX_LIGHTS], num_suns;
     sm_sun suns[ST_MAX_LIGHTS];
     bool sun_dirty[ST_MAX_LIGHTS]; // fitted anew but not rendered yet
-    st_shader *cascade;
-    st_bvh_gpu bvh; // refine: the scene's triangles (bvh.nodes = 0: not built)
+    // refine: the scene's triangles in world-owned buffers (0: not built)
+    GLuint bvh_nodes, bvh_tris;
 } shadow_map;
 
 // The world's targets: one distance cube per light (layers of a cube-map
@@ -77,8 +99,8 @@ typedef struct shadow_map {
 // (a 2D array). Without a directional light a 1x1 layer: every sampler the
 // shaders declare must see a texture of its own type, or the draw fails.
 static bool declare_targets(shadow_map *s, st_err *err) {
-    int size = s->size = (int)s->p[P_RESOLUTION], lights = st_world_scene(s->w)->num_lights;
-    int sun_size = s->sun_size = (int)s->p[P_CASCADE_RESOLUTION];
+    int size = (int)s->p[P_RESOLUTION], lights = st_world_scene(s->w)->num_lights;
+    int sun_size = (int)s->p[P_CASCADE_RESOLUTION];
     int sun_layers = s->num_suns * (int)s->p[P_CASCADES];
     const st_target_desc cubes = {GL_R32F,
                                   .depth = true,
@@ -98,11 +120,6 @@ static bool declare_targets(shadow_map *s, st_err *err) {
         s->sun_dirty[i] = true;
     return st_world_declare_target(s->w, "shadow_map.cubes", &cubes, err) &&
            st_world_declare_target(s->w, "shadow_map.suns", &suns, err);
-}
-
-static GLuint texture(shadow_map *s, const char *name) {
-    const st_target *t = st_world_target(s->w, name);
-    return t ? t->color[0] : 0;
 }
 
 // The scene's world-space bounds (every vertex), for the cube's clip planes.
@@ -144,33 +161,25 @@ static void *create(st_world *w, const double *p, st_err *err) {
         s->sun_slot[i] = sc->lights[i].type == ST_LIGHT_DIRECTIONAL ? s->num_suns++ : -1;
         if (s->sun_slot[i] >= 0) sm_sun_init(&s->suns[s->sun_slot[i]], sc, sc->lights[i].direction);
     }
-    s->depth = st_shader_load("shadow_map/depth.vert", "shadow_map/depth.frag", NULL, err);
-    if (s->depth && s->num_suns)
-        s->cascade = st_shader_load("shadow_map/depth.vert", "shadow_map/cascade.frag", NULL, err);
-    if (!s->depth || (s->num_suns && !s->cascade) || !declare_targets(s, err)) {
-        st_shader_destroy(s->depth);
-        st_shader_destroy(s->cascade);
+    if (!declare_targets(s, err)) {
         free(s);
         return NULL;
     }
     return s;
 }
 
-// World-tracked (--stats): untracked before they go.
+// The world frees its buffers (untrack deletes what it owns).
 static void bvh_release(shadow_map *s) {
-    if (s->bvh.nodes) {
+    if (s->bvh_nodes) {
         st_world_untrack(s->w, "shadow_map.bvh_nodes");
         st_world_untrack(s->w, "shadow_map.bvh_triangles");
     }
-    st_bvh_gpu_free(&s->bvh);
+    s->bvh_nodes = s->bvh_tris = 0;
 }
 
 static void destroy(void *self) {
-    shadow_map *s = self;
-    bvh_release(s);
-    st_shader_destroy(s->depth);
-    st_shader_destroy(s->cascade);
-    free(s);
+    bvh_release(self);
+    free(self);
 }
 
 // One pass per light; nothing to do without lights.
@@ -209,12 +218,12 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
         sm_sun_init(sun, f->scene, l->direction);
         sm_sun_fit(sun, f->scene, f, (int)s->p[P_CASCADES], s->p[P_SPLIT], true);
     }
-    st_shader_use(s->cascade);
-    float L[3] = {(float)sun->L[0], (float)sun->L[1], (float)sun->L[2]};
-    st_shader_set_vec3(s->cascade, "u_to_light", L);
-    st_shader_set_float(s->cascade, "u_entry", (float)sun->entry);
-    const st_target *t = st_world_get_target(s->w, "shadow_map.suns", err);
+    st_shader *sh = st_frame_use_program(f, PROG_CASCADE, err);
+    const st_target *t = sh ? st_world_get_target(s->w, "shadow_map.suns", err) : NULL;
     if (!t) return false;
+    float L[3] = {(float)sun->L[0], (float)sun->L[1], (float)sun->L[2]};
+    st_shader_set_vec3(sh, "u_to_light", L);
+    st_shader_set_float(sh, "u_entry", (float)sun->entry);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     const float cleared[4] = {1e30f, 0, 0, 0};
@@ -224,8 +233,8 @@ static bool render_cascades(shadow_map *s, int slot, const st_frame *f, st_err *
         glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
         float m[16];
         sm_sun_matrix(sun, c, m);
-        st_shader_set_mat4(s->cascade, "u_view_proj", m);
-        st_world_draw(s->w, s->cascade);
+        st_shader_set_mat4(sh, "u_view_proj", m);
+        st_world_draw(s->w, sh);
     }
     s->sun_dirty[slot] = false;
     return st_gl_check("shadow cascades", err);
@@ -237,7 +246,7 @@ static bool ensure_bvh(shadow_map *s, int pass, const st_frame *f, st_err *err) 
         bvh_release(s);
         return true;
     }
-    if (s->bvh.nodes && (pass > 0 || !(f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY))))
+    if (s->bvh_nodes && (pass > 0 || !(f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY))))
         return true;
     uint32_t n = 0;
     float *c = st_bvh_scene_corners(f->scene, &n, err);
@@ -246,11 +255,16 @@ static bool ensure_bvh(shadow_map *s, int pass, const st_frame *f, st_err *err) 
     bool ok = st_bvh_build(&b, c, n, err);
     free(c);
     if (!ok) return false;
-    bvh_release(s);
-    ok = st_bvh_upload(&s->bvh, &b, err);
+    // The layout bvh.glsl reads (st_bvh.h); at least one triangle's room.
+    // (st_bvh is moving into the SDK, branch sdk-physics; these stay world buffers.)
+    size_t tris = (b.num_tris ? b.num_tris : 1) * 12 * sizeof(float);
+    s->bvh_nodes = st_world_buffer(s->w, "shadow_map.bvh_nodes", b.num_nodes * 8 * sizeof(float),
+                                   b.nodes, err);
+    s->bvh_tris =
+        s->bvh_nodes ? st_world_buffer(s->w, "shadow_map.bvh_triangles", tris, b.tris, err) : 0;
     st_bvh_free(&b);
-    return ok && st_world_track(s->w, "shadow_map.bvh_nodes", GL_BUFFER, s->bvh.nodes, err) &&
-           st_world_track(s->w, "shadow_map.bvh_triangles", GL_BUFFER, s->bvh.tris, err);
+    if (!s->bvh_tris) bvh_release(s);
+    return s->bvh_tris && st_gl_check("shadow_map bvh upload", err);
 }
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
@@ -269,10 +283,10 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     float far_z = light_far(s, lp);
     mat4 proj;
     glm_perspective(glm_rad(90.0f), 1.0f, far_z * 1e-4f, far_z, proj);
-    const st_target *t = st_world_get_target(s->w, "shadow_map.cubes", err);
+    st_shader *sh = st_frame_use_program(f, PROG_DEPTH, err);
+    const st_target *t = sh ? st_world_get_target(s->w, "shadow_map.cubes", err) : NULL;
     if (!t) return false;
-    st_shader_use(s->depth);
-    st_shader_set_vec3(s->depth, "u_light_pos", lp);
+    st_shader_set_vec3(sh, "u_light_pos", lp);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     const float cleared[4] = {1e30f, 0, 0, 0};
@@ -287,53 +301,26 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
         mat4 view, vp;
         glm_lookat(eye, center, up, view);
         glm_mat4_mul(proj, view, vp);
-        st_shader_set_mat4(s->depth, "u_view_proj", (float *)vp);
-        st_world_draw(s->w, s->depth);
+        st_shader_set_mat4(sh, "u_view_proj", (float *)vp);
+        st_world_draw(s->w, sh);
     }
     return st_gl_check("shadow cube faces", err);
 }
 
-// Uniforms every shader including shadow_map/visibility.glsl receives.
-static void u_cubes(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    st_shader_texture(sh, "st_shadow_cubes", GL_TEXTURE_CUBE_MAP_ARRAY,
-                      texture(self, "shadow_map.cubes"));
-}
-static void u_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1f(loc, (float)((shadow_map *)self)->size);
-}
-static void u_sun_res(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1f(loc, (float)((shadow_map *)self)->sun_size);
-}
-static void u_bias(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1f(loc, (float)((shadow_map *)self)->p[P_BIAS]);
-}
-static void u_slope(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1f(loc, (float)((shadow_map *)self)->p[P_SLOPE_BIAS]);
-}
-static void u_pcf(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1i(loc, ((shadow_map *)self)->p[P_PCF] != 0);
-}
-static void u_pcf_radius(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1f(loc, (float)((shadow_map *)self)->p[P_PCF_RADIUS]);
-}
-
-// Also binds the BVH's buffers for the shader about to draw (other modules
-// bind their own storage buffers at other points).
+// The uniforms visibility.glsl reads that are derived, not a parameter or a
+// target: whether refine is on (and then the BVH's buffers, bound for the
+// shader about to draw; other modules bind their storage at other points),
+// the suns' slots and their camera-fitted cascades.
 static void u_refine(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     shadow_map *s = self;
-    bool on = s->p[P_REFINE] != 0 && s->bvh.nodes;
-    if (on) st_bvh_bind(&s->bvh);
+    bool on = s->p[P_REFINE] != 0 && s->bvh_nodes;
+    if (on) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ST_BVH_BINDING_NODES, s->bvh_nodes);
+    if (on) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ST_BVH_BINDING_TRIS, s->bvh_tris);
     glUniform1i(loc, on);
 }
 
-static void u_suns(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    st_shader_texture(sh, "st_shadow_suns", GL_TEXTURE_2D_ARRAY, texture(self, "shadow_map.suns"));
-}
 static void u_sun_slot(void *self, st_shader *sh, GLint loc, const st_frame *f) {
     glUniform1iv(loc, ST_MAX_LIGHTS, ((shadow_map *)self)->sun_slot);
-}
-static void u_cascade_count(void *self, st_shader *sh, GLint loc, const st_frame *f) {
-    glUniform1i(loc, (int)((shadow_map *)self)->p[P_CASCADES]);
 }
 // Every sun's cascades end at the same view depths (they depend on the camera).
 static void u_cascade_far(void *self, st_shader *sh, GLint loc, const st_frame *f) {
@@ -357,18 +344,9 @@ static void u_cascade_rect(void *self, st_shader *sh, GLint loc, const st_frame 
 }
 
 static const st_uniform uniforms_table[] = {
-    {"st_shadow_suns", u_suns},
     {"st_shadow_sun_slot", u_sun_slot},
-    {"st_shadow_cascade_count", u_cascade_count},
     {"st_shadow_cascade_far", u_cascade_far},
     {"st_shadow_cascade_rect", u_cascade_rect},
-    {"st_shadow_cubes", u_cubes},
-    {"st_shadow_res", u_res},
-    {"st_shadow_sun_res", u_sun_res},
-    {"st_shadow_bias", u_bias},
-    {"st_shadow_slope", u_slope},
-    {"st_shadow_pcf", u_pcf},
-    {"st_shadow_pcf_radius", u_pcf_radius},
     {"st_shadow_refine", u_refine},
 };
 
@@ -385,17 +363,12 @@ static void param_changed(void *self, int index) {
         declare_targets(self, &ignore);
 }
 
-static bool reload(void *self, st_err *err) {
-    shadow_map *s = self;
-    return st_shader_reload(s->depth, err) && (!s->cascade || st_shader_reload(s->cascade, err));
-}
-
 ST_PLUGIN(.name = "shadow_map",
           .description = "shadow maps: distance cube maps for point and spot lights, cascades for "
                          "directional ones (slope-scaled bias, optional PCF); ambiguous surface "
                          "lookups settled by an exact ray against the scene's triangles",
-          ST_PARAMS(params), .provides = "shadow_map",
+          ST_PARAMS(params), ST_PROGRAMS(programs), ST_EXPORTS(exports), .provides = "shadow_map",
           .regular_include = "shadow_map/visibility.glsl", .create = create, .destroy = destroy,
           .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
+          .on_pass = on_pass, .param_changed = param_changed,
           /* a spot's cone lies inside its distance cube */ .light_types = ST_LIGHT_BITS_ALL)

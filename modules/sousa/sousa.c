@@ -33,26 +33,18 @@ static const st_param_def params[P_COUNT] = {
 
 enum { MASK, BLUR1, BLUR2, BLUR3 }; // table rows
 
-// The mask and, per light, the outputs of blur 1 and 2: `resolution` of the
-// screen, taps outside reading 0 (no clamped edge streaks). The world sets
-// the parameters as uniforms u_taps, u_brightness.
+// Fullscreen post passes. The mask and, per light, the outputs of blur 1 and
+// 2: `resolution` of the screen, taps outside reading 0 (no clamped edge
+// streaks). The world sets the parameters as uniforms u_taps, u_brightness.
+#define POST(name, reads, writes)                                                                  \
+    { name, ST_STAGE_POST, reads, writes, ST_PASS_FULLSCREEN }
 #define TARGET .target = {GL_R32F, 1, false, true}, .scale_param = "resolution"
+#define BLUR .frag = "sousa/blur.frag", .count = ST_PER_LIGHT // one chain per light
 static const st_pass_decl passes[] = {
-    {{"mask", ST_STAGE_POST, "gbuffer", "sousa.mask", ST_PASS_FULLSCREEN},
-     .frag = "sousa/mask.frag",
-     TARGET},
-    {{"blur1", ST_STAGE_POST, "sousa.mask", "sousa.blur1_%d", ST_PASS_FULLSCREEN},
-     .frag = "sousa/blur.frag",
-     .count = ST_PER_LIGHT,
-     TARGET},
-    {{"blur2", ST_STAGE_POST, "sousa.blur1_%d", "sousa.blur2_%d", ST_PASS_FULLSCREEN},
-     .frag = "sousa/blur.frag",
-     .count = ST_PER_LIGHT,
-     TARGET},
-    {{"blur3", ST_STAGE_POST, "hdr,sousa.blur2_%d", "hdr", ST_PASS_FULLSCREEN},
-     .frag = "sousa/blur.frag",
-     .defines = "SOUSA_COMPOSE 1",
-     .count = ST_PER_LIGHT},
+    {POST("mask", "gbuffer", "sousa.mask"), .frag = "sousa/mask.frag", TARGET},
+    {POST("blur1", "sousa.mask", "sousa.blur1_%d"), BLUR, TARGET},
+    {POST("blur2", "sousa.blur1_%d", "sousa.blur2_%d"), BLUR, TARGET},
+    {POST("blur3", "hdr,sousa.blur2_%d", "hdr"), BLUR, .defines = "SOUSA_COMPOSE 1"},
 };
 
 static bool needed(void *self, int pass, const st_frame *f) {

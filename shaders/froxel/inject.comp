@@ -70,7 +70,7 @@ vec4 froxel_reproject(vec3 x, vec4 cur, vec3 to_cur) {
 const float FROXEL_GL4_X[2] = float[2](0.3399810436, 0.8611363116);
 const float FROXEL_GL4_W[2] = float[2](0.6521451549, 0.3478548451);
 
-// The froxel's taps (FROXEL_TAPS 4, `taps=footprint`): the Gauss nodes of
+// The froxel's taps (FROXEL_TAPS 1, `taps=footprint`): the Gauss nodes of
 // the slice's stretch of the column's ray (those froxel_positioned weights
 // the light's falloff at), each moved across the ray to a point of a rotated
 // grid over the froxel's cell. The source takes the density, the shadow_map
@@ -78,8 +78,9 @@ const float FROXEL_GL4_W[2] = float[2](0.6521451549, 0.3478548451);
 // mean, not its centre's: a shadow thinner than a froxel (a mullion's)
 // otherwise turns whole froxels on or off, and in a dense cloud the light's
 // transmittance falls by much within one slice.
+// FROXEL_TAPS is the parameter's index: 0 center (one point), 1 footprint.
 #ifndef FROXEL_TAPS
-#define FROXEL_TAPS 1
+#define FROXEL_TAPS 0
 #endif
 const vec2 FROXEL_TAP_XY[4] = vec2[4](vec2(-0.375, -0.125), vec2(0.125, -0.375),
                                       vec2(0.375, 0.125), vec2(-0.125, 0.375));
@@ -152,7 +153,7 @@ vec3 froxel_positioned(int l, vec3 dir, float t0, float t1, float width, float c
             f = s * s;
         }
         float g = w * f * st_phase(st_phase_kind, dot(to_light, dir), st_phase_g);
-        if (FROXEL_TAPS < 4)
+        if (FROXEL_TAPS == 0)
             num += vec3(g);
         else if (g > 0.0)
             num += g * froxel_medium_at(l, froxel_tap_point(dir, foot + t, c, k));
@@ -189,7 +190,7 @@ void main() {
         vec3 S_l = S;
         if (ST_LIGHT_IS(l, ST_LIGHT_DIRECTIONAL)) {
             vec3 G = st_light_intensity[l] * st_phase(st_phase_kind, dot(-st_light_dir[l], dir), st_phase_g);
-            if (FROXEL_TAPS < 4) {
+            if (FROXEL_TAPS == 0) {
                 S += G * froxel_medium_at(l, x);
             } else {
                 for (int k = 0; k < 4; k++)
@@ -197,7 +198,7 @@ void main() {
             }
         } else {
             vec3 G = froxel_positioned(l, dir, t0, t1, width, c);
-            if (FROXEL_TAPS < 4 && any(greaterThan(G, vec3(0.0)))) G *= froxel_medium_at(l, x);
+            if (FROXEL_TAPS == 0 && any(greaterThan(G, vec3(0.0)))) G *= froxel_medium_at(l, x);
             S += G;
         }
         if (froxel_temporal != 0) {
@@ -211,6 +212,6 @@ void main() {
         if (S_prev[k] > 0.0) to_cur[k] = S[k] / S_prev[k];
     // temporal: the history is read where this frame's value stands, the
     // sample, or with taps the froxel's centre (the taps' mean is its value).
-    vec3 at_x = FROXEL_TAPS < 4 ? x : st_cam_pos + dir * (0.5 * (t0 + t1));
+    vec3 at_x = FROXEL_TAPS == 0 ? x : st_cam_pos + dir * (0.5 * (t0 + t1));
     imageStore(froxel_inject_img, id, froxel_reproject(at_x, vec4(st_sigma_s * S, mean_dens), to_cur));
 }

@@ -9,8 +9,9 @@
 #include "common/medium.glsl"
 #include "froxel/grid.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rgba32f, binding = 0) uniform readonly image2DArray froxel_inject_img;
-layout(rgba32f, binding = 1) uniform writeonly image2DArray froxel_integrated_img;
+// The world binds the target the pass writes at unit 0.
+layout(rgba32f, binding = 0) uniform writeonly image2DArray froxel_integrated_img;
+layout(rgba32f, binding = 1) uniform readonly image2DArray froxel_inject_img;
 
 void main() {
     ivec2 col = ivec2(gl_GlobalInvocationID.xy);
