@@ -139,6 +139,11 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);
         return false;
     }
+    // on_pass may have bound a second program (st_frame_use_program): the
+    // world draws or dispatches with the pass's own one, bound again.
+    GLint current = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    if (sh && (GLuint)current != sh->program) st_passes_bind(w, mi, sh, f);
     if (sh && sh->cs[0]) {
         if (!dispatch(w, s, err)) return false;
     } else if (sh && (s->info.flags & ST_PASS_SCENE)) {
