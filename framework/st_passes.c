@@ -224,6 +224,12 @@ bool st_passes_shader(st_world *w, st_module_inst *mi, int k, const st_frame *f,
     return true;
 }
 
+bool st_passes_owns(const st_module_inst *mi, const st_shader *sh) {
+    for (int k = 0; sh && mi->progs && k < mi->p->num_programs; k++)
+        if (mi->progs[k] == sh) return true;
+    return false;
+}
+
 // A parameter's value on a uniform of the GLSL type the program declares.
 static void set_value(st_shader *sh, const char *name, GLint loc, double v) {
     GLuint index = glGetProgramResourceIndex(sh->program, GL_UNIFORM, name);
