@@ -88,6 +88,12 @@ static bool write_shaders(void) {
                       "ivec3(p, 0), 0).r, 0.0,\n"
                       "    u_abi_value + 10.0 * float(u_abi_mode) + (u_abi_alt ? 100.0 : 0.0), "
                       "0.0);\n}\n") &&
+           write_file("probe_hook", "count.comp",
+                      "layout(local_size_x = 8, local_size_y = 8) in;\n"
+                      "layout(r32f, binding = 0) uniform writeonly image2D o;\n"
+                      "layout(std430, binding = 1) buffer Count { uint n; };\n"
+                      "void main() {\n  atomicAdd(n, 1u);\n"
+                      "  imageStore(o, ivec2(gl_GlobalInvocationID.xy), vec4(1.0));\n}\n") &&
            write_file("probe_bad", "p.comp",
                       "layout(local_size_x = 1) in;\nlayout(r32f) uniform writeonly image2D o;\n"
                       "void main() { imageStore(o, ivec2(gl_GlobalInvocationID.xy), vec4(1)); "
@@ -440,6 +446,21 @@ static void part_old13(st_world *w, const char *name) {
     CHECK(st_world_enable(w, name, false, &err), "%s off: %s", name, err.msg);
 }
 
+// A plugin without tables whose shader hook answers a compute program it
+// dispatches itself: dispatched once (384 invocations), not again by the world.
+static void part_hook_compute(st_world *w) {
+    st_err err = {0};
+    CHECK(st_world_enable(w, "probe_hook", true, &err), "probe_hook loads: %s", err.msg);
+    st_image img = {0};
+    frame_image(w, &img);
+    st_image_free(&img);
+    GLuint n = 0, count = object(w, "probe_hook.count", NULL);
+    if (count) glGetNamedBufferSubData(count, 0, sizeof n, &n);
+    CHECK(n == 384, "its own dispatch only: 384 invocations (768 if the world dispatched too): %u",
+          n);
+    CHECK(st_world_enable(w, "probe_hook", false, &err), "probe_hook off: %s", err.msg);
+}
+
 // Broken ABI 1.4 tables are refused when the module loads, each with its message.
 static void part_bad(st_world *w) {
     static const struct {
@@ -496,6 +517,7 @@ int main(void) {
     if (w) {
         part_probe(w);
         part_tracking(w);
+        part_hook_compute(w);
         part_old13(w, "probe_decl13");
         part_old13(w, "probe_decl13h");
         part_bad(w);
