@@ -133,7 +133,16 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);
         return false;
     }
-    if (sh && sh->cs[0]) {
+    // The world dispatches the compute programs it owns; a compute program
+    // from the shader hook is dispatched by the plugin. on_pass may have
+    // bound a second program (st_frame_use_program): the world draws or
+    // dispatches with the pass's own one, bound again.
+    bool compute = sh && sh->cs[0] && st_passes_owns(mi, sh);
+    bool draws = compute || (sh && (s->info.flags & (ST_PASS_SCENE | ST_PASS_FULLSCREEN)));
+    GLint current = 0;
+    if (draws) glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    if (draws && (GLuint)current != sh->program) st_passes_bind(w, mi, sh, f);
+    if (compute) {
         if (!dispatch(w, s, err)) return false;
     } else if (sh && (s->info.flags & ST_PASS_SCENE)) {
         st_world_draw(w, sh);

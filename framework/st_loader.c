@@ -41,11 +41,13 @@ static void register_shaders(const char *path, const char *name) {
 // Structs the plugin embeds, fills or indexes as arrays must match exactly;
 // those the world allocates and the plugin only reads through a pointer may
 // have grown at the end since.
-// *pass_decl: the plugin's sizeof(st_pass_decl) (ours where it does not say).
-static bool check_sizes(void *h, const char *nm, const char *path, size_t *pass_decl, st_err *err) {
+// *pass_decl: the plugin's sizeof(st_pass_decl); where it does not say, the
+// size its minor version had (a 1.3 row ends before `program`).
+static bool check_sizes(void *h, const char *nm, const char *path, unsigned minor,
+                        size_t *pass_decl, st_err *err) {
     st_abi_sizes_fn fn;
     *(void **)&fn = dlsym(h, ST_PLUGIN_SIZES_SYMBOL);
-    *pass_decl = sizeof(st_pass_decl);
+    *pass_decl = minor < 4 ? offsetof(st_pass_decl, program) : sizeof(st_pass_decl);
     if (!fn) return true; // a hand-written descriptor: abi_major/minor only
     const st_abi_sizes *theirs = fn();
     static const st_abi_sizes ours = ST_ABI_SIZES;
@@ -220,7 +222,7 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
         return NULL;
     }
     size_t row_size = sizeof(st_pass_decl);
-    if (!check_sizes(h, nm, path, &row_size, err)) {
+    if (!check_sizes(h, nm, path, d->abi_minor, &row_size, err)) {
         dlclose(h);
         return NULL;
     }

@@ -86,10 +86,11 @@ enum {
     ST_PASS_SCENE = 1u << 0,       // the world draws every model with shader(pass)
     ST_PASS_FULLSCREEN = 1u << 1,  // the world draws a full-screen triangle with shader(pass)
     ST_PASS_SIDE_EFFECT = 1u << 2, // never culled (e.g. only sets uniforms or state)
-    // ABI 1.4: a pass whose program is a compute program is dispatched over the
-    // first target it writes (bound as image unit 0), one invocation per texel
-    // and layer; with ST_PASS_PLANE per texel only (the program loops over the
-    // layers itself).
+    // ABI 1.4: a pass whose declared program (ST_PROGRAMS) is a compute program
+    // is dispatched over the first target it writes (bound as image unit 0;
+    // a compute program from the shader hook the plugin dispatches itself),
+    // one invocation per texel and layer; with ST_PASS_PLANE per texel only
+    // (the program loops over the layers itself).
     ST_PASS_PLANE = 1u << 3,
 };
 

@@ -103,6 +103,11 @@ static st_shader *program(st_world *w, st_module_inst *mi, int k, st_err *err) {
         st_fail(err, ST_ERR_RUNTIME, "module '%s': no program %d", mi->p->name, k);
         return NULL;
     }
+    // The table exists from the first use on: st_world_program may be called
+    // from create, before the world sets up the module's passes.
+    if (!mi->progs)
+        mi->progs = st_calloc(((size_t)mi->p->num_programs + 1) * sizeof *mi->progs, err);
+    if (!mi->progs) return NULL;
     if (!mi->progs[k]) mi->progs[k] = compile(w, mi->p, k, mi->params, err);
     return mi->progs[k];
 }
@@ -111,7 +116,7 @@ static st_shader *program(st_world *w, st_module_inst *mi, int k, st_err *err) {
 // file is reported when the module loads) and each export's parameter.
 static bool create_programs(st_world *w, st_module_inst *mi, st_err *err) {
     const st_plugin *p = mi->p;
-    mi->progs = calloc((size_t)p->num_programs + 1, sizeof *mi->progs);
+    if (!mi->progs) mi->progs = calloc((size_t)p->num_programs + 1, sizeof *mi->progs);
     mi->row_prog = calloc((size_t)p->num_pass_decls + 1, sizeof *mi->row_prog);
     mi->export_param = calloc((size_t)p->num_exports + 1, sizeof *mi->export_param);
     if (!mi->progs || !mi->row_prog || !mi->export_param)
@@ -217,6 +222,12 @@ bool st_passes_shader(st_world *w, st_module_inst *mi, int k, const st_frame *f,
     else if (p->shader)
         *out = p->shader(mi->self, k);
     return true;
+}
+
+bool st_passes_owns(const st_module_inst *mi, const st_shader *sh) {
+    for (int k = 0; sh && mi->progs && k < mi->p->num_programs; k++)
+        if (mi->progs[k] == sh) return true;
+    return false;
 }
 
 // A parameter's value on a uniform of the GLSL type the program declares.

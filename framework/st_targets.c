@@ -117,7 +117,13 @@ bool st_targets_track(st_targets *s, const char *name, GLenum identifier, GLuint
                            ST_MAX_TRACKED);
         s->nk++;
         snprintf(s->k[i].name, ST_NAME_MAX, "%s", name);
+    } else if (s->k[i].owned && s->k[i].obj != obj) { // the registry's object, replaced
+        if (s->k[i].identifier == GL_BUFFER) glDeleteBuffers(1, &s->k[i].obj);
+        if (s->k[i].identifier == GL_TEXTURE) glDeleteTextures(1, &s->k[i].obj);
     }
+    // The caller's object (st_targets_buffer marks its own after): a slot
+    // that untrack vacated keeps the old entry's bytes, `owned` included.
+    s->k[i].owned = false;
     s->k[i].identifier = identifier;
     s->k[i].obj = obj;
     s->k[i].bytes = object_bytes(identifier, obj);

@@ -83,7 +83,11 @@ st_shader *st_world_program(st_world *w, const double *params, int k, st_err *er
 // Program k bound, with every uniform the world sets on a pass's program: the
 // built-ins, every module's uniforms and exports, st_hdr_in, st_gbuffer,
 // st_albedo_tex and the module's param_uniforms. For a second program inside
-// a pass (a draw or dispatch the plugin issues itself).
+// a pass (a draw or dispatch the plugin issues itself). When on_pass returns
+// with another program bound, the world binds the pass's own program again
+// (with those uniforms) before it draws or dispatches; to set uniforms or
+// textures of its own on a declared pass program after using a second one,
+// bind it again the same way (st_frame_use_program with its index).
 st_shader *st_frame_use_program(const st_frame *f, int k, st_err *err);
 
 #ifdef __cplusplus

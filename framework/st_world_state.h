@@ -158,6 +158,10 @@ bool st_passes_declare_targets(st_world *w, st_module_inst *mi, st_err *err);
 // the row's declared program, the row's vert/frag, else the shader hook.
 bool st_passes_shader(st_world *w, st_module_inst *mi, int k, const st_frame *f, st_shader **out,
                       st_err *err);
+// Is `sh` one of the module's declared programs (ST_PROGRAMS)? Only those
+// does the world dispatch: a compute program from the shader hook is the
+// plugin's, which dispatches it itself (froxel, toth).
+bool st_passes_owns(const st_module_inst *mi, const st_shader *sh);
 // Binds `sh` with every uniform the world sets on a pass's program.
 void st_passes_bind(st_world *w, const st_module_inst *mi, st_shader *sh, const st_frame *f);
 // Recompiles the programs that compile parameter k in, for its new value;

@@ -1,7 +1,9 @@
-// The out-of-tree example plugin (examples/plugin, exponential height fog)
-// built against an installed strahl, twice: with find_package(strahl) and
-// with pkg-config. The installed strahl renders a plane under a point light
-// seen from above through the fog; every pixel must match
+// The out-of-tree example plugin (examples/plugin, exponential height fog:
+// a compute pass writes each pixel's optical depth into the plugin's target,
+// exported to the full-screen pass that applies it) built against an
+// installed strahl, twice: with find_package(strahl) and with pkg-config.
+// The installed strahl renders a plane under a point light seen from above
+// through the fog; every pixel must match
 //   L = L_s T + R (1 - T),  L_s = rho/pi I cos / r^2,  T = e^(-tau),
 //   tau = a e^(-b (y0 - h)) (1 - e^(-b d dir_y)) / (b dir_y)
 // along the pixel's ray (d the distance to the plane).
