@@ -14,7 +14,7 @@
 #include "st_test_render.h"
 #include "st_test_support.h"
 #include "st_world.h"
-#include "st_world_priv.h"
+#include "st_world_state.h"
 #include <sys/stat.h>
 
 enum { W = 20, H = 12 };
