@@ -128,7 +128,7 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         return false;
     }
     f->shader = p->passes ? sh : NULL;
-    if (sh) st_passes_bind(w, mi, sh, f);
+    if (sh) st_world_bind_pass(w, mi, sh, f);
     if (p->on_pass && !p->on_pass(mi->self, s->pass, f, err)) {
         st_err_prefix(err, "module '%s', pass '%s': ", p->name, s->info.name);
         return false;
@@ -141,7 +141,7 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     bool draws = compute || (sh && (s->info.flags & (ST_PASS_SCENE | ST_PASS_FULLSCREEN)));
     GLint current = 0;
     if (draws) glGetIntegerv(GL_CURRENT_PROGRAM, &current);
-    if (draws && (GLuint)current != sh->program) st_passes_bind(w, mi, sh, f);
+    if (draws && (GLuint)current != sh->program) st_world_bind_pass(w, mi, sh, f);
     if (compute) {
         if (!dispatch(w, s, err)) return false;
     } else if (sh && (s->info.flags & ST_PASS_SCENE)) {

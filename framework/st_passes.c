@@ -69,9 +69,9 @@ static int program_index(const st_plugin *p, const char *name) {
 static bool program_defines(st_world *w, const st_plugin *p, int k, const double *params, char *out,
                             size_t n, st_err *err) {
     const st_program_decl *d = &p->programs[k];
-    size_t l = (size_t)snprintf(out, n, "%s%s%s",
-                                d->flags & ST_PROGRAM_LIGHTS ? st_world_light_defines(w) : "",
-                                d->defines ? d->defines : "", d->defines ? "\n" : "");
+    size_t l =
+        (size_t)snprintf(out, n, "%s%s%s", d->flags & ST_PROGRAM_LIGHTS ? w->light_defines : "",
+                         d->defines ? d->defines : "", d->defines ? "\n" : "");
     char tok[ST_NAME_MAX];
     for (const char *s = d->param_defines; l < n && (s = st_list_next(s, tok, NULL));) {
         int i = tok[0] ? st_param_index(p, tok) : -1;
@@ -257,36 +257,22 @@ void st_passes_apply_exports(st_world *w, st_shader *sh) {
     }
 }
 
-void st_passes_bind(st_world *w, const st_module_inst *mi, st_shader *sh, const st_frame *f) {
-    st_shader_use(sh);
-    st_world_apply_uniforms(w, sh, f);
-    st_shader_texture(sh, "st_hdr_in", GL_TEXTURE_2D, f->hdr_in);
-    st_shader_texture(sh, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
-    st_shader_texture(sh, "st_albedo_tex", GL_TEXTURE_2D, f->albedo);
-    st_passes_set_params(mi, sh);
-}
-
-static st_module_inst *module_of(st_world *w, const double *params) {
-    for (int m = 0; m < w->num_mods; m++)
-        if (w->mods[m]->params == params) return w->mods[m];
-    return NULL;
+// The module whose parameter array is `params`, and its program k.
+st_shader *st_passes_program_of(st_world *w, const double *params, int k, st_module_inst **out,
+                                st_err *err) {
+    *out = NULL;
+    for (int m = 0; m < w->num_mods && !*out; m++)
+        if (w->mods[m]->params == params) *out = w->mods[m];
+    if (!*out) {
+        st_fail(err, ST_ERR_RUNTIME, "not a module's parameters (st_frame.params or create's)");
+        return NULL;
+    }
+    return program(w, *out, k, err);
 }
 
 st_shader *st_world_program(st_world *w, const double *params, int k, st_err *err) {
-    st_module_inst *mi = module_of(w, params);
-    if (!mi) {
-        st_fail(err, ST_ERR_RUNTIME, "st_world_program: not a module's parameters");
-        return NULL;
-    }
-    return program(w, mi, k, err);
-}
-
-st_shader *st_frame_use_program(const st_frame *f, int k, st_err *err) {
-    st_module_inst *mi = module_of(f->world, f->params);
-    st_shader *sh = mi ? program(f->world, mi, k, err) : NULL;
-    if (!mi) st_fail(err, ST_ERR_RUNTIME, "st_frame_use_program: not a module's frame");
-    if (sh) st_passes_bind(f->world, mi, sh, f);
-    return sh;
+    st_module_inst *mi;
+    return st_passes_program_of(w, params, k, &mi, err);
 }
 
 void st_passes_frame(const st_module_inst *mi, int k, st_frame *f) {

@@ -125,3 +125,19 @@ void st_world_apply_uniforms(st_world *w, st_shader *sh, const st_frame *f) {
     }
     st_passes_apply_exports(w, sh);
 }
+
+void st_world_bind_pass(st_world *w, const st_module_inst *mi, st_shader *sh, const st_frame *f) {
+    st_shader_use(sh);
+    st_world_apply_uniforms(w, sh, f);
+    st_shader_texture(sh, "st_hdr_in", GL_TEXTURE_2D, f->hdr_in);
+    st_shader_texture(sh, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
+    st_shader_texture(sh, "st_albedo_tex", GL_TEXTURE_2D, f->albedo);
+    st_passes_set_params(mi, sh);
+}
+
+st_shader *st_frame_use_program(const st_frame *f, int k, st_err *err) {
+    st_module_inst *mi;
+    st_shader *sh = st_passes_program_of(f->world, f->params, k, &mi, err);
+    if (sh) st_world_bind_pass(f->world, mi, sh, f);
+    return sh;
+}

@@ -7,7 +7,7 @@
 //   st_graph.c          resource interning, the pass list (slots), culling
 //   st_frame.c          one frame: the regular pass, module passes, timing
 //   st_filter.c         the box pixel filter: jitter and accumulation
-//   st_uniforms.c       the built-in uniform table
+//   st_uniforms.c       the built-in uniform table, binding a pass's program
 //   st_world_targets.c  world-owned targets and tracked objects (wrappers)
 //   st_world_stats.c    pass statistics and the GPU memory report
 #ifndef ST_WORLD_STATE_H
@@ -162,8 +162,9 @@ bool st_passes_shader(st_world *w, st_module_inst *mi, int k, const st_frame *f,
 // does the world dispatch: a compute program from the shader hook is the
 // plugin's, which dispatches it itself (froxel, toth).
 bool st_passes_owns(const st_module_inst *mi, const st_shader *sh);
-// Binds `sh` with every uniform the world sets on a pass's program.
-void st_passes_bind(st_world *w, const st_module_inst *mi, st_shader *sh, const st_frame *f);
+// Program k of the module whose parameters are `params` (*out: the module).
+st_shader *st_passes_program_of(st_world *w, const double *params, int k, st_module_inst **out,
+                                st_err *err);
 // Recompiles the programs that compile parameter k in, for its new value;
 // false (nothing changed) when one does not compile.
 bool st_passes_param_programs(st_world *w, st_module_inst *mi, int k, double value, st_err *err);
@@ -174,4 +175,8 @@ void st_passes_frame(const st_module_inst *mi, int k, st_frame *f);
 // Sets the module's parameters as uniforms on `sh` (st_plugin.param_uniforms).
 void st_passes_set_params(const st_module_inst *mi, st_shader *sh);
 
+// st_uniforms.c: binds `sh` with every uniform the world sets on a pass's
+// program (built-ins, modules' uniforms and exports, the camera's images,
+// the module's param_uniforms).
+void st_world_bind_pass(st_world *w, const st_module_inst *mi, st_shader *sh, const st_frame *f);
 #endif
