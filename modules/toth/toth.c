@@ -34,10 +34,8 @@
 // regular pass (docs/physics.md), toth only adds in-scattered light.
 #include "airlight.h"
 #include "st_gl.h"
-#include "st_world.h"
 #include "st_physics.h"
-#include <math.h>
-#include <stdio.h>
+#include "st_world_api.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -57,11 +55,9 @@ enum {
     P_EXACT,
     P_COMPOSE,
     P_GLOW,
-    P_GLOW_RADIUS,
     P_PROBES,
     P_REFINE_KINK,
     P_REUSE,
-    P_EXACT_SOLVE,
     P_UPSAMPLE_KINK,
     P_COUNT
 };
@@ -129,12 +125,9 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: a point light's unshadowed integral per pixel from the airlight table (two "
      "lookups per channel) or by `nodes` Gauss-Legendre nodes (spots always use the nodes)"},
     {"glow", ST_PARAM_INT, 4, 1, 16, NULL,
-     "equiangular, box filter: pixels whose ray passes a point or spot light within glow_radius "
-     "pixels integrate its unshadowed in-scattering over their square with glow x glow sub-rays "
-     "(1 = the frame's one jittered ray)"},
-    {"glow_radius", ST_PARAM_FLOAT, 8, 0, 64, NULL,
-     "equiangular, box filter: distance from a light's projection, in pixels, within which "
-     "`glow` applies"},
+     "equiangular, box filter: pixels whose ray passes a point or spot light within 8 pixels "
+     "(TOTH_GLOW_RADIUS_PX) integrate its unshadowed in-scattering over their square with glow x "
+     "glow sub-rays (1 = the frame's one jittered ray)"},
     {"probes", ST_PARAM_INT, 3, 0, 7, NULL,
      "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
      "splits the step there (finds lit slivers and thin occluders between the ends); a step "
@@ -147,36 +140,90 @@ static const st_param_def params[P_COUNT] = {
      "equiangular, box filter: the jittered frames of a still do not march; they read the first "
      "frame's visible fraction at their sub-pixel position, bilinear on the same surface (off: "
      "every frame marches its own rays)"},
-    {"exact_solve", ST_PARAM_BOOL, 1, 0, 1, NULL,
-     "equiangular, exact_edges: a shadow boundary is located from the blocking triangle's shadow "
-     "volume in closed form, checked by ~2 rays (off: bisected with bisect + 4 exact rays)"},
     {"upsample_kink", ST_PARAM_FLOAT, 0.001, 0, 1, NULL,
      "equiangular below full resolution: where the visible fraction's second difference over "
      "the 4 x 4 march texels around a pixel (all on its surface) exceeds this, the upsampling "
      "places a kink between two lines instead of interpolating bilinearly (0 = bilinear)"},
 };
 
+// Tuning constants that no scene, test or benchmark varies (the parameters
+// glow_radius and exact_solve before toth moved to the declared tables):
+// - TOTH_GLOW_RADIUS_PX: distance from a point or spot light's projection,
+//   in pixels, within which `glow` integrates the pixel's square (box
+//   filter; README "A light in view under the box filter");
+// - TOTH_EXACT_SOLVE: with exact_edges, a shadow boundary is located in
+//   closed form from the blocking triangle's shadow volume and checked by
+//   ~3.4 BVH rays; 0 bisects with bisect + 4 exact rays (8). Measured at the
+//   switch (docs/benchmarks.md, fifth run): no higher rmse (window 9.409e-5
+//   -> 9.392e-5, hidden_hole 5.674e-5 -> 5.660e-5) for fewer rays.
+#define TOTH_GLOW_RADIUS_PX 8.0f
+#define TOTH_EXACT_SOLVE 1
+
+// The programs the world compiles, hot-reloads and deletes: the passes'
+// rows' when the module loads, the others on first use (march.comp for a
+// small march, the reuse programs only when a box still reuses). compose's
+// parameter is compiled in (TOTH_COMPOSE 0: the airlight table, compose.frag).
+enum {
+    PROG_MARCH,
+    PROG_MARCH_CS,
+    PROG_GATHER,
+    PROG_EDGES,
+    PROG_EDGES_MARCH,
+    PROG_COMPOSE,
+    PROG_KEEP,
+    PROG_COMPOSE_REUSE
+};
+static const st_program_decl programs[] = {
+    [PROG_MARCH] = {"march", .frag = "toth/march.frag", .flags = ST_PROGRAM_LIGHTS},
+    [PROG_MARCH_CS] = {"march_cs", .comp = "toth/march.comp", .flags = ST_PROGRAM_LIGHTS},
+    [PROG_GATHER] = {"gather", .frag = "toth/gather.frag", .flags = ST_PROGRAM_LIGHTS},
+    [PROG_EDGES] = {"edges", "toth/edges.vert", "toth/edges.frag", .flags = ST_PROGRAM_LIGHTS},
+    [PROG_EDGES_MARCH] = {"edges_march", "toth/edges_march.vert", "toth/edges_march.frag",
+                          .flags = ST_PROGRAM_LIGHTS},
+    [PROG_COMPOSE] = {"compose", .frag = "toth/compose.frag", .param_defines = "compose",
+                      .flags = ST_PROGRAM_LIGHTS},
+    [PROG_KEEP] = {"keep", .frag = "toth/keep.frag", .flags = ST_PROGRAM_LIGHTS},
+    [PROG_COMPOSE_REUSE] = {"compose_reuse", .frag = "toth/compose.frag", .defines = "TOTH_REUSE 1",
+                            .param_defines = "compose", .flags = ST_PROGRAM_LIGHTS},
+};
+
+// The passes. Their targets are declared by declare_targets (the march's
+// divisor follows the image height); `needed` skips what does not apply
+// (the gather when not interleaved, the edges pass at full resolution, the
+// keep pass without reuse) and the program hook picks the march's program
+// (drawn or dispatched) and compose's (reusing or not).
 enum { PASS_MARCH, PASS_GATHER, PASS_EDGES, PASS_KEEP, PASS_COMPOSE };
+static const st_pass_decl passes[] = {
+    [PASS_MARCH] = {{"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march",
+                     ST_PASS_FULLSCREEN},
+                    .program = "march"},
+    [PASS_GATHER] = {{"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather",
+                      ST_PASS_FULLSCREEN},
+                     .program = "gather"},
+    // Draws its own points and quad (select_edges, march_edges).
+    [PASS_EDGES] = {{"edges", ST_STAGE_POST, "gbuffer,shadow_map,toth.march,toth.gather",
+                     "toth.refined", 0},
+                    .program = "edges"},
+    [PASS_KEEP] = {{"keep", ST_STAGE_POST, "gbuffer,toth.march,toth.gather,toth.refined",
+                    "toth.first", ST_PASS_FULLSCREEN}},
+    [PASS_COMPOSE] = {{"compose", ST_STAGE_POST,
+                       "hdr,gbuffer,toth.march,toth.gather,toth.refined,toth.first", "hdr",
+                       ST_PASS_FULLSCREEN},
+                      .program = "compose"},
+};
 
 typedef struct toth {
     st_world *w;
     const double *p;
-    struct toth_shaders {
-        st_shader *march, *march_cs, *gather, *edges, *edges_march, *compose;
-        st_shader *keep, *compose_reuse; // reuse=on
-    } sh;
-    GLuint vao; // the edges pass's points and quad (attribute-less)
-    // The edges pass's list of pixels to march (toth/edges_list.glsl), for
-    // grid_w x grid_h pixels, and the framebuffer without attachments of that
-    // size its march step draws into.
-    GLuint list, list_fbo;
+    // The edges pass's points and quad (attribute-less), and the framebuffer
+    // without attachments of grid_w x grid_h pixels its march step draws
+    // into: GL objects the world does not own (it owns targets and buffers).
+    GLuint vao, list_fbo;
     int grid_w, grid_h;
-    st_pass_info info;
     int height;     // image rows the targets were declared for
-    bool dispatch;  // this frame's march is dispatched (march_cs), not drawn
+    bool dispatch;  // this frame's march is dispatched (march.comp), not drawn
     int decl_scale; // the divisor they were declared with
-    // The airlight table (compose=table) and the phase function it holds.
-    GLuint airlight;
+    // The phase function the airlight table (compose=table) holds.
     st_phase_kind table_kind;
     float table_g;
     float *table;
@@ -211,16 +258,6 @@ static bool reuse_on(const toth *t) {
     return t->p[P_REUSE] != 0;
 }
 
-// The pass a slot index stands for (the gather exists only when interleaved,
-// the keep pass only with reuse=on).
-static int pass_kind(const toth *t, int pass) {
-    int g = interleave(t) > 1;
-    if (pass == 0) return PASS_MARCH;
-    if (pass == 1 && g) return PASS_GATHER;
-    if (pass == 1 + g) return PASS_EDGES;
-    return pass == 2 + g && reuse_on(t) ? PASS_KEEP : PASS_COMPOSE;
-}
-
 static bool medium_scatters(const st_scene *sc) {
     const st_medium_desc *m = &sc->medium;
     return m->present && (m->sigma_s[0] > 0 || m->sigma_s[1] > 0 || m->sigma_s[2] > 0);
@@ -246,43 +283,6 @@ static bool declare_targets(toth *t, int height, st_err *err) {
            st_world_declare_target(t->w, "toth.first_gbuffer", keep, err);
 }
 
-static void destroy_shaders(struct toth_shaders *sh) {
-    st_shader_destroy(sh->march);
-    st_shader_destroy(sh->march_cs);
-    st_shader_destroy(sh->gather);
-    st_shader_destroy(sh->edges);
-    st_shader_destroy(sh->edges_march);
-    st_shader_destroy(sh->compose);
-    st_shader_destroy(sh->keep);
-    st_shader_destroy(sh->compose_reuse);
-    *sh = (struct toth_shaders){0};
-}
-
-static bool load_shaders(st_world *w, const double *p, struct toth_shaders *sh, st_err *err) {
-    const char *defines = st_world_light_defines(w);
-    char cdef[256], rdef[sizeof cdef + 16];
-    snprintf(cdef, sizeof cdef, "%s%s", defines,
-             p[P_COMPOSE] == COMPOSE_TABLE ? "TOTH_AIRLIGHT 1\n" : "");
-    snprintf(rdef, sizeof rdef, "%sTOTH_REUSE 1\n", cdef);
-    const char *vs = "common/fullscreen.vert";
-    *sh = (struct toth_shaders){0};
-    if ((sh->march = st_shader_load(vs, "toth/march.frag", defines, err)) &&
-        (sh->march_cs = st_shader_load_compute("toth/march.comp", defines, err)) &&
-        (sh->gather = st_shader_load(vs, "toth/gather.frag", defines, err)) &&
-        (sh->edges = st_shader_load("toth/edges.vert", "toth/edges.frag", defines, err)) &&
-        (sh->edges_march =
-             st_shader_load("toth/edges_march.vert", "toth/edges_march.frag", defines, err)) &&
-        (sh->compose = st_shader_load(vs, "toth/compose.frag", cdef, err))) {
-        // The reuse programs only where a still has jittered frames.
-        if (st_world_filter(w) != ST_FILTER_BOX) return true;
-        if ((sh->keep = st_shader_load(vs, "toth/keep.frag", defines, err)) &&
-            (sh->compose_reuse = st_shader_load(vs, "toth/compose.frag", rdef, err)))
-            return true;
-    }
-    destroy_shaders(sh);
-    return false;
-}
-
 static void *create(st_world *w, const double *p, st_err *err) {
     toth *t = calloc(1, sizeof *t);
     if (!t) {
@@ -291,7 +291,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     }
     t->w = w;
     t->p = p;
-    if (!declare_targets(t, st_world_scene(w)->height, err) || !load_shaders(w, p, &t->sh, err)) {
+    if (!declare_targets(t, st_world_scene(w)->height, err)) {
         free(t);
         return NULL;
     }
@@ -300,55 +300,10 @@ static void *create(st_world *w, const double *p, st_err *err) {
 
 static void destroy(void *self) {
     toth *t = self;
-    destroy_shaders(&t->sh);
     if (t->vao) glDeleteVertexArrays(1, &t->vao);
-    if (t->list) {
-        st_world_untrack(t->w, "toth.edges_list");
-        glDeleteBuffers(1, &t->list);
-    }
     if (t->list_fbo) glDeleteFramebuffers(1, &t->list_fbo);
     free(t->table);
     free(t);
-}
-
-static int num_passes(void *self) {
-    return 3 + (interleave(self) > 1) + reuse_on(self);
-}
-
-static const st_pass_info *pass_info(void *self, int pass) {
-    toth *t = self;
-    switch (pass_kind(t, pass)) {
-    case PASS_MARCH:
-        // Drawn or dispatched by on_pass (march.comp says why).
-        t->info = (st_pass_info){"march", ST_STAGE_POST, "gbuffer,shadow_map", "toth.march", 0};
-        break;
-    case PASS_GATHER:
-        t->info = (st_pass_info){"gather", ST_STAGE_POST, "gbuffer,toth.march", "toth.gather",
-                                 ST_PASS_FULLSCREEN};
-        break;
-    case PASS_EDGES: // draws its own points (on_pass)
-        t->info = (st_pass_info){"edges", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "gbuffer,shadow_map,toth.gather"
-                                                   : "gbuffer,shadow_map,toth.march",
-                                 "toth.refined", 0};
-        break;
-    case PASS_KEEP:
-        t->info = (st_pass_info){"keep", ST_STAGE_POST,
-                                 interleave(t) > 1 ? "gbuffer,toth.gather,toth.refined"
-                                                   : "gbuffer,toth.march,toth.refined",
-                                 "toth.first", ST_PASS_FULLSCREEN};
-        break;
-    default:
-        t->info = (st_pass_info){
-            "compose", ST_STAGE_POST,
-            reuse_on(t) ? (interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined,toth.first"
-                                             : "hdr,gbuffer,toth.march,toth.refined,toth.first")
-            : interleave(t) > 1 ? "hdr,gbuffer,toth.gather,toth.refined"
-                                : "hdr,gbuffer,toth.march,toth.refined",
-            "hdr", ST_PASS_FULLSCREEN};
-        break;
-    }
-    return &t->info;
 }
 
 // A varying density (medium.density) has no closed-form unshadowed
@@ -377,46 +332,64 @@ static bool steps_fit(const toth *t, const st_scene *sc, st_err *err) {
                    n, per_ray, TOTH_LLVMPIPE_MAX_STEPS, TOTH_LLVMPIPE_MAX_STEPS);
 }
 
-// Nothing runs without a scattering medium or without lights: toth adds
-// in-scattered light only (the regular pass applies the view's extinction).
-static bool needed(void *self, int pass, const st_frame *f) {
-    toth *t = self;
-    // needed() runs for every pass before the world binds targets: a new
-    // image height that changes the march divisor re-declares them here.
-    if (pass == 0 && scale(t, f->height) != t->decl_scale) {
+// The first pass's needed(): re-declares the targets when a new image
+// height moves the march divisor (needed() runs for every pass before the
+// world binds targets), chooses between drawing and dispatching the march,
+// and decides whether this frame reuses the first frame's fractions.
+static void begin_frame(toth *t, const st_frame *f, bool any) {
+    if (scale(t, f->height) != t->decl_scale) {
         st_err ignore = {0}; // only fails for a bad name, which create already caught
         declare_targets(t, f->height, &ignore);
     }
     // A march of fewer than 4 llvmpipe tiles (64 x 64) is dispatched: drawn,
     // its tiles would leave threads idle (march.comp).
-    if (pass == 0) {
-        int s = t->decl_scale, tx = ((f->width + s - 1) / s + 63) / 64,
-            ty = ((f->height + s - 1) / s + 63) / 64;
-        t->dispatch = tx * ty < 4;
-    }
-    bool any = medium_scatters(f->scene) && f->scene->num_lights > 0;
+    int s = t->decl_scale, tx = ((f->width + s - 1) / s + 63) / 64,
+        ty = ((f->height + s - 1) / s + 63) / 64;
+    t->dispatch = tx * ty < 4;
     // reuse=on: a frame whose only change since the march last ran is the
     // box filter's sub-pixel jitter (its gbuffer rewritten by it) reads the
     // fractions the first frame kept; march, gather, edges and keep rest.
-    if (pass == 0) {
-        const unsigned jitter_only = ST_CHANGE_CAMERA | ST_CHANGE_JITTER | ST_CHANGE_INPUTS;
-        t->reusing = any && reuse_on(t) && t->kept &&
-                     sampling(t, f->scene) == SAMPLING_EQUIANGULAR &&
-                     (f->changes & ST_CHANGE_JITTER) && !(f->changes & ~jitter_only);
-        if (!t->reusing) t->kept = false;
+    const unsigned jitter_only = ST_CHANGE_CAMERA | ST_CHANGE_JITTER | ST_CHANGE_INPUTS;
+    t->reusing = any && reuse_on(t) && t->kept && sampling(t, f->scene) == SAMPLING_EQUIANGULAR &&
+                 (f->changes & ST_CHANGE_JITTER) && !(f->changes & ~jitter_only);
+    if (!t->reusing) t->kept = false;
+}
+
+// Nothing runs without a scattering medium or without lights: toth adds
+// in-scattered light only (the regular pass applies the view's extinction).
+static bool needed(void *self, int pass, const st_frame *f) {
+    toth *t = self;
+    bool any = medium_scatters(f->scene) && f->scene->num_lights > 0;
+    if (pass == PASS_MARCH) begin_frame(t, f, any);
+    if (!any || (t->reusing && pass != PASS_COMPOSE)) return false;
+    bool equiangular = sampling(t, f->scene) == SAMPLING_EQUIANGULAR;
+    switch (pass) {
+    case PASS_GATHER:
+        return interleave(t) > 1;
+    case PASS_EDGES: // only where compose may read it (below full resolution)
+        return equiangular && t->decl_scale > 1 && (t->p[P_REFINE] < 1 || t->p[P_REFINE_KINK] > 0);
+    case PASS_KEEP: // only a box-filtered still has jittered frames to keep for
+        return reuse_on(t) && equiangular && f->filter == ST_FILTER_BOX;
+    default:
+        return true;
     }
-    int kind = pass_kind(t, pass);
-    if (t->reusing && kind != PASS_COMPOSE) return false;
-    // Only a box-filtered still has jittered frames to keep fractions for.
-    if (kind == PASS_KEEP)
-        return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR &&
-               st_world_filter(t->w) == ST_FILTER_BOX;
-    // The edges pass: only where compose may read it (equi-angular below full
-    // resolution, refine < 1).
-    if (kind == PASS_EDGES)
-        return any && sampling(t, f->scene) == SAMPLING_EQUIANGULAR && t->decl_scale > 1 &&
-               (t->p[P_REFINE] < 1 || t->p[P_REFINE_KINK] > 0);
-    return any;
+}
+
+static int program(void *self, int pass, const st_frame *f) {
+    (void)f;
+    const toth *t = self;
+    switch (pass) {
+    case PASS_MARCH:
+        return t->dispatch ? PROG_MARCH_CS : PROG_MARCH;
+    case PASS_GATHER:
+        return PROG_GATHER;
+    case PASS_EDGES:
+        return PROG_EDGES;
+    case PASS_KEEP:
+        return PROG_KEEP;
+    default:
+        return t->reusing ? PROG_COMPOSE_REUSE : PROG_COMPOSE;
+    }
 }
 
 // The airlight table of the scene's phase function (compose=table), filled
@@ -441,94 +414,80 @@ static GLuint airlight_table(toth *t, const st_medium_desc *m, st_err *err) {
     return tg->color[0];
 }
 
+// What the parameters do not say as uniforms of their own name (the world
+// sets toth_<param> on every program, param_uniforms): the march divisor,
+// the interleave as limited by the samples, the names that differ.
 static void set_common(toth *t, st_shader *sh) {
     st_shader_set_int(sh, "toth_scale", t->decl_scale);
     st_shader_set_float(sh, "toth_tolerance", (float)t->p[P_TOLERANCE]);
     st_shader_set_int(sh, "toth_interleave", interleave(t));
 }
 
-// The upsampling's rule for which pixels take the edges pass's own ray
-// (toth/upsample.glsl): the edges, keep and compose passes share it.
-static void set_refine(toth *t, st_shader *sh) {
-    st_shader_set_float(sh, "toth_refine", (float)t->p[P_REFINE]);
-    st_shader_set_int(sh, "toth_refine_taps", (int)t->p[P_REFINE_TAPS]);
-    st_shader_set_float(sh, "toth_refine_kink", (float)t->p[P_REFINE_KINK]);
-    st_shader_set_float(sh, "toth_upsample_kink", (float)t->p[P_UPSAMPLE_KINK]);
-}
-
 // How a ray's visible fraction is marched (toth/visibility.glsl): the march
 // pass and the edges pass's march step share it.
 static void set_march(toth *t, st_shader *sh) {
-    st_shader_set_int(sh, "toth_samples", (int)t->p[P_SAMPLES]);
-    st_shader_set_int(sh, "toth_jitter", t->p[P_JITTER] != 0);
-    st_shader_set_int(sh, "toth_bisect", (int)t->p[P_BISECT]);
     st_shader_set_int(sh, "toth_exact", t->p[P_EXACT] != 0);
-    st_shader_set_int(sh, "toth_exact_solve", t->p[P_EXACT_SOLVE] != 0);
-    st_shader_set_int(sh, "toth_probes", (int)t->p[P_PROBES]);
+    st_shader_set_int(sh, "toth_exact_solve", TOTH_EXACT_SOLVE);
 }
 
-// The list of the edges pass (toth/edges_list.glsl: a count, then one entry
-// per pixel) for a width x height image, and the march step's grid: the
-// image's size rounded up to 4 x 4 blocks holds a list of every pixel.
-static bool edges_list(toth *t, int width, int height, st_err *err) {
-    int gw = (width + 3) & ~3, gh = (height + 3) & ~3;
-    if (t->list && t->grid_w == gw && t->grid_h == gh) return true;
-    if (t->list) {
-        st_world_untrack(t->w, "toth.edges_list");
-        glDeleteBuffers(1, &t->list);
-    }
-    glCreateBuffers(1, &t->list);
-    glNamedBufferStorage(t->list, sizeof(GLuint) * (1 + (size_t)gw * gh), NULL,
-                         GL_DYNAMIC_STORAGE_BIT);
-    t->grid_w = gw, t->grid_h = gh;
-    if (!t->list_fbo) glCreateFramebuffers(1, &t->list_fbo);
-    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, gw);
-    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, gh);
-    return st_world_track(t->w, "toth.edges_list", GL_BUFFER, t->list, err) &&
-           st_gl_check("toth edges list", err);
+// The pass's input at march resolution: the gather's sums, or the march.
+static const st_target *inscatter(toth *t) {
+    return st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
 }
 
-// The edges pass: toth.refined cleared to -1 (compose then upsamples every
-// pixel not marched here); the select step, one point per scale x scale
-// block (edges.vert keeps those with a pixel that may need its own ray),
-// lists the pixels that do; the march step marches them, one fragment each
-// in 4 x 4 blocks of listed pixels, and stores their fractions. The count
-// stays on the GPU: the march step's vertex shader sizes its quad by it.
-static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err *err) {
-    st_shader *sh = t->sh.edges, *m = t->sh.edges_march;
+// The edges pass's select step: toth.refined cleared to -1 (compose then
+// upsamples every pixel not marched here); one point per scale x scale
+// block (edges.vert keeps those with a pixel that may need its own ray)
+// lists the pixels that do (toth/edges_list.glsl: a count, then one entry
+// per pixel of the image rounded up to 4 x 4 blocks).
+static bool select_edges(toth *t, const st_frame *f, st_err *err) {
+    st_shader *sh = f->shader;
+    const st_target *src = inscatter(t);
     int s = t->decl_scale, bx = (f->width + s - 1) / s, by = (f->height + s - 1) / s;
-    const st_target *refined = st_world_target(t->w, "toth.refined");
-    if (!src || !refined) return st_fail(err, ST_ERR_RUNTIME, "toth: no march or refined target");
-    if (!edges_list(t, f->width, f->height, err)) return false;
+    t->grid_w = (f->width + 3) & ~3, t->grid_h = (f->height + 3) & ~3;
+    GLuint list = st_world_buffer(t->w, "toth.edges_list",
+                                  sizeof(GLuint) * (1 + (size_t)t->grid_w * t->grid_h), NULL, err);
+    if (!list) return false;
+    if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
     set_common(t, sh);
     st_shader_set_int(sh, "toth_blocks_x", bx);
-    set_refine(t, sh);
     st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
     const float none[4] = {-1, -1, -1, -1};
     glClearBufferfv(GL_COLOR, 0, none);
     const GLuint zero = 0;
-    glClearNamedBufferSubData(t->list, GL_R32UI, 0, sizeof zero, GL_RED_INTEGER, GL_UNSIGNED_INT,
+    glClearNamedBufferSubData(list, GL_R32UI, 0, sizeof zero, GL_RED_INTEGER, GL_UNSIGNED_INT,
                               &zero);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, t->list); // edges_list.glsl's binding
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, list); // edges_list.glsl's binding
     if (!t->vao) glCreateVertexArrays(1, &t->vao);
     glBindVertexArray(t->vao);
-    // Select: writes only the list (toth.refined keeps the clear).
+    // Writes only the list (toth.refined keeps the clear).
     glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glPointSize((float)s);
     glDrawArrays(GL_POINTS, 0, bx * by);
     glPointSize(1.0f);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    // March: into the framebuffer without attachments, storing to toth.refined.
+    return true;
+}
+
+// The edges pass's march step: one fragment per listed pixel, packed in
+// 4 x 4 blocks (llvmpipe runs 4 x 4 blocks in 8-wide vectors), into the
+// framebuffer without attachments, storing the fractions to toth.refined.
+// The count stays on the GPU: the vertex shader sizes its quad by it.
+static bool march_edges(toth *t, const st_frame *f, st_err *err) {
+    const st_target *refined = st_world_target(t->w, "toth.refined");
+    if (!refined) return st_fail(err, ST_ERR_RUNTIME, "toth: no refined target");
+    if (!t->list_fbo) glCreateFramebuffers(1, &t->list_fbo);
+    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, t->grid_w);
+    glNamedFramebufferParameteri(t->list_fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, t->grid_h);
     GLint fbo = 0, vp[4];
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
     glGetIntegerv(GL_VIEWPORT, vp);
     glBindFramebuffer(GL_FRAMEBUFFER, t->list_fbo);
     glViewport(0, 0, t->grid_w, t->grid_h);
-    st_shader_use(m);
-    st_world_apply_uniforms(t->w, m, f);
+    st_shader *m = st_frame_use_program(f, PROG_EDGES_MARCH, err);
+    if (!m) return false;
     set_common(t, m);
-    st_shader_texture(m, "st_gbuffer", GL_TEXTURE_2D, f->gbuffer);
     st_shader_set_int(m, "toth_edges_width", t->grid_w);
     st_shader_set_int(m, "toth_edges_height", t->grid_h);
     set_march(t, m);
@@ -540,135 +499,112 @@ static bool draw_edges(toth *t, const st_frame *f, const st_target *src, st_err 
     return true;
 }
 
-// The march of fewer than 4 llvmpipe tiles: 8 x 8 texel groups writing
-// toth.march as an image, visible to the texelFetch of the passes after it.
-static bool dispatch_march(toth *t, st_err *err) {
-    const st_target *m = st_world_get_target(t->w, "toth.march", err);
-    if (!m) return false;
-    glBindImageTexture(0, m->color[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glDispatchCompute((GLuint)(m->width + 7) / 8, (GLuint)(m->height + 7) / 8, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+// The march, drawn or dispatched by the world into toth.march (march.comp
+// says when which).
+static bool on_march(toth *t, const st_frame *f, st_err *err) {
+    if (!steps_fit(t, f->scene, err)) return false;
+    set_common(t, f->shader);
+    set_march(t, f->shader);
+    st_shader_set_int(f->shader, "toth_sampling", sampling(t, f->scene));
+    return true;
+}
+
+static bool on_gather(toth *t, const st_frame *f, st_err *err) {
+    const st_target *march = st_world_get_target(t->w, "toth.march", err);
+    if (!march) return false;
+    set_common(t, f->shader);
+    st_shader_set_int(f->shader, "toth_sampling", sampling(t, f->scene));
+    st_shader_texture(f->shader, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
+    return true;
+}
+
+// The world draws the fractions into toth.first; the gbuffer is copied beside them.
+static bool on_keep(toth *t, const st_frame *f, st_err *err) {
+    const st_target *gb = st_world_get_target(t->w, "toth.first_gbuffer", err);
+    if (!gb) return false;
+    const st_target *src = inscatter(t), *refined = st_world_target(t->w, "toth.refined");
+    set_common(t, f->shader);
+    if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
+    st_shader_texture(f->shader, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+    if (refined) st_shader_texture(f->shader, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
+    glCopyImageSubData(f->gbuffer, GL_TEXTURE_2D, 0, 0, 0, 0, gb->color[0], GL_TEXTURE_2D, 0, 0, 0,
+                       0, f->width, f->height, 1);
+    memcpy(t->first_vp, f->view_proj, sizeof t->first_vp);
+    t->kept = true;
+    return true;
+}
+
+// A jittered frame of a still reads the first frame's fractions (reuse.glsl).
+static bool bind_first(toth *t, st_shader *sh, st_err *err) {
+    const st_target *first = st_world_target(t->w, "toth.first");
+    const st_target *gb = st_world_target(t->w, "toth.first_gbuffer");
+    if (!first || !gb) return st_fail(err, ST_ERR_RUNTIME, "toth: no kept fractions");
+    st_shader_texture(sh, "toth_first_tex", GL_TEXTURE_2D, first->color[0]);
+    st_shader_texture(sh, "toth_first_gbuffer", GL_TEXTURE_2D, gb->color[0]);
+    st_shader_set_mat4(sh, "toth_first_view_proj", t->first_vp);
+    return true;
+}
+
+static bool on_compose(toth *t, const st_frame *f, st_err *err) {
+    st_shader *sh = f->shader;
+    const st_target *src = inscatter(t), *refined = st_world_target(t->w, "toth.refined");
+    if (t->reusing && !bind_first(t, sh, err)) return false;
+    set_common(t, sh);
+    st_shader_set_int(sh, "toth_sampling", sampling(t, f->scene));
+    // The kink rule is for the visible fraction (sampling=uniform
+    // upsamples in-scattered light).
+    if (sampling(t, f->scene) != SAMPLING_EQUIANGULAR)
+        st_shader_set_float(sh, "toth_upsample_kink", 0.0f);
+    st_shader_set_int(sh, "toth_has_inscatter", src != NULL);
+    st_shader_set_float(sh, "toth_glow_radius", TOTH_GLOW_RADIUS_PX);
+    if (src) st_shader_texture(sh, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
+    if (refined) st_shader_texture(sh, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
+    if (t->p[P_COMPOSE] == COMPOSE_TABLE) {
+        GLuint table = airlight_table(t, &f->scene->medium, err);
+        if (!table) return false;
+        st_shader_texture(sh, "toth_airlight_tex", GL_TEXTURE_2D, table);
+    }
     return true;
 }
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     toth *t = self;
-    struct toth_shaders *sh = &t->sh;
-    const st_target *src = st_world_target(t->w, interleave(t) > 1 ? "toth.gather" : "toth.march");
-    // The march draws (or dispatches) into toth.march and the gather draws
-    // into toth.gather, the targets the world binds.
-    switch (pass_kind(t, pass)) {
-    case PASS_MARCH: {
-        if (!steps_fit(t, f->scene, err)) return false;
-        st_shader *m = t->dispatch ? sh->march_cs : sh->march;
-        set_common(t, m);
-        set_march(t, m);
-        st_shader_set_int(m, "toth_integrator", (int)t->p[P_INTEGRATOR]);
-        st_shader_set_int(m, "toth_sampling", sampling(t, f->scene));
-        if (!t->dispatch)
-            st_draw_fullscreen(); // into toth.march, bound by the world
-        else if (!dispatch_march(t, err))
-            return false;
-        break;
-    }
-    case PASS_GATHER: {
-        const st_target *march = st_world_get_target(t->w, "toth.march", err);
-        if (!march) return false;
-        set_common(t, sh->gather);
-        st_shader_set_int(sh->gather, "toth_sampling", sampling(t, f->scene));
-        st_shader_texture(sh->gather, "toth_march_tex", GL_TEXTURE_2D, march->color[0]);
-        break;
-    }
-    case PASS_EDGES:
-        if (!draw_edges(t, f, src, err)) return false;
-        break;
-    case PASS_KEEP: {
-        // The world draws the fractions; the gbuffer is copied beside them.
-        const st_target *gb = st_world_get_target(t->w, "toth.first_gbuffer", err);
-        if (!gb) return false;
-        const st_target *refined = st_world_target(t->w, "toth.refined");
-        set_common(t, sh->keep);
-        set_refine(t, sh->keep);
-        if (!src) return st_fail(err, ST_ERR_RUNTIME, "toth: no march target");
-        st_shader_texture(sh->keep, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
-        if (refined)
-            st_shader_texture(sh->keep, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
-        glCopyImageSubData(f->gbuffer, GL_TEXTURE_2D, 0, 0, 0, 0, gb->color[0], GL_TEXTURE_2D, 0, 0,
-                           0, 0, f->width, f->height, 1);
-        memcpy(t->first_vp, f->view_proj, sizeof t->first_vp);
-        t->kept = true;
-        break;
-    }
-    default: {
-        const st_target *refined = st_world_target(t->w, "toth.refined");
-        if (t->reusing) {
-            const st_target *first = st_world_target(t->w, "toth.first");
-            const st_target *gb = st_world_target(t->w, "toth.first_gbuffer");
-            if (!first || !gb) return st_fail(err, ST_ERR_RUNTIME, "toth: no kept fractions");
-            st_shader_texture(sh->compose_reuse, "toth_first_tex", GL_TEXTURE_2D, first->color[0]);
-            st_shader_texture(sh->compose_reuse, "toth_first_gbuffer", GL_TEXTURE_2D, gb->color[0]);
-            st_shader_set_mat4(sh->compose_reuse, "toth_first_view_proj", t->first_vp);
-        }
-        st_shader *compose = t->reusing ? sh->compose_reuse : sh->compose;
-        set_common(t, compose);
-        st_shader_set_int(compose, "toth_sampling", sampling(t, f->scene));
-        st_shader_set_int(compose, "toth_nodes", (int)t->p[P_NODES]);
-        set_refine(t, compose);
-        // The kink rule is for the visible fraction (sampling=uniform
-        // upsamples in-scattered light).
-        if (sampling(t, f->scene) != SAMPLING_EQUIANGULAR)
-            st_shader_set_float(compose, "toth_upsample_kink", 0.0f);
-        st_shader_set_int(compose, "toth_has_inscatter", src != NULL);
-        st_shader_set_int(compose, "toth_glow", (int)t->p[P_GLOW]);
-        st_shader_set_float(compose, "toth_glow_radius", (float)t->p[P_GLOW_RADIUS]);
-        if (src) st_shader_texture(compose, "toth_inscatter_tex", GL_TEXTURE_2D, src->color[0]);
-        if (refined)
-            st_shader_texture(compose, "toth_refined_tex", GL_TEXTURE_2D, refined->color[0]);
-        if (t->p[P_COMPOSE] == COMPOSE_TABLE) {
-            GLuint table = airlight_table(t, &f->scene->medium, err);
-            if (!table) return false;
-            st_shader_texture(compose, "toth_airlight_tex", GL_TEXTURE_2D, table);
-        }
-        break;
-    }
-    }
-    return st_gl_check("toth pass", err);
-}
-
-static st_shader *shader(void *self, int pass) {
-    toth *t = self;
-    switch (pass_kind(t, pass)) {
+    bool ok;
+    switch (pass) {
     case PASS_MARCH:
-        return t->dispatch ? t->sh.march_cs : t->sh.march;
+        ok = on_march(t, f, err);
+        break;
     case PASS_GATHER:
-        return t->sh.gather;
+        ok = on_gather(t, f, err);
+        break;
     case PASS_EDGES:
-        return t->sh.edges;
+        ok = select_edges(t, f, err) && march_edges(t, f, err);
+        break;
     case PASS_KEEP:
-        return t->sh.keep;
+        ok = on_keep(t, f, err);
+        break;
     default:
-        return t->reusing ? t->sh.compose_reuse : t->sh.compose;
+        ok = on_compose(t, f, err);
+        break;
     }
+    return ok && st_gl_check("toth pass", err);
 }
 
+// Hot reload (the world recompiles the programs): the next frame marches
+// with the new code.
 static bool reload(void *self, st_err *err) {
-    toth *t = self;
-    struct toth_shaders sh;
-    if (!load_shaders(t->w, t->p, &sh, err)) return false;
-    destroy_shaders(&t->sh);
-    t->sh = sh;
-    t->kept = false; // the next frame marches with the new code
+    (void)err;
+    ((toth *)self)->kept = false;
     return true;
 }
 
-// A new march scale or interleave re-describes the targets; a new compose
-// method recompiles the shaders (on failure the old ones stay).
+// A new march scale, interleave or reuse re-describes the targets (a new
+// compose method recompiles compose, through its param_defines).
 static void param_changed(void *self, int index) {
     st_err ignore = {0}; // only fails for a bad name, which create already caught
     if (index == P_RESOLUTION || index == P_INTERLEAVE || index == P_SAMPLES ||
         index == P_MIN_ROWS || index == P_REUSE)
         declare_targets(self, ((toth *)self)->height, &ignore);
-    if (index == P_COMPOSE) reload(self, &ignore);
 }
 
 ST_PLUGIN(.name = "toth",
@@ -676,7 +612,7 @@ ST_PLUGIN(.name = "toth",
               "single scattering in a homogeneous medium (Toth & Umenhoffer 2009): equi-angular "
               "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
               "interleaved sampling, reduced-resolution march",
-          ST_PARAMS(params), .requires = "shadow_map", .create = create, .destroy = destroy,
-          .num_passes = num_passes, .pass_info = pass_info, .needed = needed, .on_pass = on_pass,
-          .shader = shader, .param_changed = param_changed, .reload = reload,
+          ST_PARAMS(params), ST_PROGRAMS(programs), ST_PASSES(passes), .param_uniforms = "toth_",
+          .requires = "shadow_map", .create = create, .destroy = destroy, .needed = needed,
+          .program = program, .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
           .light_types = ST_LIGHT_BITS_ALL)

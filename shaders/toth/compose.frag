@@ -12,6 +12,10 @@
 #include "common/uniforms.glsl"
 #include "toth/common.glsl"
 #include "toth/equiangular.glsl"
+// compose=table: toth.c compiles the parameter in as TOTH_COMPOSE (0: table).
+#if defined(TOTH_COMPOSE) && TOTH_COMPOSE == 0
+#define TOTH_AIRLIGHT 1
+#endif
 #ifdef TOTH_AIRLIGHT
 #include "toth/airlight.glsl" // compose=table
 #else
