@@ -4,6 +4,10 @@
 // (value * GAIN, fill1, 0) to the image. Its programs are files in
 // <probe dir>/shaders/probe_decl/, which the test writes and rewrites (hot
 // reload). The plugin loads no program and declares no target itself.
+// ABI 1.4: a world-owned buffer texture "probe_decl.values_tex" holding 7,
+// exported as u_buf (the add pass puts it in blue); the fill passes run only
+// on their first frame, a parameter change or a shader reload
+// (ST_CHANGE_PROGRAMS), their target keeping its texels between.
 #include "st_world_api.h"
 #include <stdlib.h>
 
@@ -22,14 +26,28 @@ static const st_pass_decl passes[] = {
      .frag = "probe_decl/add.frag"},
 };
 
+static const st_export_decl exports[] = {{"u_buf", .target = "probe_decl.values_tex"}};
+
 typedef struct probe {
     st_world *w;
 } probe;
 
 static void *create(st_world *w, const double *p, st_err *err) {
     probe *s = st_calloc(sizeof *s, err);
-    if (s) s->w = w;
+    if (!s) return NULL;
+    s->w = w;
+    const float seven = 7;
+    GLuint b = st_world_buffer(w, "probe_decl.values", sizeof seven, &seven, err);
+    if (!b || !st_world_buffer_texture(w, "probe_decl.values_tex", b, GL_R32F, err)) {
+        free(s);
+        return NULL;
+    }
     return s;
+}
+
+static bool needed(void *self, int pass, const st_frame *f) {
+    const unsigned again = ST_CHANGE_FIRST | ST_CHANGE_PARAMS | ST_CHANGE_PROGRAMS;
+    return f->row != 0 || (f->changes & again);
 }
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
@@ -46,5 +64,5 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 }
 
 ST_PLUGIN(.name = "probe_decl", .description = "test plugin with declared passes",
-          ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_", .create = create,
-          .destroy = free, .on_pass = on_pass)
+          ST_PARAMS(params), ST_PASSES(passes), ST_EXPORTS(exports), .param_uniforms = "u_",
+          .create = create, .destroy = free, .needed = needed, .on_pass = on_pass)
