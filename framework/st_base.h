@@ -43,6 +43,9 @@ void st_path_dir(char *out, size_t n, const char *path);
 
 double st_now_ms(void); // monotonic clock in milliseconds
 double st_cpu_ms(void); // CPU time of the whole process (all threads) in milliseconds
+// The median of n values (0 for none), e.g. of timing samples; v is not modified.
+double st_median_f(const float *v, int n);
+double st_median_d(const double *v, int n);
 
 // The prefix libstrahl was installed to, found from the library's own file
 // (<prefix>/lib/libstrahl.so), so an installed tree works wherever it was

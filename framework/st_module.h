@@ -153,7 +153,9 @@ typedef struct st_program_decl {
 // A uniform a module exports to every program the world binds, its own and
 // other modules' (ABI 1.4): a parameter's value (set as the uniform's GLSL
 // type: float, int or bool) or one of the module's targets (bound as a texture
-// of the target's type; allocated on first use). Exactly one of param and
+// of the target's type; allocated on first use) or, where no target has that
+// name, its buffer texture of that name (st_world_buffer_texture; bound as a
+// GL_TEXTURE_BUFFER, 0 while there is none). Exactly one of param and
 // target is set. Values the table cannot say stay st_uniform callbacks.
 typedef struct st_export_decl {
     const char *uniform;
@@ -177,6 +179,10 @@ enum {
     // the scene are those of the accumulation's first frame). Not in
     // ST_CHANGE_ALL: it qualifies a change, it is none itself.
     ST_CHANGE_JITTER = 1u << 8,
+    // ABI 1.4: the world's shaders were reloaded from their files
+    // (st_world_reload_shaders): a pass whose result stays until its inputs
+    // change runs again to show the edited program. Not in ST_CHANGE_ALL.
+    ST_CHANGE_PROGRAMS = 1u << 9,
 };
 
 // Per-frame state handed to hooks. Matrices are column-major float[16].

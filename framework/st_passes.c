@@ -252,7 +252,11 @@ void st_passes_apply_exports(st_world *w, st_shader *sh) {
                 continue;
             }
             const st_target *t = st_world_target(w, e->target);
-            st_shader_texture(sh, e->uniform, t ? t->type : GL_TEXTURE_2D, t ? t->color[0] : 0);
+            GLuint buf_tex = t ? 0 : st_targets_object(&w->targets, e->target, GL_TEXTURE);
+            if (buf_tex)
+                st_shader_texture(sh, e->uniform, GL_TEXTURE_BUFFER, buf_tex);
+            else
+                st_shader_texture(sh, e->uniform, t ? t->type : GL_TEXTURE_2D, t ? t->color[0] : 0);
         }
     }
 }

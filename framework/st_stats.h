@@ -42,8 +42,6 @@ const st_pass_stats *st_world_pass_stats(const st_world *w, int i);
 void st_world_reset_stats(st_world *w);
 // Drops timing samples (after warm-up) but keeps run/skip/cull counts.
 void st_world_reset_samples(st_world *w);
-double st_median_f(const float *v, int n);
-double st_median_d(const double *v, int n);
 
 #ifdef __cplusplus
 }

@@ -160,6 +160,11 @@ static GLuint own(st_targets *s, const char *name, GLenum identifier, GLuint obj
     return obj;
 }
 
+GLuint st_targets_object(const st_targets *s, const char *name, GLenum identifier) {
+    int i = tracked(s, name);
+    return i >= 0 && s->k[i].identifier == identifier ? s->k[i].obj : 0;
+}
+
 GLuint st_targets_buffer(st_targets *s, const char *name, size_t bytes, const void *data,
                          st_err *err) {
     int i = tracked(s, name);

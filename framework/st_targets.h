@@ -46,6 +46,8 @@ void st_targets_untrack(st_targets *s, const char *name);
 GLuint st_targets_buffer(st_targets *s, const char *name, size_t bytes, const void *data,
                          st_err *err);
 // A buffer texture the registry owns over buffer `buf` in `format`; 0 on failure.
+// The GL name of tracked object `name` if it is of `identifier`, else 0.
+GLuint st_targets_object(const st_targets *s, const char *name, GLenum identifier);
 GLuint st_targets_buffer_texture(st_targets *s, const char *name, GLuint buf, GLenum format,
                                  st_err *err);
 // Frees the targets and forgets the tracked objects of `module` ("<module>.*";

@@ -313,6 +313,6 @@ bool st_world_reload_shaders(st_world *w, st_err *err) {
             return false;
         }
     }
-    w->changes |= ST_CHANGE_CAMERA;
+    w->changes |= ST_CHANGE_CAMERA | ST_CHANGE_PROGRAMS;
     return true;
 }

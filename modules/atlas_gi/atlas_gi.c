@@ -14,11 +14,12 @@
 // shadow map) change, the gather only when its inputs or parameters change or
 // while accumulation has not converged. A camera-only frame runs neither pass.
 //
-// This file: the descriptor, the parameters and the hooks; agi.h says which
-// file holds the rest.
+// This file: the descriptor (parameters, programs, exports) and the hooks,
+// which call the other files (agi.h says which holds what; calls run one way).
 #include "agi.h"
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 static const st_param_def params[P_COUNT] = {
     {"atlas_size", ST_PARAM_INT, 512, 64, 4096, NULL,
@@ -73,19 +74,56 @@ static const st_param_def params[P_COUNT] = {
      "times in --stats (benchmarks only: the waits slow the relight down)"},
 };
 
+// The programs, compiled by the world on first use (a mode's programs only
+// when it runs) and hot-reloaded with st_world_reload_shaders.
+#define CHUNK "AG_CHUNK " TRG_CHUNK_S
+static const st_program_decl programs[PR_COUNT] = {
+    [PR_GBUFFER] = {"gbuffer", "atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag",
+                    .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_SHADOW] = {"gbuffer_shadow", "atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag",
+                           .defines = "AG_SHADOW 1", .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_POINTS] = {"gbuffer_points", "atlas_gi/gbuffer_points.vert",
+                           "atlas_gi/gbuffer.frag", .defines = "AG_POINTS 1",
+                           .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_POINTS_SHADOW] = {"gbuffer_points_shadow", "atlas_gi/gbuffer_points.vert",
+                                  "atlas_gi/gbuffer.frag", .defines = "AG_SHADOW 1\nAG_POINTS 1",
+                                  .flags = ST_PROGRAM_LIGHTS},
+    [PR_GATHER] = {"gather", .frag = "atlas_gi/gather.frag"},
+    [PR_GATHER_VIS] = {"gather_visibility", .frag = "atlas_gi/gather.frag",
+                       .defines = "AG_VISIBILITY 1"},
+    [PR_RESOLVE] = {"resolve", .frag = "atlas_gi/resolve.frag"},
+    [PR_REDUCE] = {"transfer_reduce", .comp = "atlas_gi/transfer_reduce.comp", .defines = CHUNK},
+    [PR_LINKS] = {"transfer_links", .comp = "atlas_gi/transfer_gather.comp", .defines = CHUNK},
+    [PR_LINKS_MEDIUM] = {"transfer_links_medium", .comp = "atlas_gi/transfer_gather.comp",
+                         .defines = CHUNK "\nAG_MEDIUM 1"},
+    [PR_SUM] = {"transfer_sum", .comp = "atlas_gi/transfer_sum.comp", .defines = CHUNK},
+    [PR_PUSH] = {"transfer_push", .frag = "atlas_gi/transfer_push.frag", .defines = CHUNK},
+};
+
+// What the regular pass (regular.glsl) reads: the resolved atlases, the
+// triangle table and per-mesh bases (buffer textures), the display choice.
+static const st_export_decl exports[] = {
+    {"ag_indirect_tex", .target = "atlas_gi.indirect"},
+    {"ag_combined_tex", .target = "atlas_gi.combined"},
+    {"ag_tri_tex", .target = "atlas_gi.triangles_tex"},
+    {"ag_base_tex", .target = "atlas_gi.mesh_base_tex"},
+    {"ag_display", .param = "display"},
+};
+
 // ---- hooks ------------------------------------------------------------------
 
 static void destroy(void *self) {
     agi *g = self;
+    agi_release_transfer(g);
     agi_release_atlas_gpu(g); // the world frees the declared targets
     agi_gather_free(g);
-    st_shader_destroy(g->sh_gb);
-    st_shader_destroy(g->sh_gbp);
-    st_shader_destroy(g->sh_gather);
-    st_shader_destroy(g->sh_gather_vis);
-    st_shader_destroy(g->sh_resolve);
-    tr_gpu_destroy(&g->TG);
     free(g);
+}
+
+// A new atlas (the transfer is built over it, so it goes first).
+static bool rebuild_atlas(agi *g, st_err *err) {
+    agi_release_transfer(g);
+    return agi_build_atlas(g, err);
 }
 
 static void *create(st_world *w, const double *p, st_err *err) {
@@ -98,15 +136,7 @@ static void *create(st_world *w, const double *p, st_err *err) {
     g->TG.w = w;
     g->p = p;
     g->rel_err = INFINITY;
-    bool ok = agi_compile_gbuffer(g, st_world_has_module(w, "shadow_map"), err) &&
-              (g->sh_gather =
-                   st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag", NULL, err)) &&
-              (g->sh_gather_vis = st_shader_load("common/fullscreen.vert", "atlas_gi/gather.frag",
-                                                 "AG_VISIBILITY 1\n", err)) &&
-              (g->sh_resolve =
-                   st_shader_load("common/fullscreen.vert", "atlas_gi/resolve.frag", NULL, err)) &&
-              tr_gpu_load_shaders(&g->TG, err) && agi_build_atlas(g, err);
-    if (!ok) {
+    if (!rebuild_atlas(g, err)) {
         destroy(g);
         return NULL;
     }
@@ -132,13 +162,23 @@ static bool needed(void *self, int pass, const st_frame *f) {
         if (st_world_has_module(g->w, "shadow_map") != g->shadow) g->gb_dirty = true;
         return g->atlas_dirty || g->gb_dirty ||
                (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
-                              ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM));
+                              ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM | ST_CHANGE_PROGRAMS));
     }
-    return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS)) || !g->converged;
+    return g->restart || (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_INPUTS | ST_CHANGE_PROGRAMS)) ||
+           !g->converged;
 }
 
+// Pass 0: a new atlas where the geometry changed, then the G-buffer (timed
+// as the relight's step 0 with profile=true). Pass 1: the mode's gather.
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
-    return pass == 0 ? agi_gbuffer_pass(self, f, err) : agi_gather_pass(self, f, err);
+    agi *g = self;
+    if (pass == 1)
+        return ip(g, P_MODE) == 0 ? agi_transfer_pass(g, f, err) : agi_gather_pass(g, f, err);
+    memset(g->prof_gb, 0, sizeof g->prof_gb);
+    agi_prof_mark(g, NULL, 0);
+    if ((f->changes & ST_CHANGE_GEOMETRY) && !(f->changes & ST_CHANGE_FIRST)) g->atlas_dirty = true;
+    if (g->atlas_dirty && !rebuild_atlas(g, err)) return false;
+    return agi_gbuffer_pass(g, f, err);
 }
 
 static void param_changed(void *self, int k) {
@@ -170,50 +210,30 @@ static void param_changed(void *self, int k) {
         agi_update_converged(g);
         break;
     default:
-        break; // display: the regular pass only
+        break; // display: the regular pass only (an export)
     }
 }
 
-static bool reload(void *self, st_err *err) {
+static bool progress(void *self, st_progress *out) {
     agi *g = self;
-    st_shader *all[5] = {g->sh_gb, g->sh_gbp, g->sh_gather, g->sh_gather_vis, g->sh_resolve};
-    for (int i = 0; i < 5; i++)
-        if (!st_shader_reload(all[i], err)) return false;
-    if (!tr_gpu_reload_shaders(&g->TG, err)) return false;
-    g->gb_dirty = true;
+    out->converged = g->converged;
+    out->frames = (uint32_t)g->frames;
+    out->error = g->rel_err;
+    if (g->have_transfer) agi_relight_info(g, out->info, sizeof out->info);
     return true;
 }
 
-// ---- uniforms for the regular pass ------------------------------------------
-
-#define G(self) ((agi *)(self))
-static void u_ind(void *s, st_shader *sh, GLint l, const st_frame *f) {
-    st_shader_texture(sh, "ag_indirect_tex", GL_TEXTURE_2D, G(s)->tex[T_INDIRECT]);
-}
-static void u_comb(void *s, st_shader *sh, GLint l, const st_frame *f) {
-    st_shader_texture(sh, "ag_combined_tex", GL_TEXTURE_2D, G(s)->tex[T_COMBINED]);
-}
-static void u_tri(void *s, st_shader *sh, GLint l, const st_frame *f) {
-    st_shader_texture(sh, "ag_tri_tex", GL_TEXTURE_BUFFER, G(s)->tri_tex);
-}
-static void u_base(void *s, st_shader *sh, GLint l, const st_frame *f) {
-    st_shader_texture(sh, "ag_base_tex", GL_TEXTURE_BUFFER, G(s)->base_tex);
-}
-static void u_lookup(void *s, st_shader *sh, GLint l, const st_frame *f) {
-    glUniform1i(l, G(s)->lookup);
-}
-static void u_display(void *s, st_shader *sh, GLint l, const st_frame *f) {
-    glUniform1i(l, ip(G(s), P_DISPLAY));
+// The regular pass' one derived value: whether the atlas uv is the scene's
+// uv1 (0) or is found through the triangle table (1).
+static void u_lookup(void *self, st_shader *sh, GLint l, const st_frame *f) {
+    glUniform1i(l, ((agi *)self)->lookup);
 }
 
-static const st_uniform uniforms_table[] = {
-    {"ag_indirect_tex", u_ind}, {"ag_combined_tex", u_comb}, {"ag_tri_tex", u_tri},
-    {"ag_base_tex", u_base},    {"ag_lookup", u_lookup},     {"ag_display", u_display},
-};
+static const st_uniform uniforms_table[] = {{"ag_lookup", u_lookup}};
 
 static int uniforms(void *self, const st_uniform **out) {
     *out = uniforms_table;
-    return (int)(sizeof uniforms_table / sizeof uniforms_table[0]);
+    return 1;
 }
 
 ST_PLUGIN(.name = "atlas_gi",
@@ -221,9 +241,9 @@ ST_PLUGIN(.name = "atlas_gi",
               "texture-atlas global illumination (Merz 2010): G-buffer atlas, precomputed "
               "transfer (default) or the thesis' Hammersley gather, visibility, more bounces, "
               "textured back onto the scene",
-          ST_PARAMS(params), .requires = "shadow_map?", .provides = "atlas_gi",
-          .regular_include = "atlas_gi/regular.glsl", .create = create, .destroy = destroy,
-          .num_passes = num_passes, .pass_info = pass_info, .uniforms = uniforms, .needed = needed,
-          .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
-          .progress = agi_progress,
+          ST_PARAMS(params), ST_PROGRAMS(programs), ST_EXPORTS(exports), .requires = "shadow_map?",
+          .provides = "atlas_gi", .regular_include = "atlas_gi/regular.glsl", .create = create,
+          .destroy = destroy, .num_passes = num_passes, .pass_info = pass_info,
+          .uniforms = uniforms, .needed = needed, .on_pass = on_pass,
+          .param_changed = param_changed, .progress = progress,
           .light_types = ST_LIGHT_BITS_ALL /* direct light through common/lighting.glsl */)

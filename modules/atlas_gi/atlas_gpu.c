@@ -1,6 +1,6 @@
 // atlas_gi: the atlas on the GPU (its textures, framebuffers, the G-buffer's
-// points and model type, the regular pass' triangle table) and the G-buffer
-// pass that rasterizes every triangle at its atlas position.
+// points and model type, the regular pass' triangle table), the scene's
+// triangles (visibility) and the resolve that both modes end with.
 #include "agi.h"
 #include <math.h>
 #include <stdio.h>
@@ -15,7 +15,8 @@ static const char *const tex_name[T_COUNT] = {
 static const GLenum tex_format[T_COUNT] = {GL_RGBA32F, GL_RGBA32F, GL_RGBA16F, GL_RGBA32F,
                                            GL_R32F,    GL_RGBA32F, GL_RGBA32F, GL_RGBA32F,
                                            GL_RGBA32F, GL_RGBA32F, GL_RGBA32F};
-// The buffers it creates itself, tracked by the world for --stats.
+// Its buffers: the world's (st_world_buffer, _texture; 0, 3 to 6), the model
+// type's (1, 2) and the BVH's (7, 8), tracked by the world for --stats.
 const char *const agi_buffer_names[] = {
     "atlas_gi.points",        "atlas_gi.vertices",      "atlas_gi.indices",
     "atlas_gi.triangles",     "atlas_gi.triangles_tex", "atlas_gi.mesh_base",
@@ -26,18 +27,14 @@ void agi_release_atlas_gpu(agi *g) {
     for (int i = 0; i < T_COUNT; i++) // fresh textures for the next atlas, as before
         st_world_declare_target(g->w, tex_name[i], NULL, &(st_err){0});
     memset(g->tex, 0, sizeof g->tex);
-    for (size_t i = 0; i < NUM_BUFFERS; i++)
+    for (size_t i = 0; i < NUM_BUFFERS; i++) // deletes the world's own
         st_world_untrack(g->w, agi_buffer_names[i]);
     GLuint fbos[4] = {g->fbo_gb, g->fbo_gather[0], g->fbo_gather[1], g->fbo_resolve};
     glDeleteFramebuffers(4, fbos);
     g->fbo_gb = g->fbo_gather[0] = g->fbo_gather[1] = g->fbo_resolve = 0;
     if (g->pts_vao) glDeleteVertexArrays(1, &g->pts_vao);
-    GLuint bufs[3] = {g->pts_vbo, g->tri_buf, g->base_buf};
-    glDeleteBuffers(3, bufs);
+    g->pts_vao = 0;
     st_bvh_gpu_free(&g->B_gpu);
-    GLuint texs[2] = {g->tri_tex, g->base_tex};
-    glDeleteTextures(2, texs);
-    g->pts_vao = g->pts_vbo = g->tri_buf = g->base_buf = g->tri_tex = g->base_tex = 0;
     if (g->type.vao) st_model_type_destroy(&g->type);
     free(g->models);
     free(g->gmeshes);
@@ -46,7 +43,6 @@ void agi_release_atlas_gpu(agi *g) {
     g->num_models = 0;
     st_bvh_free(&g->B);
     g->have_bvh = false;
-    agi_release_transfer(g);
     atlas_free(&g->A);
 }
 
@@ -156,12 +152,12 @@ static bool upload_points(agi *g, st_err *err) {
         memcpy(v + 8, m->albedo, 12);
         memcpy(v + 11, m->emission, 12);
     }
-    glCreateBuffers(1, &g->pts_vbo);
-    glNamedBufferStorage(
-        g->pts_vbo, (GLsizeiptr)((A->num_points ? A->num_points : 1) * 14 * sizeof(float)), pv, 0);
+    GLuint vbo = st_world_buffer(g->w, agi_buffer_names[0],
+                                 (A->num_points ? A->num_points : 1) * 14 * sizeof(float), pv, err);
     free(pv);
+    if (!vbo) return false;
     glCreateVertexArrays(1, &g->pts_vao);
-    glVertexArrayVertexBuffer(g->pts_vao, 0, g->pts_vbo, 0, 14 * sizeof(float));
+    glVertexArrayVertexBuffer(g->pts_vao, 0, vbo, 0, 14 * sizeof(float));
     const int comps[5] = {2, 3, 3, 3, 3}, offs[5] = {0, 2, 5, 8, 11};
     for (GLuint a = 0; a < 5; a++) {
         glEnableVertexArrayAttrib(g->pts_vao, a);
@@ -182,37 +178,30 @@ static bool upload_lookup(agi *g, st_err *err) {
         return st_fail(err, ST_ERR_RUNTIME,
                        "%u triangles exceed the GPU's texture buffer limit (%d texels)",
                        A->num_tris, max_tbo);
-    glCreateBuffers(1, &g->tri_buf);
-    glNamedBufferStorage(g->tri_buf,
-                         (GLsizeiptr)((A->num_tris ? A->num_tris : 1) * 12 * sizeof(float)),
-                         A->lookup, 0);
-    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->tri_tex);
-    glTextureBuffer(g->tri_tex, GL_RGBA32F, g->tri_buf);
+    GLuint tri =
+        st_world_buffer(g->w, agi_buffer_names[3],
+                        (A->num_tris ? A->num_tris : 1) * 12 * sizeof(float), A->lookup, err);
+    if (!tri || !st_world_buffer_texture(g->w, agi_buffer_names[4], tri, GL_RGBA32F, err))
+        return false;
     int nm = sc->num_meshes ? sc->num_meshes : 1;
     int32_t *base = malloc((size_t)nm * 2 * sizeof *base);
     if (!base) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
     for (int i = 0; i < 2 * nm; i++)
         base[i] = sc->num_meshes ? A->mesh_base[i] : -1;
-    glCreateBuffers(1, &g->base_buf);
-    glNamedBufferStorage(g->base_buf, (GLsizeiptr)(nm * 2 * sizeof *base), base, 0);
+    GLuint bb =
+        st_world_buffer(g->w, agi_buffer_names[5], (size_t)nm * 2 * sizeof *base, base, err);
     free(base);
-    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->base_tex);
-    glTextureBuffer(g->base_tex, GL_RG32I, g->base_buf);
-    return true;
+    return bb && st_world_buffer_texture(g->w, agi_buffer_names[6], bb, GL_RG32I, err);
 }
 
-// Builds the atlas on the CPU and everything on the GPU that depends on it.
 bool agi_build_atlas(agi *g, st_err *err) {
     agi_release_atlas_gpu(g);
     if (!atlas_cpu(g, err) || !build_model_type(g, err) || !alloc_textures(g, err) ||
         !upload_points(g, err) || !upload_lookup(g, err))
         return false;
-    const GLuint objs[7] = {g->pts_vbo, g->type.vbo.id, g->type.ibo.id, g->tri_buf,
-                            g->tri_tex, g->base_buf,    g->base_tex};
-    for (int i = 0; i < 7; i++) // 4 and 6: buffer textures over 3 and 5
-        if (!st_world_track(g->w, agi_buffer_names[i], i == 4 || i == 6 ? GL_TEXTURE : GL_BUFFER,
-                            objs[i], err))
-            return false;
+    if (!st_world_track(g->w, agi_buffer_names[1], GL_BUFFER, g->type.vbo.id, err) ||
+        !st_world_track(g->w, agi_buffer_names[2], GL_BUFFER, g->type.ibo.id, err))
+        return false;
     g->atlas_dirty = false;
     g->gb_dirty = true;
     return st_gl_check("atlas_gi atlas", err);
@@ -244,60 +233,18 @@ float *agi_scene_triangles(const agi *g, uint32_t *count, st_err *err) {
     return c;
 }
 
-// ---- the G-buffer pass ----------------------------------------------------------
+// ---- the resolve -----------------------------------------------------------------
 
-bool agi_compile_gbuffer(agi *g, bool shadow, st_err *err) {
-    char defs[256];
-    snprintf(defs, sizeof defs, "%s%s", st_world_light_defines(g->w),
-             shadow ? "AG_SHADOW 1\n" : "");
-    st_shader *a = st_shader_load("atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag", defs, err);
-    if (!a) return false;
-    size_t l = strlen(defs);
-    snprintf(defs + l, sizeof defs - l, "AG_POINTS 1\n");
-    st_shader *b =
-        st_shader_load("atlas_gi/gbuffer_points.vert", "atlas_gi/gbuffer.frag", defs, err);
-    if (!b) {
-        st_shader_destroy(a);
-        return false;
-    }
-    st_shader_destroy(g->sh_gb);
-    st_shader_destroy(g->sh_gbp);
-    g->sh_gb = a;
-    g->sh_gbp = b;
-    g->shadow = shadow;
-    return true;
-}
-
-bool agi_gbuffer_pass(agi *g, const st_frame *f, st_err *err) {
-    memset(g->prof_gb, 0, sizeof g->prof_gb);
-    agi_prof_mark(g, NULL, 0);
-    if ((f->changes & ST_CHANGE_GEOMETRY) && !(f->changes & ST_CHANGE_FIRST)) g->atlas_dirty = true;
-    if (g->atlas_dirty && !agi_build_atlas(g, err)) return false;
-    bool shadow = st_world_has_module(g->w, "shadow_map");
-    if (shadow != g->shadow && !agi_compile_gbuffer(g, shadow, err)) return false;
-    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_gb);
+bool agi_resolve(agi *g, st_err *err) {
+    st_shader *sh = st_world_program(g->w, g->p, PR_RESOLVE, err);
+    if (!sh) return false;
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_resolve);
     glViewport(0, 0, g->W, g->H);
-    const float zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 4; i++)
-        glClearBufferfv(GL_COLOR, i, zero);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    // Points first: triangles overwrite wherever their rasterizer reaches.
-    st_shader_use(g->sh_gbp);
-    st_world_apply_uniforms(g->w, g->sh_gbp, f);
-    st_shader_texture(g->sh_gbp, "ag_area_tex", GL_TEXTURE_2D, g->tex[T_AREA]);
-    st_shader_set_vec2(g->sh_gbp, "ag_size", (float)g->W, (float)g->H);
-    if (g->num_points) {
-        glBindVertexArray(g->pts_vao);
-        glDrawArrays(GL_POINTS, 0, g->num_points);
-    }
-    st_shader_use(g->sh_gb);
-    st_world_apply_uniforms(g->w, g->sh_gb, f);
-    st_shader_texture(g->sh_gb, "ag_area_tex", GL_TEXTURE_2D, g->tex[T_AREA]);
-    st_model_type_draw(&g->type, g->models, g->num_models, g->sh_gb);
-    agi_prof_mark(g, g->prof_gb, 0);
-    g->gb_dirty = false;
-    g->have_cdf = false;
-    g->restart = true;
-    return st_gl_check("atlas_gi G-buffer", err);
+    st_shader_use(sh);
+    st_shader_texture(sh, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
+    st_shader_texture(sh, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
+    st_shader_texture(sh, "ag_accum", GL_TEXTURE_2D, g->tex[T_ACCUM]);
+    st_shader_set_float(sh, "ag_frames", (float)g->frames);
+    st_draw_fullscreen();
+    return true;
 }

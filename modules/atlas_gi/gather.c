@@ -2,7 +2,7 @@
 // from N Hammersley samples over the atlas (uniform, or power sampling by
 // inverting a CDF of each texel's flux), repeated for more bounces,
 // accumulated over frames under a Cranley-Patterson rotation until the mean
-// converges; the resolve dilates the result into the gutters.
+// converges; the resolve (atlas_gpu.c) dilates the result into the gutters.
 #include "agi.h"
 #include <math.h>
 #include <stdio.h>
@@ -132,17 +132,6 @@ static void rotation(int index, float *r) {
     r[1] = (float)fmod(index * 0.5698402909980532, 1.0);
 }
 
-void agi_resolve(agi *g) {
-    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_resolve);
-    glViewport(0, 0, g->W, g->H);
-    st_shader_use(g->sh_resolve);
-    st_shader_texture(g->sh_resolve, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
-    st_shader_texture(g->sh_resolve, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
-    st_shader_texture(g->sh_resolve, "ag_accum", GL_TEXTURE_2D, g->tex[T_ACCUM]);
-    st_shader_set_float(g->sh_resolve, "ag_frames", (float)g->frames);
-    st_draw_fullscreen();
-}
-
 void agi_update_converged(agi *g) {
     if (ip(g, P_MODE) == 0)
         g->converged = g->frames >= 1; // transfer: deterministic
@@ -156,8 +145,7 @@ void agi_update_converged(agi *g) {
 
 // One bounce b of the gather into fbo_gather[b & 1]; the last one adds its
 // estimate to the running sums.
-static bool gather_bounce(agi *g, const st_frame *f, st_shader *sh, int b, bool power,
-                          st_err *err) {
+static bool gather_bounce(agi *g, const st_frame *f, int b, bool power, st_err *err) {
     bool last = b == ip(g, P_BOUNCES) - 1;
     GLuint fbo = g->fbo_gather[b & 1];
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -172,8 +160,9 @@ static bool gather_bounce(agi *g, const st_frame *f, st_shader *sh, int b, bool 
     float rot[2];
     rotation(ip(g, P_PROGRESSIVE) ? g->frames * 8 + b : b, rot);
     if (power && !upload_picks(g, rot, err)) return false;
-    st_shader_use(sh);
-    st_world_apply_uniforms(g->w, sh, f); // the medium's extinction per segment
+    // Bound with the world's uniforms: the medium's extinction per segment.
+    st_shader *sh = st_frame_use_program(f, ip(g, P_VISIBILITY) ? PR_GATHER_VIS : PR_GATHER, err);
+    if (!sh) return false;
     st_shader_texture(sh, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
     st_shader_texture(sh, "ag_normal", GL_TEXTURE_2D, g->tex[T_NORMAL]);
     st_shader_texture(sh, "ag_albedo", GL_TEXTURE_2D, g->tex[T_ALBEDO]);
@@ -203,7 +192,6 @@ static void measure_error(agi *g) {
 }
 
 bool agi_gather_pass(agi *g, const st_frame *f, st_err *err) {
-    if (ip(g, P_MODE) == 0) return agi_transfer_pass(g, f, err);
     ensure_hammersley(g);
     bool vis = ip(g, P_VISIBILITY) != 0;
     if (vis && !ensure_bvh(g, err)) return false;
@@ -216,28 +204,18 @@ bool agi_gather_pass(agi *g, const st_frame *f, st_err *err) {
     }
     glViewport(0, 0, g->W, g->H);
     glDisable(GL_DEPTH_TEST);
-    st_shader *sh = vis ? g->sh_gather_vis : g->sh_gather;
     // The thesis estimator is defined for uniform picks only.
     bool power = ip(g, P_SAMPLING) == 1 && ip(g, P_ESTIMATOR) == 0;
     if (power && !g->have_cdf && !build_cdf(g, err)) return false;
     power = power && g->have_cdf;
     if (vis) st_bvh_bind(&g->B_gpu);
     for (int b = 0; b < ip(g, P_BOUNCES); b++)
-        if (!gather_bounce(g, f, sh, b, power, err)) return false;
+        if (!gather_bounce(g, f, b, power, err)) return false;
     g->frames++;
-    agi_resolve(g);
+    if (!agi_resolve(g, err)) return false;
     if (ip(g, P_PROGRESSIVE) && g->frames >= 4 && g->frames < ip(g, P_MAX_FRAMES)) measure_error(g);
     agi_update_converged(g);
     return st_gl_check("atlas_gi gather", err);
-}
-
-bool agi_progress(void *self, st_progress *out) {
-    agi *g = self;
-    out->converged = g->converged;
-    out->frames = (uint32_t)g->frames;
-    out->error = g->rel_err;
-    if (g->have_transfer) agi_relight_info(g, out->info, sizeof out->info);
-    return true;
 }
 
 void agi_gather_free(agi *g) {

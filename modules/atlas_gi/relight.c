@@ -1,16 +1,12 @@
 // atlas_gi, mode=transfer: the precomputed transfer (transfer.h) built once
 // per atlas from the G-buffer, and the relight: per bounce a reduction up the
 // cluster tree, one pass over the links and a push down to the texels
-// (transfer_gpu.h). Deterministic: one frame. profile=true times its steps.
-#define _POSIX_C_SOURCE 200809L // clock_gettime (profile)
+// (transfer_gpu.h). Deterministic: one frame. profile=true times its steps
+// (profile.c).
 #include "agi.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-static const char *const prof_names[AG_PROF_STEPS] = {"G-buffer", "reduce", "links", "push",
-                                                      "resolve"};
 
 void agi_release_transfer(agi *g) {
     tr_gpu_release(&g->TG);
@@ -59,38 +55,24 @@ static bool ensure_transfer(agi *g, st_err *err) {
     return true;
 }
 
-void agi_prof_mark(agi *g, double (*acc)[AG_PROF_STEPS], int step) {
-    if (!ip(g, P_PROFILE)) return;
-    glFinish();
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    double t[2] = {st_now_ms(), ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6};
-    for (int i = 0; i < 2; i++) {
-        if (acc) acc[i][step] += t[i] - g->prof_t[i];
-        g->prof_t[i] = t[i];
-    }
-}
-
-typedef struct {
-    agi *g;
-    const st_frame *f;
-} links_ctx;
-
-static void links_setup(void *ctx, st_shader *sh) {
-    const links_ctx *c = ctx;
-    st_world_apply_uniforms(c->g->w, sh, c->f); // the medium
-}
-
 // One bounce: reduce, links, push (into fbo_gather[b & 1]; the last bounce
 // also writes the accumulation).
-static void relight_bounce(agi *g, const st_frame *f, int b, double (*ms)[AG_PROF_STEPS]) {
+static bool relight_bounce(agi *g, const st_frame *f, int b, double (*ms)[AG_PROF_STEPS],
+                           st_err *err) {
     const transfer *T = &g->T;
     bool last = b == ip(g, P_BOUNCES) - 1;
-    tr_gpu_reduce(&g->TG, T, g->tex[T_L0], g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1], b > 0,
+    st_shader *reduce = st_world_program(g->w, g->p, PR_REDUCE, err);
+    st_shader *sum = reduce ? st_world_program(g->w, g->p, PR_SUM, err) : NULL;
+    st_shader *push = sum ? st_world_program(g->w, g->p, PR_PUSH, err) : NULL;
+    if (!push) return false;
+    tr_gpu_reduce(&g->TG, reduce, T, g->tex[T_L0], g->tex[b & 1 ? T_BOUNCE0 : T_BOUNCE1], b > 0,
                   g->tex[T_AREA]);
     agi_prof_mark(g, ms, 1);
-    links_ctx lc = {g, f};
-    tr_gpu_links(&g->TG, f->scene->medium.present, links_setup, &lc);
+    // The links program with the world's uniforms (the medium).
+    int links = f->scene->medium.present ? PR_LINKS_MEDIUM : PR_LINKS;
+    st_shader *sh = st_frame_use_program(f, links, err);
+    if (!sh) return false;
+    tr_gpu_links(&g->TG, sh, sum);
     agi_prof_mark(g, ms, 2);
     GLuint fbo = g->fbo_gather[b & 1];
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -98,8 +80,9 @@ static void relight_bounce(agi *g, const st_frame *f, int b, double (*ms)[AG_PRO
     glNamedFramebufferDrawBuffers(fbo, 2, bufs);
     glDisablei(GL_BLEND, 0);
     glDisablei(GL_BLEND, 1);
-    tr_gpu_push(&g->TG, g->tex[T_ALBEDO], g->tex[T_POS]);
+    tr_gpu_push(&g->TG, push, g->tex[T_ALBEDO], g->tex[T_POS]);
     agi_prof_mark(g, ms, 3);
+    return true;
 }
 
 bool agi_transfer_pass(agi *g, const st_frame *f, st_err *err) {
@@ -116,20 +99,14 @@ bool agi_transfer_pass(agi *g, const st_frame *f, st_err *err) {
     memset(g->prof_gb, 0, sizeof g->prof_gb);
     agi_prof_mark(g, NULL, 0);
     for (int b = 0; b < ip(g, P_BOUNCES) && T->num_nodes; b++)
-        relight_bounce(g, f, b, ms);
+        if (!relight_bounce(g, f, b, ms, err)) return false;
     for (int i = 0; i < TRG_COUNT; i++)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, (GLuint)i, 0);
     g->frames = 1;
     g->restart = false;
-    agi_resolve(g);
+    if (!agi_resolve(g, err)) return false;
     agi_prof_mark(g, ms, 4);
-    if (ip(g, P_PROFILE)) {
-        int k = g->prof_n % AG_PROF_MAX;
-        for (int c = 0; c < 2; c++)
-            for (int i = 0; i < AG_PROF_STEPS; i++)
-                g->prof[c][i][k] = (float)ms[c][i];
-        g->prof_n++;
-    }
+    agi_prof_keep(g, ms);
     g->rel_err = 0;
     g->converged = true;
     return st_gl_check("atlas_gi transfer", err);
@@ -150,10 +127,5 @@ void agi_relight_info(const agi *g, char *out, size_t size) {
         transfer_bytes(T) / mib, g->TG.bytes / mib, g->TG.mem[TRG_MEM_NODES] / mib,
         g->TG.mem[TRG_MEM_LINKS] / mib, g->TG.mem[TRG_MEM_GATHERED] / mib,
         g->TG.mem[TRG_MEM_PERM] / mib, g->TG.mem[TRG_MEM_LEAF] / mib);
-    int np = g->prof_n < AG_PROF_MAX ? g->prof_n : AG_PROF_MAX;
-    for (int i = 0; i < AG_PROF_STEPS && np && n > 0 && (size_t)n < size; i++)
-        n += snprintf(
-            out + n, size - (size_t)n, "%s%s %.2f / %.2f",
-            i ? ", " : "; relight steps (median ms wall / process CPU, profile): ", prof_names[i],
-            st_median_f(g->prof[0][i], np), st_median_f(g->prof[1][i], np));
+    agi_prof_info(g, out, n, size);
 }

@@ -50,27 +50,6 @@ void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[
     memcpy(&out[2], gt, sizeof gt);
 }
 
-bool tr_gpu_load_shaders(tr_gpu *g, st_err *err) {
-    char defs[32];
-    snprintf(defs, sizeof defs, "AG_CHUNK %d\n", TRG_CHUNK);
-    char defs_medium[64];
-    snprintf(defs_medium, sizeof defs_medium, "%sAG_MEDIUM 1\n", defs);
-    return (g->sh_reduce = st_shader_load_compute("atlas_gi/transfer_reduce.comp", defs, err)) &&
-           (g->sh_links = st_shader_load_compute("atlas_gi/transfer_gather.comp", defs, err)) &&
-           (g->sh_links_medium =
-                st_shader_load_compute("atlas_gi/transfer_gather.comp", defs_medium, err)) &&
-           (g->sh_sum = st_shader_load_compute("atlas_gi/transfer_sum.comp", defs, err)) &&
-           (g->sh_push =
-                st_shader_load("common/fullscreen.vert", "atlas_gi/transfer_push.frag", defs, err));
-}
-
-bool tr_gpu_reload_shaders(tr_gpu *g, st_err *err) {
-    st_shader *all[5] = {g->sh_reduce, g->sh_links, g->sh_links_medium, g->sh_sum, g->sh_push};
-    for (int i = 0; i < 5; i++)
-        if (all[i] && !st_shader_reload(all[i], err)) return false;
-    return true;
-}
-
 // World names of the buffers and their buffer-texture views (--stats, debuggers).
 static const char *const buf_name[TRG_COUNT] = {
     "atlas_gi.transfer_nodes",    "atlas_gi.transfer_flux",
@@ -78,6 +57,7 @@ static const char *const buf_name[TRG_COUNT] = {
     "atlas_gi.transfer_links",    "atlas_gi.transfer_texels",
     "atlas_gi.transfer_partial",  "atlas_gi.transfer_chunk_receivers"};
 
+// Forgets the buffers and their views (the world deletes what it owns) and the leaf map.
 static void untrack(tr_gpu *g) {
     if (!g->w) return;
     char name[96];
@@ -90,48 +70,23 @@ static void untrack(tr_gpu *g) {
     if (g->leaf_tex) st_world_declare_target(g->w, "atlas_gi.leaf", NULL, &(st_err){0});
 }
 
-static bool track(tr_gpu *g, st_err *err) {
-    char name[96];
-    for (int i = 0; i < TRG_COUNT; i++) {
-        snprintf(name, sizeof name, "%s_tex", buf_name[i]);
-        if (!st_world_track(g->w, buf_name[i], GL_BUFFER, g->buf[i], err) ||
-            !st_world_track(g->w, name, GL_TEXTURE, g->tex[i], err))
-            return false;
-    }
-    return st_world_track(g->w, "atlas_gi.transfer_nodes_itex", GL_TEXTURE, g->nodes_itex, err);
-}
-
 void tr_gpu_release(tr_gpu *g) {
     untrack(g);
     g->bytes = 0;
     memset(g->mem, 0, sizeof g->mem);
-    glDeleteTextures(TRG_COUNT, g->tex);
-    glDeleteTextures(1, &g->nodes_itex);
     memset(g->tex, 0, sizeof g->tex);
-    g->nodes_itex = 0;
-    glDeleteBuffers(TRG_COUNT, g->buf);
     memset(g->buf, 0, sizeof g->buf);
+    g->nodes_itex = 0;
     g->leaf_tex = 0; // the world's target, forgotten above
     g->num_nodes = g->num_chunks = 0;
 }
 
-void tr_gpu_destroy(tr_gpu *g) {
-    tr_gpu_release(g);
-    st_shader_destroy(g->sh_reduce);
-    st_shader_destroy(g->sh_links);
-    st_shader_destroy(g->sh_links_medium);
-    st_shader_destroy(g->sh_sum);
-    st_shader_destroy(g->sh_push);
-    g->sh_reduce = g->sh_links = g->sh_links_medium = g->sh_sum = g->sh_push = NULL;
-}
-
-static GLuint buffer(size_t bytes, const void *data, long long *mem) {
-    GLuint b;
+// Buffer i, world-owned, and its size counted in the --stats group `mem`.
+static GLuint buffer(tr_gpu *g, int i, size_t bytes, const void *data, long long *mem,
+                     st_err *err) {
     if (!bytes) bytes = 16; // GL wants a non-empty store
-    glCreateBuffers(1, &b);
-    glNamedBufferStorage(b, (GLsizeiptr)bytes, data, 0);
     *mem += (long long)bytes;
-    return b;
+    return g->buf[i] = st_world_buffer(g->w, buf_name[i], bytes, data, err);
 }
 
 // The push walks from a texel's leaf up to the root; nodes without links
@@ -178,27 +133,32 @@ static void pack_nodes(const transfer *t, const int32_t *up, float *nodes, uint3
 }
 
 // The buffers and their buffer-texture views.
-static void create_buffers(tr_gpu *g, const transfer *t, const float *nodes, const uint32_t *choff,
-                           const uint32_t *links, const uint32_t *recv, uint64_t nch) {
+static bool create_buffers(tr_gpu *g, const transfer *t, const float *nodes, const uint32_t *choff,
+                           const uint32_t *links, const uint32_t *recv, uint64_t nch, st_err *err) {
     int nn = t->num_nodes;
     uint64_t nslots = nch * TRG_CHUNK;
     uint32_t nperm = nn ? t->nodes[0].end : 0;
     long long *m = g->mem;
-    g->buf[TRG_NODES] = buffer((size_t)nn * 16 * sizeof(float), nodes, &m[TRG_MEM_NODES]);
-    g->buf[TRG_FLUX] = buffer((size_t)nn * 4 * sizeof(float), NULL, &m[TRG_MEM_NODES]);
-    g->buf[TRG_GATHER] = buffer((size_t)nn * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
-    g->buf[TRG_CHOFF] = buffer(((size_t)nn + 1) * sizeof(uint32_t), choff, &m[TRG_MEM_LINKS]);
-    g->buf[TRG_LINKS] = buffer(nslots * 4 * sizeof(uint32_t), links, &m[TRG_MEM_LINKS]);
-    g->buf[TRG_CHRECV] = buffer(nch * sizeof(uint32_t), recv, &m[TRG_MEM_LINKS]);
-    g->buf[TRG_PERM] = buffer(nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM]);
-    g->buf[TRG_PARTIAL] = buffer(nch * 12 * sizeof(float), NULL, &m[TRG_MEM_GATHERED]);
+    if (!buffer(g, TRG_NODES, (size_t)nn * 16 * sizeof(float), nodes, &m[TRG_MEM_NODES], err) ||
+        !buffer(g, TRG_FLUX, (size_t)nn * 4 * sizeof(float), NULL, &m[TRG_MEM_NODES], err) ||
+        !buffer(g, TRG_GATHER, (size_t)nn * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED], err) ||
+        !buffer(g, TRG_CHOFF, ((size_t)nn + 1) * sizeof(uint32_t), choff, &m[TRG_MEM_LINKS], err) ||
+        !buffer(g, TRG_LINKS, nslots * 4 * sizeof(uint32_t), links, &m[TRG_MEM_LINKS], err) ||
+        !buffer(g, TRG_CHRECV, nch * sizeof(uint32_t), recv, &m[TRG_MEM_LINKS], err) ||
+        !buffer(g, TRG_PERM, nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM], err) ||
+        !buffer(g, TRG_PARTIAL, nch * 12 * sizeof(float), NULL, &m[TRG_MEM_GATHERED], err))
+        return false;
     static const GLenum fmt[TRG_COUNT] = {GL_RGBA32F,  GL_RGBA32F, GL_RGBA32F, GL_R32UI,
                                           GL_RGBA32UI, GL_R32UI,   GL_RGBA32F, GL_R32UI};
-    glCreateTextures(GL_TEXTURE_BUFFER, TRG_COUNT, g->tex);
-    for (int i = 0; i < TRG_COUNT; i++)
-        glTextureBuffer(g->tex[i], fmt[i], g->buf[i]);
-    glCreateTextures(GL_TEXTURE_BUFFER, 1, &g->nodes_itex);
-    glTextureBuffer(g->nodes_itex, GL_RGBA32I, g->buf[TRG_NODES]);
+    char name[96];
+    for (int i = 0; i < TRG_COUNT; i++) {
+        snprintf(name, sizeof name, "%s_tex", buf_name[i]);
+        if (!(g->tex[i] = st_world_buffer_texture(g->w, name, g->buf[i], fmt[i], err)))
+            return false;
+    }
+    g->nodes_itex = st_world_buffer_texture(g->w, "atlas_gi.transfer_nodes_itex", g->buf[TRG_NODES],
+                                            GL_RGBA32I, err);
+    return g->nodes_itex != 0;
 }
 
 bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
@@ -232,10 +192,10 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
         return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
     }
     pack_nodes(t, up, nodes, choff, links, recv);
-    create_buffers(g, t, nodes, choff, links, recv, nch);
+    bool ok = create_buffers(g, t, nodes, choff, links, recv, nch, err);
     free(nodes), free(choff), free(links), free(recv);
     const st_target_desc leaf = {GL_R32I, .width = t->W, .height = t->H, .filter = GL_NEAREST};
-    const st_target *lt = st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err);
+    const st_target *lt = ok ? st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err) : NULL;
     if (lt) {
         g->leaf_tex = lt->color[0];
         glTextureSubImage2D(g->leaf_tex, 0, 0, 0, t->W, t->H, GL_RED_INTEGER, GL_INT, first);
@@ -245,7 +205,7 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
     g->mem[TRG_MEM_LEAF] = (long long)t->W * t->H * 4;
     for (int i = 0; i < TRG_MEM_COUNT; i++)
         g->bytes += g->mem[i];
-    if (!lt || !track(g, err)) return false;
+    if (!lt) return false;
     g->num_nodes = nn;
     g->num_chunks = (int)nch;
     return st_gl_check("atlas_gi transfer upload", err);
@@ -274,9 +234,8 @@ static GLuint groups(int n) {
     return (GLuint)((n + 63) / 64);
 }
 
-void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool use_prev,
-                   GLuint area) {
-    st_shader *r = g->sh_reduce;
+void tr_gpu_reduce(tr_gpu *g, st_shader *r, const transfer *t, GLuint l0, GLuint prev,
+                   bool use_prev, GLuint area) {
     st_shader_use(r);
     bind(g, r);
     st_shader_texture(r, "ag_l0", GL_TEXTURE_2D, l0);
@@ -292,22 +251,18 @@ void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool us
     }
 }
 
-void tr_gpu_links(tr_gpu *g, bool medium, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx) {
-    st_shader *sh = medium ? g->sh_links_medium : g->sh_links;
-    st_shader_use(sh);
-    if (sh_setup) sh_setup(ctx, sh); // before bind: it may bind textures too
-    bind(g, sh);
+void tr_gpu_links(tr_gpu *g, st_shader *links, st_shader *sum) {
+    bind(g, links); // after the world's uniforms: they may bind textures too
     glDispatchCompute((GLuint)(g->num_chunks / 64), 1, 1); // a multiple of 64
     barrier();
-    st_shader_use(g->sh_sum);
-    bind(g, g->sh_sum);
-    st_shader_set_int(g->sh_sum, "ag_num_nodes", g->num_nodes);
+    st_shader_use(sum);
+    bind(g, sum);
+    st_shader_set_int(sum, "ag_num_nodes", g->num_nodes);
     glDispatchCompute(groups(g->num_nodes), 1, 1);
     barrier();
 }
 
-void tr_gpu_push(tr_gpu *g, GLuint albedo, GLuint pos) {
-    st_shader *p = g->sh_push;
+void tr_gpu_push(tr_gpu *g, st_shader *p, GLuint albedo, GLuint pos) {
     st_shader_use(p);
     bind(g, p);
     st_shader_texture(p, "ag_leaf", GL_TEXTURE_2D, g->leaf_tex);

@@ -30,7 +30,7 @@
 #define ATLAS_GI_TRANSFER_GPU_H
 #include "st_gl.h"
 #include "st_shader.h"
-#include "st_world.h"
+#include "st_world_api.h"
 #include "transfer.h"
 
 #define TRG_CHUNK 32 // links per chunk
@@ -50,14 +50,18 @@ enum {
 // Bytes per group, for --stats.
 enum { TRG_MEM_NODES, TRG_MEM_LINKS, TRG_MEM_GATHERED, TRG_MEM_PERM, TRG_MEM_LEAF, TRG_MEM_COUNT };
 
+// The stringized chunk size, for the programs' defines ("AG_CHUNK " TRG_CHUNK_S).
+#define TRG_STR_(x) #x
+#define TRG_STR(x) TRG_STR_(x)
+#define TRG_CHUNK_S TRG_STR(TRG_CHUNK)
+
 typedef struct tr_gpu {
-    st_world *w; // owns the leaf map (a declared target) and tracks the buffers
+    st_world *w; // owns the buffers, their buffer textures and the leaf map (a declared target)
     GLuint buf[TRG_COUNT];
     GLuint tex[TRG_COUNT], nodes_itex; // buffer-texture views: the passes read through them
     GLuint leaf_tex; // R32I: per texel the first node with links up from its leaf (-1 gutter)
     int num_nodes, num_chunks;
     long long mem[TRG_MEM_COUNT], bytes; // for the --stats line (the world's table counts them too)
-    st_shader *sh_reduce, *sh_links, *sh_links_medium, *sh_sum, *sh_push;
 } tr_gpu;
 
 // A node's tangents t1, t2 (unit, orthogonal to its mean normal and each
@@ -66,23 +70,21 @@ void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]);
 // One link as uploaded: the four words above.
 void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]);
 
-bool tr_gpu_load_shaders(tr_gpu *g, st_err *err);
-bool tr_gpu_reload_shaders(tr_gpu *g, st_err *err);
-// Uploads t (replacing what was there); W x H is the atlas.
+// Uploads t into world-owned buffers (replacing what was there); W x H is the atlas.
 bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err);
-// Frees the buffers (not the shaders).
+// Hands the buffers back to the world (which deletes them).
 void tr_gpu_release(tr_gpu *g);
-void tr_gpu_destroy(tr_gpu *g);
 
-// A relight's steps for one bounce; binds its buffers itself.
+// A relight's steps for one bounce, each with its program (the plugin's
+// declared "transfer_reduce.comp", ...); they bind their buffers themselves.
 // Flux per node from L0 (+ prev when use_prev) times the texel areas.
-void tr_gpu_reduce(tr_gpu *g, const transfer *t, GLuint l0, GLuint prev, bool use_prev,
-                   GLuint area);
-// The links' sums per node; `medium`: attenuated along each link (a shader
-// variant). `sh_setup` sets the world's uniforms (the medium) on the link
-// shader.
-void tr_gpu_links(tr_gpu *g, bool medium, void (*sh_setup)(void *ctx, st_shader *sh), void *ctx);
+void tr_gpu_reduce(tr_gpu *g, st_shader *reduce, const transfer *t, GLuint l0, GLuint prev,
+                   bool use_prev, GLuint area);
+// The links' sums per node with `links` (bound by the caller with the
+// world's uniforms: the medium variant attenuates along each link), then
+// the per-node sum with `sum`.
+void tr_gpu_links(tr_gpu *g, st_shader *links, st_shader *sum);
 // Per texel rho/pi times the sum over its leaf and ancestors, into the bound
 // framebuffer (attachment 0: this bounce; 1: the accumulation).
-void tr_gpu_push(tr_gpu *g, GLuint albedo, GLuint pos);
+void tr_gpu_push(tr_gpu *g, st_shader *push, GLuint albedo, GLuint pos);
 #endif

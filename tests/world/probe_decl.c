@@ -10,6 +10,10 @@
 // them; test_declared_programs loads it, its shaders in shaders/probe_decl13/),
 // and a third time as probe_decl13h with PROBE_NO_SIZES: without the size
 // table, so the loader knows the row size from the minor version alone.
+// ABI 1.4: a world-owned buffer texture "probe_decl.values_tex" holding 7,
+// exported as u_buf (the add pass puts it in blue); the fill passes run only
+// on their first frame, a parameter change or a shader reload
+// (ST_CHANGE_PROGRAMS), their target keeping its texels between.
 #include "st_world_api.h"
 #include <stddef.h>
 #include <stdlib.h>
@@ -46,15 +50,35 @@ static const st_pass_decl passes[] = {
      .frag = PROBE_NAME "/add.frag"},
 };
 
+#ifndef PROBE_OLD_ABI13
+static const st_export_decl exports[] = {{"u_buf", .target = "probe_decl.values_tex"}};
+#endif
+
 typedef struct probe {
     st_world *w;
 } probe;
 
 static void *create(st_world *w, const double *p, st_err *err) {
     probe *s = st_calloc(sizeof *s, err);
-    if (s) s->w = w;
+    if (!s) return NULL;
+    s->w = w;
+#ifndef PROBE_OLD_ABI13 // world-owned objects and exports are ABI 1.4
+    const float seven = 7;
+    GLuint b = st_world_buffer(w, "probe_decl.values", sizeof seven, &seven, err);
+    if (!b || !st_world_buffer_texture(w, "probe_decl.values_tex", b, GL_R32F, err)) {
+        free(s);
+        return NULL;
+    }
+#endif
     return s;
 }
+
+#ifndef PROBE_OLD_ABI13
+static bool needed(void *self, int pass, const st_frame *f) {
+    const unsigned again = ST_CHANGE_FIRST | ST_CHANGE_PARAMS | ST_CHANGE_PROGRAMS;
+    return f->row != 0 || (f->changes & again);
+}
+#endif
 
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     probe *s = self;
@@ -71,8 +95,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 
 #ifndef PROBE_OLD_ABI13
 ST_PLUGIN(.name = PROBE_NAME, .description = "test plugin with declared passes", ST_PARAMS(params),
-          ST_PASSES(passes), .param_uniforms = "u_", .create = create, .destroy = free,
-          .on_pass = on_pass)
+          ST_PASSES(passes), ST_EXPORTS(exports), .param_uniforms = "u_", .create = create,
+          .destroy = free, .needed = needed, .on_pass = on_pass)
 #else
 // The 1.4 fields past struct_size hold garbage, which the loader must never read.
 static const st_plugin old_desc = {.abi_major = ST_ABI_MAJOR,

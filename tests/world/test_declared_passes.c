@@ -7,7 +7,9 @@
 // hot-reloads the programs from their files (keeping the old program when a
 // file breaks) and deletes them with the module. probe_old is a plugin as
 // ABI 1.2 built it (minor 2, shorter st_plugin and st_frame, garbage past
-// its struct_size): it must load and run on the old path.
+// its struct_size): it must load and run on the old path. ABI 1.4: an export
+// of a world-owned buffer texture reaches the add pass, and a shader reload
+// runs a pass again that waits for its inputs (ST_CHANGE_PROGRAMS).
 #include "st_test_render.h"
 #include "st_test_support.h"
 #include "st_world.h"
@@ -35,11 +37,12 @@ static bool write_add(double gain) {
     char text[1024];
     snprintf(text, sizeof text,
              "uniform sampler2D st_hdr_in;\nuniform sampler2D u_fill;\nuniform float u_value;\n"
+             "uniform samplerBuffer u_buf;\n"
              "layout(location = 0) out vec4 o;\n"
              "void main() {\n  ivec2 p = ivec2(gl_FragCoord.xy);\n"
              "  vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(st_hdr_in, 0));\n"
              "  o = texelFetch(st_hdr_in, p, 0) + vec4(u_value * %.1f, texture(u_fill, uv).r, "
-             "0.0, 0.0);\n}\n",
+             "texelFetch(u_buf, 0).r, 0.0);\n}\n",
              gain);
     return write_file("add.frag", text);
 }
@@ -90,6 +93,7 @@ static void part_declared(st_world *w) {
     pixel(w, px);
     CHECK(px[0] == 3.0f && px[1] == 103.0f, "value 3 as u_value, fill1 = 103: got %g %g", px[0],
           px[1]);
+    CHECK(px[2] == 7.0f, "the exported buffer texture u_buf holds 7: got %g", px[2]);
     const st_pass_stats *f0 = stats(w, "probe_decl", "fill[0]"),
                         *f1 = stats(w, "probe_decl", "fill[1]"),
                         *add = stats(w, "probe_decl", "add");
@@ -106,10 +110,16 @@ static void part_declared(st_world *w) {
     CHECK(target_width(w, "probe_decl.fill1") == 8, "scale 0.5 resizes fill1 to 8 px: %d",
           target_width(w, "probe_decl.fill1"));
     CHECK(px[0] == 5.0f && px[1] == 105.0f, "value 5: got %g %g", px[0], px[1]);
+    pixel(w, px);
+    f1 = stats(w, "probe_decl", "fill[1]"); // the pass list was rebuilt by set_param
+    CHECK(f1 && !f1->ran_last_frame && px[1] == 105.0f,
+          "fill[1] waits while nothing changes, its target keeps 105: %g", px[1]);
     CHECK(write_add(2.0), "rewrite add.frag");
     CHECK(st_world_reload_shaders(w, &err), "reload: %s", err.msg);
     pixel(w, px);
     CHECK(px[0] == 10.0f, "hot reload: gain 2 gives 10, got %g", px[0]);
+    f1 = stats(w, "probe_decl", "fill[1]");
+    CHECK(f1 && f1->ran_last_frame, "a reload runs fill[1] again (ST_CHANGE_PROGRAMS)");
     CHECK(write_file("add.frag", "this is not GLSL\n"), "break add.frag");
     CHECK(!st_world_reload_shaders(w, &err) && strstr(err.msg, "add.frag"),
           "a broken file fails the reload naming it: %s", err.msg);
