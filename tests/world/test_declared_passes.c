@@ -10,78 +10,7 @@
 // its struct_size): it must load and run on the old path. ABI 1.4: an export
 // of a world-owned buffer texture reaches the add pass, and a shader reload
 // runs a pass again that waits for its inputs (ST_CHANGE_PROGRAMS).
-#include "st_test_render.h"
-#include "st_test_support.h"
-#include "st_world.h"
-#include <sys/stat.h>
-
-static const char *scene_json =
-    "{\"image\": {\"width\": 16, \"height\": 16},\n"
-    " \"camera\": {\"position\": [0, 0, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0],"
-    " \"fov_y\": 40, \"near\": 0.05, \"far\": 100},\n"
-    " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 0], \"intensity\": [1, 1, 1]},\n"
-    "            {\"type\": \"point\", \"position\": [1, 1, 0], \"intensity\": [1, 1, 1]}],\n"
-    " \"geometry\": [], \"modules\": []}\n";
-
-static bool write_file(const char *name, const char *text) {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/shaders/probe_decl/%s", ST_TEST_PROBE_DIR, name);
-    FILE *f = fopen(path, "w");
-    if (!f) return false;
-    fputs(text, f);
-    return fclose(f) == 0;
-}
-
-// The post pass adds (u_value * gain, fill1, 0); `gain` is baked into the file.
-static bool write_add(double gain) {
-    char text[1024];
-    snprintf(text, sizeof text,
-             "uniform sampler2D st_hdr_in;\nuniform sampler2D u_fill;\nuniform float u_value;\n"
-             "uniform samplerBuffer u_buf;\n"
-             "layout(location = 0) out vec4 o;\n"
-             "void main() {\n  ivec2 p = ivec2(gl_FragCoord.xy);\n"
-             "  vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(st_hdr_in, 0));\n"
-             "  o = texelFetch(st_hdr_in, p, 0) + vec4(u_value * %.1f, texture(u_fill, uv).r, "
-             "texelFetch(u_buf, 0).r, 0.0);\n}\n",
-             gain);
-    return write_file("add.frag", text);
-}
-
-static bool pixel(st_world *w, float out[3]) {
-    st_err err = {0};
-    st_image img = {0};
-    bool ok = st_world_frame(w, &err) && st_world_read(w, &img, &err);
-    CHECK(ok, "frame: %s", err.msg);
-    if (ok) memcpy(out, st_image_px(&img, 8, 8), 3 * sizeof(float));
-    st_image_free(&img);
-    return ok;
-}
-
-static const st_pass_stats *stats(const st_world *w, const char *module, const char *pass) {
-    for (int i = 0; i < st_world_num_pass_stats(w); i++) {
-        const st_pass_stats *s = st_world_pass_stats(w, i);
-        if (!strcmp(s->module, module) && !strcmp(s->pass, pass)) return s;
-    }
-    return NULL;
-}
-
-static int target_width(st_world *w, const char *name) {
-    st_mem_entry rows[64];
-    int n = st_world_memory(w, rows, 64);
-    for (int i = 0; i < n && i < 64; i++)
-        if (!strcmp(rows[i].name, name)) return rows[i].width;
-    return -1;
-}
-
-// Programs alive in the context (a deleted program stays alive while it is
-// the current one, so none is current while counting).
-static int live_programs(void) {
-    glUseProgram(0);
-    int n = 0;
-    for (GLuint i = 1; i < 4096; i++)
-        n += glIsProgram(i) == GL_TRUE;
-    return n;
-}
+#include "probe_world.h"
 
 static void part_declared(st_world *w) {
     st_err err = {0};
@@ -114,18 +43,18 @@ static void part_declared(st_world *w) {
     f1 = stats(w, "probe_decl", "fill[1]"); // the pass list was rebuilt by set_param
     CHECK(f1 && !f1->ran_last_frame && px[1] == 105.0f,
           "fill[1] waits while nothing changes, its target keeps 105: %g", px[1]);
-    CHECK(write_add(2.0), "rewrite add.frag");
+    CHECK(write_add("probe_decl", 2.0, true), "rewrite add.frag");
     CHECK(st_world_reload_shaders(w, &err), "reload: %s", err.msg);
     pixel(w, px);
     CHECK(px[0] == 10.0f, "hot reload: gain 2 gives 10, got %g", px[0]);
     f1 = stats(w, "probe_decl", "fill[1]");
     CHECK(f1 && f1->ran_last_frame, "a reload runs fill[1] again (ST_CHANGE_PROGRAMS)");
-    CHECK(write_file("add.frag", "this is not GLSL\n"), "break add.frag");
+    CHECK(write_file("probe_decl", "add.frag", "this is not GLSL\n"), "break add.frag");
     CHECK(!st_world_reload_shaders(w, &err) && strstr(err.msg, "add.frag"),
           "a broken file fails the reload naming it: %s", err.msg);
     pixel(w, px);
     CHECK(px[0] == 10.0f, "the old program stays: %g", px[0]);
-    CHECK(write_add(1.0), "restore add.frag");
+    CHECK(write_add("probe_decl", 1.0, true), "restore add.frag");
     CHECK(st_world_enable(w, "probe_decl", false, &err), "probe_decl off: %s", err.msg);
     // A frame first: Mesa frees a deleted program only once no stage of it
     // is bound any more, and the regular program (rebuilt without the
@@ -153,27 +82,11 @@ static void part_old(st_world *w) {
 }
 
 int main(void) {
-    char path[4096];
-    const char *old = getenv("STRAHL_MODULE_PATH");
-    snprintf(path, sizeof path, "%s%s%s", ST_TEST_PROBE_DIR, old ? ":" : "", old ? old : "");
-    setenv("STRAHL_MODULE_PATH", path, 1);
-    snprintf(path, sizeof path, "%s/shaders", ST_TEST_PROBE_DIR);
-    mkdir(path, 0755);
-    snprintf(path, sizeof path, "%s/shaders/probe_decl", ST_TEST_PROBE_DIR);
-    mkdir(path, 0755);
-    CHECK(write_add(1.0) && write_file("fill.frag", "uniform float u_value;\nuniform int u_k;\n"
-                                                    "layout(location = 0) out float o;\n"
-                                                    "void main() { o = u_value + 100.0 * "
-                                                    "float(u_k); }\n"),
-          "write the probe's shaders");
+    probe_dir_setup();
+    CHECK(write_decl("probe_decl", true), "write the probe's shaders");
     st_context *ctx = st_test_context();
     st_scene sc = {0};
-    st_err err = {0};
-    bool parsed =
-        st_scene_parse(scene_json, strlen(scene_json), ST_TEST_SCRATCH "/declared.json", &sc, &err);
-    CHECK(parsed, "scene: %s", err.msg);
-    st_world *w = parsed ? st_world_create(&sc, NULL, &err) : NULL;
-    CHECK(w != NULL, "world: %s", err.msg);
+    st_world *w = probe_world(16, 16, ST_TEST_SCRATCH "/declared.json", &sc);
     if (w) {
         part_declared(w);
         part_old(w);

@@ -11,32 +11,10 @@
 // and that the programs are deleted with the module. probe_decl13 is
 // probe_decl as ABI 1.3 built it (shorter pass rows); probe_bad's broken
 // tables must be refused, each with its message.
-#include "st_test_render.h"
-#include "st_test_support.h"
-#include "st_world.h"
+#include "probe_world.h"
 #include "st_world_state.h"
-#include <sys/stat.h>
 
 enum { W = 20, H = 12 };
-
-static const char *scene_json =
-    "{\"image\": {\"width\": 20, \"height\": 12},\n"
-    " \"camera\": {\"position\": [0, 0, 3], \"target\": [0, 0, 0], \"up\": [0, 1, 0],"
-    " \"fov_y\": 40, \"near\": 0.05, \"far\": 100},\n"
-    " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 0], \"intensity\": [1, 1, 1]},\n"
-    "            {\"type\": \"point\", \"position\": [1, 1, 0], \"intensity\": [1, 1, 1]}],\n"
-    " \"geometry\": [], \"modules\": []}\n";
-
-static bool write_file(const char *dir, const char *name, const char *text) {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/shaders/%s", ST_TEST_PROBE_DIR, dir);
-    mkdir(path, 0755);
-    snprintf(path, sizeof path, "%s/shaders/%s/%s", ST_TEST_PROBE_DIR, dir, name);
-    FILE *f = fopen(path, "w");
-    if (!f) return false;
-    fputs(text, f);
-    return fclose(f) == 0;
-}
 
 // The compute program of both compute passes; `extra` is baked into g.
 static bool write_fill(double extra) {
@@ -117,13 +95,6 @@ static double blue(const expect *e) {
     return b + (e->reader ? e->value + 10 * e->mode + (e->alt ? 100 : 0) : 0);
 }
 
-static bool frame_image(st_world *w, st_image *img) {
-    st_err err = {0};
-    bool ok = st_world_frame(w, &err) && st_world_read(w, img, &err);
-    CHECK(ok, "frame: %s", err.msg);
-    return ok;
-}
-
 // The largest difference of any pixel from what `e` says (1e30: no image).
 static double image_error(st_world *w, const expect *e) {
     st_image img = {0};
@@ -176,16 +147,6 @@ static int memory_rows(st_world *w, const char *owner) {
     return k;
 }
 
-// Programs alive in the context (a deleted program stays alive while it is
-// the current one, so none is current while counting).
-static int live_programs(void) {
-    glUseProgram(0);
-    int n = 0;
-    for (GLuint i = 1; i < 4096; i++)
-        n += glIsProgram(i) == GL_TRUE;
-    return n;
-}
-
 // The GL names of a module's declared programs compiled so far.
 static int programs_of(st_world *w, const char *module, GLuint *out, int max) {
     int n = 0;
@@ -196,14 +157,6 @@ static int programs_of(st_world *w, const char *module, GLuint *out, int max) {
             if (mi->progs[k]) out[n++] = mi->progs[k]->program;
     }
     return n;
-}
-
-static const st_pass_stats *stats(const st_world *w, const char *module, const char *pass) {
-    for (int i = 0; i < st_world_num_pass_stats(w); i++) {
-        const st_pass_stats *s = st_world_pass_stats(w, i);
-        if (!strcmp(s->module, module) && !strcmp(s->pass, pass)) return s;
-    }
-    return NULL;
 }
 
 static bool set(st_world *w, const char *module, const char *param, double v) {
@@ -398,22 +351,6 @@ static void part_tracking(st_world *w) {
     glDeleteBuffers(1, &mine);
 }
 
-static bool pixel(st_world *w, float out[3]) {
-    st_image img = {0};
-    bool ok = frame_image(w, &img);
-    if (ok) memcpy(out, st_image_px(&img, 8, 8), 3 * sizeof(float));
-    st_image_free(&img);
-    return ok;
-}
-
-static int target_width(st_world *w, const char *name) {
-    st_mem_entry rows[64];
-    int n = st_world_memory(w, rows, 64);
-    for (int i = 0; i < n && i < 64; i++)
-        if (!strcmp(rows[i].name, name)) return rows[i].width;
-    return -1;
-}
-
 // probe_decl as ABI 1.3 built it (`name`: probe_decl13 with its size table,
 // probe_decl13h without): rows of the shorter st_pass_decl, garbage in the
 // 1.4 fields past its struct_size. It renders what test_declared_passes
@@ -486,34 +423,13 @@ static void part_bad(st_world *w) {
 }
 
 int main(void) {
-    char path[4096];
-    const char *old = getenv("STRAHL_MODULE_PATH");
-    snprintf(path, sizeof path, "%s%s%s", ST_TEST_PROBE_DIR, old ? ":" : "", old ? old : "");
-    setenv("STRAHL_MODULE_PATH", path, 1);
-    snprintf(path, sizeof path, "%s/shaders", ST_TEST_PROBE_DIR);
-    mkdir(path, 0755);
-    const char *add = "uniform sampler2D st_hdr_in;\nuniform sampler2D u_fill;\n"
-                      "uniform float u_value;\nlayout(location = 0) out vec4 o;\n"
-                      "void main() {\n  ivec2 p = ivec2(gl_FragCoord.xy);\n"
-                      "  vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(st_hdr_in, 0));\n"
-                      "  o = texelFetch(st_hdr_in, p, 0) + vec4(u_value, texture(u_fill, uv).r, "
-                      "0.0, 0.0);\n}\n";
-    const char *fill = "uniform float u_value;\nuniform int u_k;\n"
-                       "layout(location = 0) out float o;\n"
-                       "void main() { o = u_value + 100.0 * float(u_k); }\n";
-    CHECK(write_shaders() && write_file("probe_decl13", "add.frag", add) &&
-              write_file("probe_decl13", "fill.frag", fill) &&
-              write_file("probe_decl13h", "add.frag", add) &&
-              write_file("probe_decl13h", "fill.frag", fill),
+    probe_dir_setup();
+    CHECK(write_shaders() && write_decl("probe_decl13", false) &&
+              write_decl("probe_decl13h", false),
           "write the probes' shaders");
     st_context *ctx = st_test_context();
     st_scene sc = {0};
-    st_err err = {0};
-    bool parsed =
-        st_scene_parse(scene_json, strlen(scene_json), ST_TEST_SCRATCH "/programs.json", &sc, &err);
-    CHECK(parsed, "scene: %s", err.msg);
-    st_world *w = parsed ? st_world_create(&sc, NULL, &err) : NULL;
-    CHECK(w != NULL, "world: %s", err.msg);
+    st_world *w = probe_world(W, H, ST_TEST_SCRATCH "/programs.json", &sc);
     if (w) {
         part_probe(w);
         part_tracking(w);
