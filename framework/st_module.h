@@ -20,16 +20,22 @@
 //   ST_PLUGIN(.name = "dim", .description = "scales the image", ST_PARAMS(params),
 //             ST_PASSES(passes), .param_uniforms = "u_")
 //
-// A plugin whose passes change with its parameters answers num_passes and
-// pass_info (and loads its programs) itself, as before ABI 1.3; on_pass(k, f)
-// sets what the parameters do not say, on f->shader for a declared pass.
-//
 // with dim.frag reading `uniform sampler2D st_hdr_in;` (bound by the world).
+// on_pass(k, f) sets what the parameters do not say, on f->shader.
+//
+// ABI 1.4 lets the tables say what real techniques need (docs/plugin-guide.md
+// walks through one): several programs (ST_PROGRAMS; compute ones too, with
+// parameters compiled in as defines), a compute pass the world dispatches
+// over the target it writes, a program hook choosing a pass's program per
+// frame, uniforms exported to every program (ST_EXPORTS) and buffers the
+// world owns. A plugin whose pass list itself changes with its parameters
+// may still answer num_passes and pass_info, as before ABI 1.3.
 //
 // Order of the hooks:
 //   load:     parameters = defaults, then the scene's values
 //   create(w, params), then uniforms() once              (in dependency order)
-//   declared passes: the table expanded, programs loaded, targets declared
+//   declared passes: the table expanded, the rows' programs loaded, targets
+//     declared (other declared programs compile on first use)
 //   num_passes(), pass_info(k) for every k               (again after every switch
 //                                                         and every parameter change;
 //                                                         not with declared passes)
@@ -37,10 +43,12 @@
 //   per live, needed pass: the world binds rendertarget(k) (or the next post
 //     target for a post pass writing "hdr", or else the world-owned target
 //     the pass writes, allocated at its size); shader(k) is bound with every
-//     uniform set; on_pass(k, f); the world draws (ST_PASS_SCENE: every model,
-//     ST_PASS_FULLSCREEN: one triangle); after_pass(k, f)
-//   st_world_set_param: the value lands in params[], then param_changed(i), then
-//     the declared targets are declared again (a scale parameter may have changed)
+//     uniform set (program(k, f) picks a declared one); on_pass(k, f); the world
+//     draws (ST_PASS_SCENE: every model, ST_PASS_FULLSCREEN: one triangle) or,
+//     for a declared compute program, dispatches; after_pass(k, f)
+//   st_world_set_param: the programs that compile the parameter in are rebuilt
+//     (a value that does not compile is refused), the value lands in params[],
+//     then param_changed(i), then the declared targets are declared again
 //   st_world_reload_shaders: the declared programs, then reload()
 //   destroy(self); after the last instance of the .so: cleanup(), dlclose
 #ifndef ST_MODULE_H
