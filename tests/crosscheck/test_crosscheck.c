@@ -57,34 +57,46 @@
 #define K_SIGMA 4.0
 static const char *data_dir = ST_TEST_SOURCE_DIR "/tests/data/crosscheck";
 
-// Assertions known to fail at the plugins' current defaults: kept as
-// assertions, reported instead of failed so that CI stays green until the
-// plugin is fixed (see docs/accuracy.md). case, method, measure, measured.
+// Assertions known to fail at the plugins' current defaults on some
+// machines: the issue's bound is reported, not failed, and `guard` (above
+// every value measured) is asserted instead, so a regression still fails
+// (see docs/accuracy.md). case, method, measure, measured, guard.
+// ds_cornell_side's atlas_gi NRMSE moves with the exact-ray numerics of the
+// transfer's visibility at the blocks' floor contacts: 0.0243 where
+// docs/accuracy.md measured it (2026-11-26), 0.0314 on an AMD EPYC (Embree
+// AVX2 kernels, 2026-12-07), 0.0346 with Embree's robust intersection; issue
+// 34 is the fix (contacts), and its bound 0.03 stays the target.
 static const struct {
     const char *name, *method, *measure;
-    double measured;
+    double measured, guard;
 } expected_failures[] = {
-    {NULL, NULL, NULL, 0},
+    {"ds_cornell_side", "atlas_gi", "nrmse-debiased", 0.0314, 0.04},
+    {NULL, NULL, NULL, 0, 0},
 };
 
-static bool expected_failure(const char *name, const char *method, const char *measure) {
+static int expected_failure(const char *name, const char *method, const char *measure) {
     for (int i = 0; expected_failures[i].name; i++)
         if (!strcmp(expected_failures[i].name, name) &&
             !strcmp(expected_failures[i].method, method) &&
             !strcmp(expected_failures[i].measure, measure))
-            return true;
-    return false;
+            return i;
+    return -1;
 }
 
-// CHECK(value <= bound), unless listed above: then a report line only.
+// CHECK(value <= bound), unless listed above: then the bound is a report
+// line and the listed guard is checked.
 static void check_le(const char *name, const char *method, const char *measure, double value,
                      double bound) {
     bool ok = value <= bound;
-    if (expected_failure(name, method, measure)) {
-        printf("crosscheck %s %s: %s = %.6g, bound %.6g: %s (listed as an expected failure)\n",
+    int e = expected_failure(name, method, measure);
+    if (e >= 0) {
+        printf("crosscheck %s %s: %s = %.6g, bound %.6g: %s (listed as an expected failure, "
+               "guard %.6g)\n",
                name, method, measure, value, bound,
-               ok ? "PASSES NOW, remove it from the list" : "still fails");
-        return;
+               ok ? "PASSES NOW, remove it from the list" : "still fails",
+               expected_failures[e].guard);
+        bound = expected_failures[e].guard;
+        ok = value <= bound;
     }
     CHECK(ok, "%s %s: %s = %.6g exceeds %.6g", name, method, measure, value, bound);
 }
