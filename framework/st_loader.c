@@ -237,13 +237,17 @@ st_plugin_lib *st_plugin_open_file(const char *path, st_err *err) {
     lib->handle = h;
     // A pass table of an older minor has shorter rows: copied into ours,
     // the fields it does not know zero (ABI 1.4 appended `program`).
-    if (row_size < sizeof(st_pass_decl) && lib->desc.passes && lib->desc.num_pass_decls > 0 &&
-        lib->desc.num_pass_decls <= 4096) {
-        lib->passes = calloc((size_t)lib->desc.num_pass_decls, sizeof *lib->passes);
-        if (!lib->passes) {
+    if (row_size < sizeof(st_pass_decl) && lib->desc.passes && lib->desc.num_pass_decls > 0) {
+        int rows = lib->desc.num_pass_decls;
+        if (rows <= 4096) lib->passes = calloc((size_t)rows, sizeof *lib->passes);
+        if (!lib->passes) { // more rows than any plugin has: refused, never misread
             dlclose(h);
             free(lib);
-            st_fail(err, ST_ERR_RUNTIME, "out of memory");
+            if (rows > 4096)
+                st_fail(err, ST_ERR_INPUT, "module '%s' (%s): bad pass table (%d rows)", nm, path,
+                        rows);
+            else
+                st_fail(err, ST_ERR_RUNTIME, "out of memory");
             return NULL;
         }
         for (int i = 0; i < lib->desc.num_pass_decls; i++)

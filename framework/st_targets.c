@@ -100,6 +100,12 @@ static size_t object_bytes(GLenum identifier, GLuint obj) {
     return (size_t)n;
 }
 
+// Deletes a buffer or buffer texture the registry owns.
+static void delete_object(GLenum identifier, GLuint obj) {
+    if (identifier == GL_BUFFER) glDeleteBuffers(1, &obj);
+    if (identifier == GL_TEXTURE) glDeleteTextures(1, &obj);
+}
+
 bool st_targets_track(st_targets *s, const char *name, GLenum identifier, GLuint obj, st_err *err) {
     if (!module_name(name))
         return st_fail(err, ST_ERR_RUNTIME, "object '%s': not a \"<module>.<name>\" name", name);
@@ -118,8 +124,7 @@ bool st_targets_track(st_targets *s, const char *name, GLenum identifier, GLuint
         s->nk++;
         snprintf(s->k[i].name, ST_NAME_MAX, "%s", name);
     } else if (s->k[i].owned && s->k[i].obj != obj) { // the registry's object, replaced
-        if (s->k[i].identifier == GL_BUFFER) glDeleteBuffers(1, &s->k[i].obj);
-        if (s->k[i].identifier == GL_TEXTURE) glDeleteTextures(1, &s->k[i].obj);
+        delete_object(s->k[i].identifier, s->k[i].obj);
     }
     // The caller's object (st_targets_buffer marks its own after): a slot
     // that untrack vacated keeps the old entry's bytes, `owned` included.
@@ -134,8 +139,7 @@ bool st_targets_track(st_targets *s, const char *name, GLenum identifier, GLuint
 void st_targets_untrack(st_targets *s, const char *name) {
     for (int i = 0; i < s->nk; i++) {
         if (strcmp(s->k[i].name, name)) continue;
-        if (s->k[i].owned && s->k[i].identifier == GL_BUFFER) glDeleteBuffers(1, &s->k[i].obj);
-        if (s->k[i].owned && s->k[i].identifier == GL_TEXTURE) glDeleteTextures(1, &s->k[i].obj);
+        if (s->k[i].owned) delete_object(s->k[i].identifier, s->k[i].obj);
         memmove(&s->k[i], &s->k[i + 1], (size_t)(s->nk - i - 1) * sizeof s->k[0]);
         s->nk--;
         return;
@@ -152,8 +156,7 @@ static int tracked(const st_targets *s, const char *name) {
 static GLuint own(st_targets *s, const char *name, GLenum identifier, GLuint obj, st_err *err) {
     st_targets_untrack(s, name);
     if (!st_targets_track(s, name, identifier, obj, err)) {
-        if (identifier == GL_BUFFER) glDeleteBuffers(1, &obj);
-        if (identifier == GL_TEXTURE) glDeleteTextures(1, &obj);
+        delete_object(identifier, obj);
         return 0;
     }
     s->k[tracked(s, name)].owned = true;
@@ -167,14 +170,15 @@ GLuint st_targets_object(const st_targets *s, const char *name, GLenum identifie
 
 GLuint st_targets_buffer(st_targets *s, const char *name, size_t bytes, const void *data,
                          st_err *err) {
+    size_t storage = bytes ? bytes : 1; // GL has no empty storage
     int i = tracked(s, name);
-    if (i >= 0 && s->k[i].owned && s->k[i].identifier == GL_BUFFER && s->k[i].bytes == bytes) {
-        if (data) glNamedBufferSubData(s->k[i].obj, 0, (GLsizeiptr)bytes, data);
+    if (i >= 0 && s->k[i].owned && s->k[i].identifier == GL_BUFFER && s->k[i].bytes == storage) {
+        if (data && bytes) glNamedBufferSubData(s->k[i].obj, 0, (GLsizeiptr)bytes, data);
         return s->k[i].obj;
     }
     GLuint b = 0;
     glCreateBuffers(1, &b);
-    glNamedBufferStorage(b, (GLsizeiptr)(bytes ? bytes : 1), data, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(b, (GLsizeiptr)storage, bytes ? data : NULL, GL_DYNAMIC_STORAGE_BIT);
     return own(s, name, GL_BUFFER, b, err);
 }
 
