@@ -67,6 +67,11 @@ extern "C" {
 #define ST_MAX_PARAMS 32
 #define ST_MAX_LIGHTS 8
 #define ST_MAX_PROGRAMS 32 // declared programs per plugin
+// A capability token in st_plugin.provides: the technique computes the
+// medium's in-scattered light and adds it to the image (toth, froxel). Two of
+// them in one world would add it twice, so a world refuses a second one
+// unless the scene opts in with "inscatter_overlay": true.
+#define ST_CAP_INSCATTER "inscatter"
 
 #if defined(__GNUC__)
 #define ST_EXPORT __attribute__((visibility("default")))
@@ -242,7 +247,7 @@ typedef struct st_plugin {
     int num_params;
     const char *requires; // comma-separated capabilities other modules provide; "name?" is
                           // optional: no error without a provider, ordered after it with one
-    const char *provides;
+    const char *provides; // capabilities: ones others require, and ST_CAP_INSCATTER
     // A GLSL file (relative to shaders/) included into the regular pass's
     // fragment shader; it may define ST_HAS_VISIBILITY (float
     // st_visibility(int light, vec3 p, vec3 n)), ST_HAS_INDIRECT (vec3

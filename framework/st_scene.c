@@ -331,7 +331,10 @@ static bool parse_modules(st_jctx *c, const cJSON *v, st_scene *s) {
 // target and fov_y are required and up/near/far have defaults.
 static bool parse_camera(st_jctx *c, const cJSON *v, bool from_gltf, st_camera_desc *cam) {
     static const char *const keys[] = {"position", "target", "up", "fov_y", "near", "far", NULL};
-    if (!v && !from_gltf) return st_j_fail(c, NULL, "required (no glTF file supplies a camera)");
+    if (!v && !from_gltf)
+        return st_j_fail(c, NULL,
+                         "required (no glTF file supplies a camera; --auto-camera frames the "
+                         "geometry)");
     if (!from_gltf) *cam = (st_camera_desc){.up = {0, 1, 0}, .near_z = 0.05f, .far_z = 100.0f};
     bool has, *req = from_gltf ? &has : NULL;
     if (v &&
@@ -374,7 +377,8 @@ static bool parse_camera(st_jctx *c, const cJSON *v, bool from_gltf, st_camera_d
 
 static bool parse_document(st_jctx *c, const cJSON *root, st_scene *s) {
     static const char *const keys[] = {"image",  "camera",  "lights",     "geometry",
-                                       "medium", "modules", "background", NULL};
+                                       "medium", "modules", "background", "inscatter_overlay",
+                                       NULL};
     if (!cJSON_IsObject(root)) return st_j_fail(c, NULL, "expected a JSON object at the top level");
     if (!st_j_object(c, root, keys)) return false;
     s->width = s->height = 512;
@@ -393,8 +397,19 @@ static bool parse_document(st_jctx *c, const cJSON *root, st_scene *s) {
     // A "lights" key replaces the lights glTF files brought.
     if (st_j_get(root, "lights")) s->num_lights = json_lights;
 
+    bool over = false;
+    if (!st_j_bool(c, root, "inscatter_overlay", &s->inscatter_overlay, &over)) return false;
+    const cJSON *cam = st_j_get(root, "camera");
+    double lo[3], hi[3];
+    if (!cam && !gltf_camera && (c->flags & ST_AUTO_CAMERA)) {
+        if (!st_scene_bounds(s, lo, hi))
+            return st_j_fail(c, "camera", "required: there is no geometry to frame");
+        s->camera = st_scene_auto_camera(lo, hi);
+        s->camera_auto = true;
+        return true;
+    }
     size_t mark = st_j_push(c, "camera");
-    bool ok = parse_camera(c, st_j_get(root, "camera"), gltf_camera, &s->camera);
+    bool ok = parse_camera(c, cam, gltf_camera, &s->camera);
     st_j_pop(c, mark);
     return ok;
 }

@@ -161,6 +161,13 @@ typedef struct st_scene {
     // medium.density (kind ST_DENSITY_UNIFORM without one). Here and not in
     // st_medium_desc because fields of st_scene are only appended (plugin ABI).
     st_density_desc density;
+    // "inscatter_overlay": true lets two techniques that compute the medium's
+    // in-scattering (plugins providing ST_CAP_INSCATTER) run in one world, each
+    // adding its light: a comparison overlay, never a physical image.
+    bool inscatter_overlay;
+    // No camera in the file or its glTF files: ST_AUTO_CAMERA framed the
+    // geometry's bounds (st_scene_auto_camera).
+    bool camera_auto;
 } st_scene;
 
 // Parses and validates a scene file. Strict: unknown keys, wrong types,
@@ -173,6 +180,9 @@ enum {
     // tree (by default such a URI is refused: a downloaded model must not
     // read /etc/passwd into a render). The scene file's own paths are free.
     ST_ASSETS_ANYWHERE = 1u << 0,
+    // A scene with no camera (neither the "camera" key nor a glTF camera) gets
+    // one that frames its geometry (st_scene_auto_camera) instead of an error.
+    ST_AUTO_CAMERA = 1u << 1,
 };
 typedef struct st_scene_opts {
     unsigned flags; // ST_ASSETS_*
@@ -212,6 +222,10 @@ void st_mesh_free(st_mesh *m);
 uint64_t st_scene_triangle_count(const st_scene *scene);
 // World-space bounds of every mesh's vertices; false for a scene without any.
 bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]);
+// A camera that sees the whole of the bounds lo..hi: 50 degrees vertical field
+// of view, looking at their centre from above and in front (+z, +y, +x), far
+// enough that the bounding sphere fits the view's height.
+st_camera_desc st_scene_auto_camera(const double lo[3], const double hi[3]);
 
 // glTF 2.0 (.gltf or .glb, told apart by the magic; tinygltf behind a C API,
 // st_gltf.cpp): appends one mesh per primitive and node instance, and the

@@ -166,6 +166,27 @@ bool st_scene_bounds(const st_scene *scene, double lo[3], double hi[3]) {
     return any;
 }
 
+st_camera_desc st_scene_auto_camera(const double lo[3], const double hi[3]) {
+    // A three-quarter view: from +z (glTF's front), a little from +x and above.
+    static const double dir[3] = {0.42, 0.36, 0.83}; // unit length to 3 digits
+    double c[3], r2 = 0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = 0.5 * (lo[k] + hi[k]);
+        r2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    double r = fmax(sqrt(r2), 1e-3), fov = 50.0;
+    // The bounding sphere fits the vertical field of view with 5% to spare.
+    double dist = 1.05 * r / sin(0.5 * fov * 3.14159265358979323846 / 180.0);
+    st_camera_desc cam = {.up = {0, 1, 0}, .fov_y = (float)fov};
+    for (int k = 0; k < 3; k++) {
+        cam.target[k] = (float)c[k];
+        cam.position[k] = (float)(c[k] + dist * dir[k]);
+    }
+    cam.near_z = (float)fmax(0.01 * dist, 1e-4 * r);
+    cam.far_z = (float)(2.0 * (dist + r));
+    return cam;
+}
+
 void st_scene_free(st_scene *scene) {
     if (!scene) return;
     for (int i = 0; i < scene->num_meshes; i++)

@@ -47,6 +47,15 @@ void st_jitter_offset(uint32_t k, float out[2]);
 // order; a module whose `requires` nobody provides is an error naming both).
 // The scene must outlive the world. Needs a current GL context.
 st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_err *err);
+// Switches techniques in a scene before its world is created: removes the
+// modules of `disable`, then adds those of `enable` and, for each, what it
+// requires that no module of the scene provides (toth brings shadow_map);
+// both are comma-separated names, NULL or "" for none. A module to disable
+// that is not in the scene, one that another still requires, or one to
+// enable that is not installed is an ST_ERR_INPUT naming it. Modules that
+// are already in (enable) keep their parameters. On failure the module list
+// may be partly switched (free the scene).
+bool st_scene_switch_modules(st_scene *scene, const char *enable, const char *disable, st_err *err);
 void st_world_destroy(st_world *w);
 
 // Renders one frame: pre-passes, regular pass, PostProcessor chain.

@@ -106,9 +106,31 @@ bool st_world_load(st_world *w, const char *name, st_err *err) {
     return true;
 }
 
+// Two techniques that compute the medium's in-scattering add it twice: the
+// image is not a physical one (issue 37). Refused unless the scene opts in.
+static bool check_inscatter(const st_world *w, st_err *err) {
+    int first = -1;
+    for (int i = 0; i < w->num_mods; i++) {
+        if (!st_list_has(w->mods[i]->p->provides, ST_CAP_INSCATTER)) continue;
+        if (first < 0) {
+            first = i;
+        } else if (!w->scene->inscatter_overlay) {
+            return st_fail(err, ST_ERR_INPUT,
+                           "%s: modules '%s' and '%s' both compute the medium's in-scattering and "
+                           "would add it twice; keep one (--disable %s or --disable %s), or "
+                           "overlay both for a "
+                           "comparison with \"inscatter_overlay\": true in the scene (--overlay)",
+                           w->scene->path, w->mods[first]->p->name, w->mods[i]->p->name,
+                           w->mods[first]->p->name, w->mods[i]->p->name);
+        }
+    }
+    return true;
+}
+
 // Orders modules so each comes after the providers of what it requires
 // (a requirement "name?" is optional: it only orders).
 bool st_world_resolve(st_world *w, st_err *err) {
+    if (!check_inscatter(w, err)) return false;
     st_module_inst *sorted[MAX_MODULES];
     bool placed[MAX_MODULES] = {0};
     int n = 0;

@@ -71,7 +71,7 @@ static const char help_text[] =
     "  --filter box|point         pixel filter (default: REF's strahl.filter header attribute,\n"
     "                             point without one); a different one is used with a warning\n"
     "  --allow-outside-assets     let glTF buffer/image URIs leave the glTF file's folder\n"
-    "                             (default: refused)\n"
+    "                             (default: refused)\n" ST_CMD_SCENE_HELP
     "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
     "                             (default 1/1: all); only shard 1 writes the CSV header,\n"
     "                             so `cat` of shards 1..N in order is the whole table\n"
@@ -285,7 +285,8 @@ static bool parse_args(bench_args *b, int argc, char **argv, bool *help, st_err 
         } else if (!strcmp(a, "--append")) {
             b->append = true;
         } else if (nx && (!parse_checked(b, a, argv[i + 1], &known, err) ||
-                          (!known && !parse_repeated(b, a, argv[i + 1], &known, err)))) {
+                          (!known && !parse_repeated(b, a, argv[i + 1], &known, err)) ||
+                          (!known && !st_cmd_scene_value(a, argv[i + 1], &known, err)))) {
             return false;
         } else if (known) {
             i++;

@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cmd_common.h"
+#include "st_world.h"
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -30,11 +31,34 @@ bool st_parse_int(const char *s, long lo, long hi, long *out) {
     return true;
 }
 
+// The scene options of this command line (one per process).
 static st_scene_opts scene_opts;
+static bool overlay;
+static char enable_list[1024], disable_list[1024];
 
 bool st_cmd_scene_option(const char *arg) {
-    if (strcmp(arg, "--allow-outside-assets")) return false;
-    scene_opts.flags |= ST_ASSETS_ANYWHERE;
+    if (!strcmp(arg, "--allow-outside-assets"))
+        scene_opts.flags |= ST_ASSETS_ANYWHERE;
+    else if (!strcmp(arg, "--auto-camera"))
+        scene_opts.flags |= ST_AUTO_CAMERA;
+    else if (!strcmp(arg, "--overlay"))
+        overlay = true;
+    else
+        return false;
+    return true;
+}
+
+bool st_cmd_scene_value(const char *opt, const char *v, bool *known, st_err *err) {
+    bool en = !strcmp(opt, "--enable");
+    *known = en || !strcmp(opt, "--disable");
+    if (!*known) return true;
+    char *list = en ? enable_list : disable_list;
+    size_t l = strlen(list);
+    if (!v[0] || l + strlen(v) + 2 > sizeof enable_list)
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s '%s': expected MODULE[,MODULE...] (at most %zu bytes)", opt, v,
+                       sizeof enable_list - 2);
+    snprintf(list + l, sizeof enable_list - l, "%s%s", l ? "," : "", v);
     return true;
 }
 
@@ -48,7 +72,8 @@ bool st_cmd_walk_args(const st_argv_spec *spec, void *ctx, int argc, char **argv
             fputs(spec->help, stdout);
             *help = true;
             return true;
-        } else if (i + 1 < argc && !spec->value(ctx, a, argv[i + 1], &known, err)) {
+        } else if (i + 1 < argc && (!st_cmd_scene_value(a, argv[i + 1], &known, err) ||
+                                    (!known && !spec->value(ctx, a, argv[i + 1], &known, err)))) {
             return false;
         } else if (known) {
             i++;
@@ -65,6 +90,12 @@ bool st_cmd_walk_args(const st_argv_spec *spec, void *ctx, int argc, char **argv
 bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, int height,
                         st_scene *scene, st_err *err) {
     if (!st_scene_load_ex(path, &scene_opts, scene, err)) return false;
+    if (overlay) scene->inscatter_overlay = true;
+    // Switched before --set so that a parameter of an enabled module is set.
+    if (!st_scene_switch_modules(scene, enable_list, disable_list, err)) {
+        st_scene_free(scene);
+        return false;
+    }
     for (int i = 0; i < num_sets; i++) {
         if (!st_scene_set(scene, sets[i], err)) { // its message names the --set
             st_scene_free(scene);

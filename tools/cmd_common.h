@@ -9,10 +9,27 @@
 bool st_parse_size(const char *s, int *w, int *h);
 // Parses a positive integer within [lo, hi].
 bool st_parse_int(const char *s, long lo, long hi, long *out);
-// Consumes a scene-loading option shared by render, reference, bench and
-// view (--allow-outside-assets: glTF URIs may leave the glTF's folder);
-// false when arg is not one.
+// Consumes a scene-loading option shared by render, reference, bench, view
+// and info (--allow-outside-assets: glTF URIs may leave the glTF's folder;
+// --auto-camera: a scene without a camera gets one framing its geometry;
+// --overlay: the scene's "inscatter_overlay"); false when arg is not one.
 bool st_cmd_scene_option(const char *arg);
+// Consumes the shared options with a value, --enable MODULE[,MODULE] and
+// --disable MODULE[,MODULE] (repeatable; st_scene_switch_modules applies them
+// in st_load_scene_with); *known: opt was one.
+bool st_cmd_scene_value(const char *opt, const char *v, bool *known, st_err *err);
+// Help text of the shared scene options, for each command's --help.
+#define ST_CMD_SCENE_HELP                                                                          \
+    "  --enable MODULE[,MODULE]  switch techniques on (repeatable): added to the scene's\n"        \
+    "                           modules with what they require (toth brings shadow_map);\n"        \
+    "                           --set then reaches them (default: the scene's modules)\n"          \
+    "  --disable MODULE[,MODULE] switch techniques off (repeatable; applied before --enable)\n"    \
+    "  --overlay                let two in-scattering techniques (toth, froxel) add their\n"       \
+    "                           light to one image, for a comparison overlay (default:\n"          \
+    "                           refused, exit 2; the scene key \"inscatter_overlay\": true)\n"     \
+    "  --auto-camera            a scene without a camera (a glTF without one) gets one that\n"     \
+    "                           frames its geometry (default: refused)\n"
+
 // How a subcommand's arguments are read by st_cmd_walk_args: -h/--help
 // prints `help`; `value` consumes "OPTION VALUE" pairs (sets *known when it
 // took OPTION); `flag` takes an option without a value (false: not one); the

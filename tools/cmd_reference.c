@@ -37,7 +37,7 @@ static const char usage_text[] =
     "  --threads N               worker threads, 1..256 (default: all online cores)\n"
     "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
     "  --allow-outside-assets    let glTF buffer/image URIs leave the glTF file's folder\n"
-    "                            (default: refused)\n"
+    "                            (default: refused)\n" ST_CMD_SCENE_HELP
     "  -h, --help                this text\n"
     "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"
     "example:\n"
@@ -165,8 +165,10 @@ static bool parse_args(ref_args *r, int argc, char **argv, bool *help, st_err *e
         } else if (!v) {
             return bad(err, "%s: unknown option or missing value", a);
         }
+        bool known = false;
+        if (!st_cmd_scene_value(a, v, &known, err)) return false;
         i++; // every option takes a value
-        if (!parse_option(r, a, v, err)) return false;
+        if (!known && !parse_option(r, a, v, err)) return false;
     }
     if (!r->scene_path) return bad(err, "%s", "missing SCENE.json");
     if (!r->out_path) return bad(err, "%s", "missing -o OUT.exr");

@@ -34,7 +34,7 @@ static const char help_text[] =
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
     "  --allow-outside-assets   let glTF buffer/image URIs leave the glTF file's folder\n"
-    "                           (default: refused)\n"
+    "                           (default: refused)\n" ST_CMD_SCENE_HELP
     "  -h, --help               this text\n"
     "example:\n"
     "  strahl render scenes/cornell.json -o out/cornell.png --stats\n";

@@ -33,7 +33,7 @@ static const char help_text[] =
     "  --shots DIR               screenshot folder (default .)\n"
     "  --hide-panel              start with the parameter panel hidden (default shown)\n"
     "  --allow-outside-assets    let glTF buffer/image URIs leave the glTF file's folder\n"
-    "                            (default: refused)\n"
+    "                            (default: refused)\n" ST_CMD_SCENE_HELP
     "  -h, --help                this text\n"
     "example:\n"
     "  strahl view scenes/godrays_colonnade.json --set toth.samples=64\n";

@@ -287,6 +287,6 @@ ST_PLUGIN(.name = "froxel",
                          "visibility, front-to-back energy-conserving integration, looked up "
                          "per pixel",
           ST_PARAMS(params), ST_PROGRAMS(programs), ST_PASSES(passes), .requires = "shadow_map",
-          .create = create, .destroy = free, .needed = needed, .on_pass = on_pass,
-          .after_pass = after_pass, .param_changed = param_changed, .progress = progress,
-          .light_types = ST_LIGHT_BITS_ALL)
+          .provides = ST_CAP_INSCATTER, .create = create, .destroy = free, .needed = needed,
+          .on_pass = on_pass, .after_pass = after_pass, .param_changed = param_changed,
+          .progress = progress, .light_types = ST_LIGHT_BITS_ALL)

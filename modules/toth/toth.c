@@ -613,6 +613,6 @@ ST_PLUGIN(.name = "toth",
               "per-pixel integral times a shadow-mapped visible fraction (or the uniform march), "
               "interleaved sampling, reduced-resolution march",
           ST_PARAMS(params), ST_PROGRAMS(programs), ST_PASSES(passes), .param_uniforms = "toth_",
-          .requires = "shadow_map", .create = create, .destroy = destroy, .needed = needed,
-          .program = program, .on_pass = on_pass, .param_changed = param_changed, .reload = reload,
-          .light_types = ST_LIGHT_BITS_ALL)
+          .requires = "shadow_map", .provides = ST_CAP_INSCATTER, .create = create,
+          .destroy = destroy, .needed = needed, .program = program, .on_pass = on_pass,
+          .param_changed = param_changed, .reload = reload, .light_types = ST_LIGHT_BITS_ALL)

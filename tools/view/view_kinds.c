@@ -5,12 +5,14 @@
 //     regular_include) and that has a display switch with an "indirect"
 //     choice (today atlas_gi). The first such plugin by name is the I key's.
 //   god rays: a plugin that only adds light to the image: no
-//     regular_include, it provides no capability to others and has no
-//     display switch (today mitchell, sousa, toth). G cycles off, then these
-//     by name.
+//     regular_include, it provides no capability to others (ST_CAP_INSCATTER,
+//     which says that it adds the medium's in-scattered light, is not one)
+//     and has no display switch (today froxel, mitchell, sousa, toth). G
+//     cycles off, then these by name.
 //   anything else (shadow_map provides shadows, ssgi shows its indirect
 //   light on its own) has only its number key.
 #include "view.h"
+#include "st_list.h"
 #include <stdio.h>
 #include <string.h>
 
@@ -27,10 +29,18 @@ int view_gi_display_param(const st_plugin *p) {
     return -1;
 }
 
+// Does p provide a capability that other modules may require?
+static bool provides_to_others(const st_plugin *p) {
+    char cap[ST_NAME_MAX];
+    for (const char *r = p->provides; (r = st_list_next(r, cap, NULL));)
+        if (cap[0] && strcmp(cap, ST_CAP_INSCATTER)) return true;
+    return false;
+}
+
 view_kind view_plugin_kind(const st_plugin *p) {
     bool display = view_gi_display_param(p) >= 0;
     bool include = p->regular_include && p->regular_include[0];
-    bool provides = p->provides && p->provides[0];
+    bool provides = provides_to_others(p);
     if (include && display) return VIEW_KIND_GI;
     if (!include && !provides && !display) return VIEW_KIND_GODRAYS;
     return VIEW_KIND_OTHER;
