@@ -2,6 +2,7 @@
 // with per-pass statistics.
 #define _GNU_SOURCE
 #include "cmd_common.h"
+#include "render_status.h"
 #include "st_cmd.h"
 #include "st_file.h"
 #include "st_world.h"
@@ -13,12 +14,14 @@
 #include <sys/resource.h>
 
 #define MAX_SETS 64
+#define MAX_OUTS 8
 
 static const char help_text[] =
-    "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options]\n"
+    "usage: strahl render SCENE.json -o OUT.exr|OUT.png [-o OUT2...] [options]\n"
     "Renders frames of a scene headless (EGL) and writes the last one: EXR (linear\n"
     "radiance, 32-bit float R,G,B) or PNG (sRGB, 8 bit).\n"
-    "  -o OUT.exr|OUT.png       output file (required; written atomically)\n"
+    "  -o OUT.exr|OUT.png       output file (required; written atomically); repeat it to\n"
+    "                           write one still to several files (up to 8: EXR and PNG)\n"
     "  --set MODULE.PARAM=VALUE change a module parameter (repeatable; default: the scene's)\n"
     "  --size WxH               image size (default: the scene's image.width x height)\n"
     "  --filter box|point       pixel filter (default: the scene's image.filter, box):\n"
@@ -28,8 +31,13 @@ static const char help_text[] =
     "                           run until every progressive module, e.g. atlas_gi's gather,\n"
     "                           and the box filter report the image converged; 1 frame if\n"
     "                           none is progressive)\n"
-    "  --max-frames N           cap on frames when running to convergence (default 2000)\n"
+    "  --max-frames N           cap on frames when running to convergence (default 2000;\n"
+    "                           the box filter itself stops at 1024 accumulated frames,\n"
+    "                           counted after every progressive module has settled)\n"
     "  --max-seconds S          cap on seconds when running to convergence (default 600)\n"
+    "  --quiet                  no progress line (default: on a terminal, stderr shows one\n"
+    "                           self-overwriting line: frames, estimated remaining error,\n"
+    "                           ETA; elsewhere only the final line is printed, on stdout)\n"
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
@@ -90,8 +98,13 @@ static void print_memory(st_world *w, bool json) {
                total);
 }
 
+// st_stop's names in --stats=json ("stopped_by").
+static const char *const stop_names[] = {"converged", "frames",      "max-frames",
+                                         "cap",       "max-seconds", "filter-cap"};
+
 static void print_stats(st_world *w, const float *frame_ms, int nframes, bool json,
-                        const st_progress *pr, long ran, double total_ms) {
+                        const st_still_status *st, const char *line) {
+    const st_progress *pr = st ? &st->prog : NULL;
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     double fm = st_median_f(frame_ms, nframes);
@@ -106,9 +119,10 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
         print_memory(w, true);
         if (pr)
             printf("\"frames_run\": %ld, \"total_ms\": %.3f, \"converged\": %s, \"error\": %.6g, "
-                   "\"progress_info\": \"%s\", ",
-                   ran, total_ms, pr->converged ? "true" : "false",
-                   isfinite(pr->error) ? pr->error : -1.0, pr->info);
+                   "\"stopped_by\": \"%s\", \"progress_info\": \"%s\", ",
+                   st->ran, st->total_ms, st->stop == ST_STOP_CONVERGED ? "true" : "false",
+                   isfinite(pr->error) && st->ran > 1 ? pr->error : -1.0, stop_names[st->stop],
+                   pr->info);
         printf("\"passes\": [");
         for (int i = 0; i < st_world_num_pass_stats(w); i++) {
             const st_pass_stats *s = st_world_pass_stats(w, i);
@@ -124,10 +138,7 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
            "GPU allocations %.1f MiB\n",
            st_context_renderer(), c->width, c->height, nframes, fm, ru.ru_maxrss / 1024.0,
            st_world_memory_bytes(w) / 1048576.0);
-    if (pr)
-        printf("%s after %ld frame(s), %.0f ms, estimated remaining relative error %.4g%s%s\n",
-               pr->converged ? "converged" : "not converged", ran, total_ms, pr->error,
-               pr->info[0] ? "\n" : "", pr->info);
+    if (pr) printf("%s%s%s\n", line, pr->info[0] ? "\n" : "", pr->info);
     printf("%-12s %-14s %6s %8s %7s %12s %12s\n", "module", "pass", "runs", "skipped", "culled",
            "gpu ms (med)", "cpu ms (med)");
     for (int i = 0; i < st_world_num_pass_stats(w); i++) {
@@ -140,12 +151,14 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
 }
 
 typedef struct render_args {
-    const char *scene_path, *out, *filter_arg;
+    const char *scene_path, *filter_arg;
+    const char *outs[MAX_OUTS];
+    int num_outs;
     char *sets[MAX_SETS];
     int num_sets, width, height, stats; // stats: 0 off, 1 text, 2 JSON
     long frames, warmup, max_frames;
     double max_seconds, exposure;
-    bool frames_given;
+    bool frames_given, max_frames_given, quiet;
 } render_args;
 
 // Options with a checked value; *known says whether `a` is one of them.
@@ -154,7 +167,9 @@ static bool parse_value(void *ctx, const char *a, const char *v, bool *known, st
     char *e;
     *known = true;
     if (!strcmp(a, "-o")) {
-        r->out = v;
+        if (r->num_outs == MAX_OUTS)
+            return st_fail(err, ST_ERR_INPUT, "-o %s: at most %d outputs", v, MAX_OUTS);
+        r->outs[r->num_outs++] = v;
     } else if (!strcmp(a, "--set")) {
         if (r->num_sets == MAX_SETS) return st_fail(err, ST_ERR_INPUT, "too many --set");
         r->sets[r->num_sets++] = (char *)v;
@@ -173,6 +188,7 @@ static bool parse_value(void *ctx, const char *a, const char *v, bool *known, st
     } else if (!strcmp(a, "--max-frames")) {
         if (!st_parse_int(v, 1, 100000, &r->max_frames))
             return st_fail(err, ST_ERR_INPUT, "--max-frames %s: expected 1..100000", v);
+        r->max_frames_given = true;
     } else if (!strcmp(a, "--max-seconds")) {
         r->max_seconds = strtod(v, &e);
         if (*e || !isfinite(r->max_seconds) || r->max_seconds <= 0 || r->max_seconds > 1e6)
@@ -195,7 +211,20 @@ static bool render_flag(void *ctx, const char *a) {
     render_args *r = ctx;
     if (!strcmp(a, "--stats")) return r->stats = 1, true;
     if (!strcmp(a, "--stats=json")) return r->stats = 2, true;
+    if (!strcmp(a, "--quiet")) return r->quiet = true, true;
     return false;
+}
+
+// Output i: its extension, not an input, not an earlier output (each one
+// is checked on its own, so a check of one output path slots in here).
+static bool check_output(const render_args *r, int i, st_err *err) {
+    static const char *const exts[] = {"exr", "png", NULL};
+    const char *inputs[] = {r->scene_path, NULL};
+    if (!st_check_output("-o", r->outs[i], exts, inputs, err)) return false;
+    for (int k = 0; k < i; k++)
+        if (!strcmp(r->outs[k], r->outs[i]) || st_same_file(r->outs[k], r->outs[i]))
+            return st_fail(err, ST_ERR_INPUT, "-o %s: given twice", r->outs[i]);
+    return true;
 }
 
 // Fills r from argv and settles frames and warm-up; *help: -h was given
@@ -204,12 +233,11 @@ static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err
     static const st_argv_spec spec = {help_text, "", parse_value, render_flag};
     if (!st_cmd_walk_args(&spec, r, argc, argv, &r->scene_path, help, err)) return false;
     if (*help) return true;
-    if (!r->scene_path || !r->out)
+    if (!r->scene_path || !r->num_outs)
         return st_fail(err, ST_ERR_INPUT,
                        "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)");
-    static const char *const exts[] = {"exr", "png", NULL};
-    const char *inputs[] = {r->scene_path, NULL};
-    if (!st_check_output("-o", r->out, exts, inputs, err)) return false;
+    for (int i = 0; i < r->num_outs; i++)
+        if (!check_output(r, i, err)) return false;
     // Without --frames a still image is a converged one: frames run until
     // every progressive module reports convergence (or a cap is reached).
     if (!r->frames_given) r->frames = r->max_frames;
@@ -218,52 +246,78 @@ static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err
     return true;
 }
 
-// What the frames did: their times after the warm-up, how many ran, the
-// last progress report.
+// What the frames did: their times after the warm-up, how many ran, why
+// they stopped and the last progress report.
 typedef struct run_result {
     float *frame_ms;
     int timed;
-    long ran;
-    double total_ms;
-    st_progress prog;
-    bool has_prog;
+    st_still_status st;
 } run_result;
 
-// Runs the frames (until converged without --frames).
+// Why a run to convergence stopped here (after frame f of r->frames), or
+// -1 to go on.
+static int stop_reason(const render_args *r, const run_result *o, long f, double ms) {
+    const st_progress *p = &o->st.prog;
+    if (!o->st.has_prog) return ST_STOP_CONVERGED; // nothing progressive: one frame is the image
+    if (p->converged) {
+        // The box filter also reports converged at its own frame cap.
+        bool capped = p->frames >= ST_FILTER_MAX_FRAMES && p->error > ST_FILTER_TOLERANCE;
+        return capped ? ST_STOP_FILTER_CAP : ST_STOP_CONVERGED;
+    }
+    if (ms > 1000 * r->max_seconds) return ST_STOP_MAX_SECONDS;
+    if (f + 1 == r->frames) return r->max_frames_given ? ST_STOP_MAX_FRAMES : ST_STOP_CAP;
+    return -1;
+}
+
+// Runs the frames (until converged without --frames), with the progress
+// line on a terminal.
 static bool run_frames(const render_args *r, st_world *w, run_result *o, st_err *err) {
-    bool until_converged = !r->frames_given;
     double start = st_now_ms();
-    o->prog = (st_progress){.converged = true};
+    st_still_status *st = &o->st;
+    *st = (st_still_status){.stop = ST_STOP_FRAMES,
+                            .limit = r->frames,
+                            .max_seconds = r->max_seconds,
+                            .prog = {.converged = true}};
+    st_still_progress bar;
+    st_still_progress_begin(&bar, r->quiet);
     for (long f = 0; f < r->frames; f++) {
         if (f == r->warmup) st_world_reset_samples(w);
         double t0 = st_now_ms();
-        if (!st_world_frame(w, err)) return false;
+        if (!st_world_frame(w, err)) break;
         glFinish();
         if (f >= r->warmup) o->frame_ms[o->timed++] = (float)(st_now_ms() - t0);
-        o->ran++;
-        o->has_prog = st_world_progress(w, &o->prog);
-        if (until_converged &&
-            (!o->has_prog || o->prog.converged || st_now_ms() - start > 1000 * r->max_seconds))
+        st->ran++;
+        st->has_prog = st_world_progress(w, &st->prog);
+        int why = r->frames_given ? -1 : stop_reason(r, o, f, st_now_ms() - start);
+        if (why >= 0) {
+            st->stop = (st_stop)why;
             break;
+        }
+        st_still_progress_update(&bar, st, r->frames_given);
     }
-    o->total_ms = st_now_ms() - start;
-    return true;
+    st_still_progress_end(&bar);
+    st->total_ms = st_now_ms() - start;
+    return !err->msg[0];
 }
 
-// The image (EXR with the filter in its header, or PNG with the exposure);
-// nothing is written if a value is not finite.
-static bool write_image(const render_args *r, const st_image *img, st_pixel_filter filter,
-                        st_err *err) {
+// The image to every output (EXR with the filter in its header, or PNG
+// with the exposure); nothing is written if a value is not finite.
+static bool write_images(const render_args *r, const st_image *img, st_pixel_filter filter,
+                         st_err *err) {
     size_t bad = st_image_count_nonfinite(img);
     if (bad)
         return st_fail(err, ST_ERR_RUNTIME,
                        "%zu non-finite values in the rendered image; nothing written", bad);
-    const char *dot = strrchr(r->out, '.');
     static const char *const rgb[] = {"R", "G", "B"};
     st_exr_meta meta = {0}; // the EXR header records the pixel filter
     snprintf(meta.filter, sizeof meta.filter, "%s", st_filter_name(filter));
-    return strcasecmp(dot, ".exr") ? st_image_write(r->out, img, (float)r->exposure, err)
-                                   : st_image_write_exr_meta(r->out, img, rgb, &meta, err);
+    for (int i = 0; i < r->num_outs; i++) {
+        const char *out = r->outs[i], *dot = strrchr(out, '.');
+        bool ok = strcasecmp(dot, ".exr") ? st_image_write(out, img, (float)r->exposure, err)
+                                          : st_image_write_exr_meta(out, img, rgb, &meta, err);
+        if (!ok) return false;
+    }
+    return true;
 }
 
 int st_cmd_render(int argc, char **argv) {
@@ -288,15 +342,14 @@ int st_cmd_render(int argc, char **argv) {
         w = st_world_create(&scene, &opts, &err);
     }
     ok = ok && w && run_frames(&r, w, &res, &err) && st_world_read(w, &img, &err) &&
-         write_image(&r, &img, scene.filter, &err);
+         write_images(&r, &img, scene.filter, &err);
+    char line[1024];
+    st_still_status_line(&res.st, line, sizeof line);
     if (ok && r.stats)
-        print_stats(w, res.frame_ms, res.timed, r.stats == 2, res.has_prog ? &res.prog : NULL,
-                    res.ran, res.total_ms);
-    else if (ok && res.has_prog)
-        printf("strahl render: %s after %ld frame(s), %.0f ms, estimated remaining relative error "
-               "%.4g\n",
-               res.prog.converged ? "converged" : "not converged", res.ran, res.total_ms,
-               res.prog.error);
+        print_stats(w, res.frame_ms, res.timed, r.stats == 2, res.st.has_prog ? &res.st : NULL,
+                    line);
+    else if (ok && res.st.has_prog)
+        printf("strahl render: %s\n", line);
     int rc = ok ? ST_EXIT_OK : st_report("render", &err);
     st_image_free(&img);
     st_world_destroy(w);

@@ -286,10 +286,18 @@ static double still_nrmse(const char *scene, const char *extra, long *frames, do
     char state[32] = "";
     *frames = 0, *est = -1;
     const char *line = strstr(buf, "strahl render: ");
+    // "converged after N frame(s), ..." only when it did; "N frame(s) (--frames N), ..."
     bool parsed = line && sscanf(line,
                                  "strahl render: %31s after %ld frame(s), %*f ms, estimated "
                                  "remaining relative error %lf",
                                  state, frames, est) == 3;
+    if (line && !parsed) {
+        snprintf(state, sizeof state, "frames");
+        parsed = sscanf(line,
+                        "strahl render: %ld frame(s) (--frames %*d), %*f ms, estimated remaining "
+                        "relative error %lf",
+                        frames, est) == 2;
+    }
     CHECK(rc == 0 && parsed, "%s: rc %d, output %s", cmd, rc, buf);
     *converged = !strcmp(state, "converged");
     st_image img = {0};
