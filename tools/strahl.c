@@ -14,6 +14,7 @@
 #pragma weak st_cmd_bench
 #pragma weak st_cmd_merge
 #pragma weak st_cmd_plot
+#pragma weak st_cmd_info
 
 #ifndef ST_VERSION
 #define ST_VERSION "unknown"
@@ -39,6 +40,7 @@ int main(int argc, char **argv) {
          "SCENE.json -o OUT.exr|OUT.png [--set MODULE.PARAM=VALUE]... [--size WxH] [--frames N] "
          "[--stats[=json]] [--exposure EV]"},
         {"view", st_cmd_view, "SCENE.json [--script FILE] [--size WxH] [--window WxH]"},
+        {"info", st_cmd_info, "SCENE.json [--enable M,...] [--disable M,...] [--auto-camera]"},
         {"modules", st_cmd_modules, "[--json]"},
         {"reference", st_cmd_reference,
          "SCENE.json -o OUT.exr [--spp N] [--seed S] [--aov combined|direct|indirect|inscatter]"},
