@@ -6,8 +6,8 @@
 #include "st_base.h"
 #include "st_module.h"
 
-static const char *const commands[] = {"render",  "view",  "modules", "reference",
-                                       "compare", "bench", "merge",   "plot"};
+static const char *const commands[] = {"render", "view",  "modules", "reference", "compare",
+                                       "bench",  "merge", "plot",    "info"};
 
 // Appends to opts (NUL-separated, at most max) every "-..." literal that is
 // the second argument of a strcmp/strncmp in src; returns the count.
