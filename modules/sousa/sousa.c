@@ -94,6 +94,8 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
 
 ST_PLUGIN(.name = "sousa",
           .description = "sun shafts (Sousa, CryEngine 2): linear depth mask blurred toward each "
-                         "light in 3 passes with steps TAPS^-1, TAPS^-2, TAPS^-3",
+                         "light in 3 passes with steps TAPS^-1, TAPS^-2, TAPS^-3; no occlusion of "
+                         "the light: in a closed room with the light behind a wall every surface "
+                         "is blurred toward it, a grey veil (modules/sousa/README.md)",
           ST_PARAMS(params), ST_PASSES(passes), .param_uniforms = "u_", .needed = needed,
           .on_pass = on_pass, .light_types = ST_GODRAY_LIGHT_TYPES)

@@ -78,7 +78,9 @@ enum { COMPOSE_TABLE, COMPOSE_QUADRATURE };
 // hidden_hole to 6.3e-5 and 9.0e-5 for twice the march's time.
 static const st_param_def params[P_COUNT] = {
     {"samples", ST_PARAM_INT, 64, 1, 1024, NULL,
-     "march steps per view ray (split over the M x M block when interleaved)"},
+     "march steps per view ray (split over the M x M block when interleaved); on llvmpipe at "
+     "most 256 equi-angular steps per ray (samples / M^2): more is refused there, as Mesa's loop "
+     "budget would cut the march short"},
     {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
      "(1 = off; limited to sqrt(samples))"},
