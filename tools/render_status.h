@@ -27,8 +27,9 @@ typedef struct st_still_status {
 // The final line, without the "strahl render: " prefix: "converged after N
 // frame(s), T ms, estimated remaining relative error E" only when it did;
 // "N frame(s) (--frames N), T ms, ..." for --frames; otherwise "N frame(s),
-// stopped by WHAT before converging, T ms, ..."; with no finite estimate (one frame, or a module that cannot
-// tell yet) it says so and why instead of printing 0 or inf.
+// stopped by WHAT before converging, T ms, ..."; with no finite estimate
+// (one frame, or a module that cannot tell yet) it says so and why instead
+// of printing 0 or inf.
 void st_still_status_line(const st_still_status *s, char *out, size_t n);
 
 // The progress line on stderr: drawn only when stderr is a terminal and

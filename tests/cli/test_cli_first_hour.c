@@ -2,8 +2,8 @@
 // switching techniques from the command line (--enable/--disable, --set on
 // the enabled one), two in-scattering techniques refused unless overlaid,
 // honest status lines and the terminal-only progress line, -o repeated,
-// `strahl info` and --auto-camera. Renders are 32x24 point frames, or short
-// box runs.
+// `strahl info` and --auto-camera, a driver's limit in the parameter's help.
+// Renders are 32x24 point frames, or short box runs.
 #include "st_test.h"
 #include "st_test_render.h"
 #include "st_base.h"
@@ -264,6 +264,27 @@ static void info_and_camera(void) {
     st_scene_free(&sc);
 }
 
+// (6) A limit a driver enforces below the descriptor's range is in the
+// parameter's help, with the number that is enforced: on llvmpipe toth
+// refuses 257 samples (per ray) and takes 256.
+static void driver_ranges(void) {
+    int rc = run("modules --json");
+    CHECK(rc == 0 && has("on llvmpipe at most 256 equi-angular steps per ray"),
+          "toth.samples' help does not name llvmpipe's 256: exit %d", rc);
+    rc = run("render %s/scenes/plane.json --size 8x8 --filter point --stats=json -o r8.exr",
+             ST_TEST_SOURCE_DIR);
+    bool llvmpipe = rc == 0 && has("llvmpipe");
+    rc = run("render %s --size 16x12 --filter point --frames 1 --set toth.samples=257 -o r.exr",
+             win);
+    if (llvmpipe)
+        CHECK(rc == 2 && has("at most 256 per ray"), "llvmpipe, 257 samples: exit %d: %s", rc, out);
+    else
+        CHECK(rc == 0, "257 samples off llvmpipe: exit %d: %s", rc, out);
+    rc = run("render %s --size 16x12 --filter point --frames 1 --set toth.samples=256 -o r.exr",
+             win);
+    CHECK(rc == 0, "256 samples: exit %d: %s", rc, out);
+}
+
 int main(void) {
     // Outputs of an earlier run must not pass for this one's.
     st_test_sh("rm -f '%s'/*.exr '%s'/*.png", ST_TEST_SCRATCH, ST_TEST_SCRATCH);
@@ -272,5 +293,6 @@ int main(void) {
     status_lines();
     outputs();
     info_and_camera();
+    driver_ranges();
     return st_test_summary("cli_first_hour");
 }
