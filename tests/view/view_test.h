@@ -7,6 +7,7 @@
 #define _GNU_SOURCE
 #endif
 #include "st_test_render.h"
+#include "st_list.h"
 #include "st_module.h"
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -74,8 +75,13 @@ static inline int st_view_godray_modules(char out[][ST_NAME_MAX], int max, const
                 st_param_choice(&p->params[q], c, ch, sizeof ch);
                 display = !strcmp(ch, "indirect");
             }
-        bool godray = !(p->regular_include && p->regular_include[0]) &&
-                      !(p->provides && p->provides[0]) && !display;
+        // A capability others may require makes a provider; ST_CAP_INSCATTER
+        // (toth, froxel) only says what the technique adds.
+        bool provider = false;
+        char cap[ST_NAME_MAX];
+        for (const char *r = p->provides; (r = st_list_next(r, cap, NULL));)
+            provider |= cap[0] && strcmp(cap, ST_CAP_INSCATTER);
+        bool godray = !(p->regular_include && p->regular_include[0]) && !provider && !display;
         st_plugin_close(lib);
         if (godray) snprintf(out[k++], ST_NAME_MAX, "%.*s", ST_NAME_MAX - 1, names[i]);
     }
