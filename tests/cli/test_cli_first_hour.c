@@ -22,8 +22,10 @@ static int run(const char *fmt, ...) {
     va_start(ap, fmt);
     vsnprintf(args, sizeof args, fmt, ap);
     va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && timeout 120 '%s' %s", ST_TEST_SCRATCH, ST_TEST_STRAHL,
-             args);
+    // view needs an X server: a virtual one (xvfb-run, which tools/setup.sh installs).
+    snprintf(cmd, sizeof cmd, "cd '%s' && timeout 120 %s'%s' %s", ST_TEST_SCRATCH,
+             strncmp(args, "view ", 5) ? "" : "xvfb-run -a -s '-screen 0 320x240x24' ",
+             ST_TEST_STRAHL, args);
     return st_test_capture(out, sizeof out, cmd);
 }
 
@@ -100,6 +102,20 @@ static void switching(void) {
     rc = run("info %s/scenes/plane.json --enable toth", ST_TEST_SOURCE_DIR);
     CHECK(rc == 0 && has("  shadow_map\n") && has("requires shadow_map: shadow_map"),
           "info --enable toth does not list shadow_map providing it: %s", out);
+    // bench and view switch alike (view under a virtual X server).
+    rc = run("bench %s --filter point --reference fx.exr --sweep froxel.slices=32,48 "
+             "--csv b.csv --frames 1 --warmup 0 --size 32x24 --disable toth --enable froxel",
+             win);
+    CHECK(rc == 0, "bench --disable toth --enable froxel: exit %d: %s", rc, out);
+    char script[1024];
+    snprintf(script, sizeof script, "%s/switch.script", ST_TEST_SCRATCH);
+    FILE *f = fopen(script, "w");
+    fputs("frames 1\nexpect-module froxel on\nexpect-module toth off\nset froxel.slices 32\n"
+          "expect-param froxel.slices 32\nquit\n",
+          f);
+    fclose(f);
+    rc = run("view %s --size 32x24 --disable toth --enable froxel --script switch.script", win);
+    CHECK(rc == 0, "view --disable toth --enable froxel: exit %d: %s", rc, out);
     rc = run("render %s " SMALL " --disable nosuch -o bad.exr", win);
     CHECK(rc == 2 && has("disable 'nosuch'") && has("not in the scene") && !exists("bad.exr"),
           "--disable nosuch: exit %d: %s", rc, out);
