@@ -106,6 +106,11 @@ static bool enable_one(st_scene *s, const char *name, const char *asked, int dep
 bool st_scene_switch_modules(st_scene *s, const char *enable, const char *disable, st_err *err) {
     char name[ST_NAME_MAX];
     bool optional;
+    for (int k = 0; k < 2; k++) // names only: "toth?" is requirement syntax
+        for (const char *r = k ? enable : disable; r && (r = st_list_next(r, name, &optional));)
+            if (optional)
+                return st_fail(err, ST_ERR_INPUT, "%s '%s?': expected a module name",
+                               k ? "enable" : "disable", name);
     for (const char *r = disable; r && (r = st_list_next(r, name, &optional));)
         if (name[0] && !disable_one(s, name, err)) return false;
     if (disable && disable[0] && !check_requires(s, disable, err)) return false;
