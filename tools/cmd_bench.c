@@ -53,9 +53,11 @@ static const char help_text[] =
     "reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3).\n"
     "  --reference REF.exr        reference image of the same size (required)\n"
     "  --sweep MODULE.PARAM=v,... values to sweep (required, up to 4; the first is the\n"
-    "                             x along each curve of the plot)\n"
+    "                             x along each curve of the plot); a value given twice\n"
+    "                             (8,8 or 8,8.0) is refused\n"
     "  --csv OUT.csv              output table (required; written atomically)\n"
-    "  --append                   add rows to an existing CSV (default: overwrite)\n"
+    "  --append                   add rows to an existing CSV whose first line is this\n"
+    "                             run's header (else refused; default: overwrite)\n"
     "  --plot OUT.png|OUT.svg     log-log plot of time against error (default: none; the\n"
     "                             same as strahl plot OUT.csv afterwards, see its --help)\n"
     "  --baseline M.P=V,...       mark this setting in the plot, e.g. the brute-force one\n"
@@ -81,6 +83,21 @@ static const char help_text[] =
     "      --sweep toth.samples=16,64,256 --sweep toth.interleave=1,2 --csv toth.csv --plot "
     "toth.png\n";
 
+// Whether the last value of sw equals an earlier one, as text or as a number
+// ("8" and "8.0"): the same setting would be rendered twice.
+static bool repeated_value(const sweep *sw) {
+    const char *last = sw->values[sw->num_values - 1];
+    char *e1, *e2;
+    double x = strtod(last, &e1);
+    for (int k = 0; k < sw->num_values - 1; k++) {
+        double y = strtod(sw->values[k], &e2);
+        if (!strcmp(sw->values[k], last) ||
+            (e1 != last && !*e1 && e2 != sw->values[k] && !*e2 && x == y))
+            return true;
+    }
+    return false;
+}
+
 static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     memset(sw, 0, sizeof *sw);
     const char *dot = strchr(s, '.'), *eq = strchr(s, '=');
@@ -96,6 +113,10 @@ static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
                            MAX_VALUES);
         snprintf(sw->values[sw->num_values++], ST_NAME_MAX, "%.*s", (int)n, p);
         p = c ? c + 1 : p + n;
+        if (repeated_value(sw))
+            return st_fail(err, ST_ERR_INPUT,
+                           "--sweep %s: value '%s' is given twice (each setting runs once)", s,
+                           sw->values[sw->num_values - 1]);
     }
     return true;
 }
@@ -332,12 +353,21 @@ static bool read_old_csv(const bench_args *b, const char *header, char **old, si
     if (!b->append || access(b->csv, F_OK) != 0) return true;
     *old = st_read_input(b->csv, ST_CAP_TEXT, "CSV file", len, err);
     if (!*old) return false;
+    if (*len == 0) { // an empty file: as a new one, so it gets the header
+        free(*old);
+        *old = NULL;
+        return true;
+    }
+    // The whole first line must be this run's header: a foreign CSV (or a
+    // rows-only shard) would get rows its columns do not describe.
     size_t l1 = strcspn(*old, "\r\n");
-    if (!strncmp(*old, "scene,", 6) && (l1 != strlen(header) || strncmp(*old, header, l1))) {
+    if (l1 != strlen(header) || strncmp(*old, header, l1)) {
+        bool ours = !strncmp(*old, "scene,", 6);
         st_fail(err, ST_ERR_INPUT,
-                "--append %s: its header differs from this run's (%.*s); append to a CSV of "
-                "the same --metric and strahl version",
-                b->csv, (int)(l1 < 200 ? l1 : 200), *old);
+                "--append %s: its first line '%.*s%s' is not this run's header; append to a CSV "
+                "that strahl bench wrote%s",
+                b->csv, (int)(l1 < 120 ? l1 : 120), *old, l1 > 120 ? "..." : "",
+                ours ? " with the same --metric and strahl version" : "");
         free(*old);
         *old = NULL;
         return false;
