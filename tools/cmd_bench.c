@@ -428,8 +428,8 @@ static int setting_of(const bench_args *b, int idx, char assign[][256], char **a
 
 // Renders every setting of this shard into rows[0, *done).
 static bool run_settings(const bench_args *b, const st_image *ref, const st_image *ref_se,
-                         const st_exr_meta *meta, st_pixel_filter filter, row *rows, int total,
-                         int *done, st_progress_bar *bar, st_err *err) {
+                         st_pixel_filter filter, row *rows, int total, int *done,
+                         st_progress_bar *bar, st_err *err) {
     st_context *ctx = NULL;
     bool ok = true;
     for (int idx = 0; idx < total && ok; idx++) {
@@ -458,11 +458,50 @@ static bool run_settings(const bench_args *b, const st_image *ref, const st_imag
         }
         st_scene_free(&scene);
         if (!ok) break;
-        r->noisy_ref = st_warn_reference_noise("bench", b->ref_path, &r->m, meta->spp);
+        r->noisy_ref = st_metrics_noise_dominates(&r->m); // one warning at the end
         (*done)++;
     }
     st_context_destroy(ctx);
     return ok;
+}
+
+// One warning for the run, not one per row: which settings' errors the
+// reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3; the
+// CSV's ref_noise_warning column flags them) and the spp that would resolve
+// them all (the standard error falls as 1/sqrt(spp)).
+static void warn_noisy_rows(const char *ref_path, int spp, const row *rows, int done) {
+    int n = 0, listed = 0;
+    double want = 0, noise = 0;
+    bool zero = false;
+    for (int i = 0; i < done; i++) {
+        if (!rows[i].noisy_ref) continue;
+        n++;
+        double e = rows[i].m.rmse_debiased[3], s = rows[i].m.ref_noise_rms[3];
+        noise = s;
+        if (e > 0)
+            want = fmax(want, ceil(spp * (3 * s / e) * (3 * s / e)));
+        else
+            zero = true;
+    }
+    if (!n) return;
+    fprintf(stderr,
+            "strahl bench: warning: %s: the reference's noise (rms standard error %.3g) is more "
+            "than a third of the error of %d of %d settings (ref_noise_warning = 1 in the CSV): ",
+            ref_path, noise, n, done);
+    for (int i = 0; i < done; i++) {
+        if (!rows[i].noisy_ref) continue;
+        if (listed == 8) {
+            fprintf(stderr, "; and %d more", n - listed);
+            break;
+        }
+        fprintf(stderr, "%s%s", listed++ ? "; " : "", rows[i].setting);
+    }
+    if (spp > 0 && want > 0)
+        fprintf(stderr, "; resolving them needs a reference of at least %.0f spp (it has %d)%s",
+                fmin(want, 1e9), spp, zero ? " and more for the rows of debiased error 0" : "");
+    else if (zero)
+        fprintf(stderr, "; a debiased error of 0 means the error is below what it resolves");
+    fputc('\n', stderr);
 }
 
 // The CSV, atomically; --append adds rows to an existing file.
@@ -549,13 +588,14 @@ static bool bench(const bench_args *b, const char *header, st_progress_bar *bar,
                                          : total);
         if (!rows) ok = st_fail(err, ST_ERR_RUNTIME, "out of memory");
     }
-    ok = ok && run_settings(b, &ref, &ref_se, &ref_meta, filter, rows, total, &done, bar, err);
+    ok = ok && run_settings(b, &ref, &ref_se, filter, rows, total, &done, bar, err);
     if (ok) {
         // Before anything goes to stdout, so the table does not run into the bar.
         char extra[64] = "";
         if (b->shard_n > 1) snprintf(extra, sizeof extra, "shard %ld/%ld", b->shard_i, b->shard_n);
         st_progress_end(bar, done, extra);
         bar->drawn = false;
+        warn_noisy_rows(b->ref_path, ref_meta.spp, rows, done);
         ok = write_csv(b, header, old, old_len, rows, done, err);
     }
     if (ok) print_front(b, rows, done);
