@@ -14,8 +14,8 @@
 #include <string.h>
 
 static const char help_text[] =
-    "usage: strahl convert IN.exr -o OUT.png [--exposure EV] [--tonemap clamp|aces|filmic]\n"
-    "                      [--false-colour [--scale MAX]]\n"
+    "usage: strahl convert IN.exr -o OUT.png [--exposure EV] [--tonemap clamp|aces|filmic] "
+    "[--false-colour [--scale MAX]]\n"
     "An EXR as an 8-bit sRGB PNG: each channel x = value * 2^EV goes through the tone map,\n"
     "then the sRGB curve (alpha is clamped only). The input is never overwritten.\n"
     "  -o OUT.png           output (required; written atomically)\n"
@@ -29,7 +29,7 @@ static const char help_text[] =
     "                       3/4, white the scale and above) with its colour bar and values\n"
     "                       below; no --exposure or --tonemap with it\n"
     "  --scale MAX          the luminance drawn white (default: the largest)\n"
-    "  -h, --help           this text\n"
+    "  -h, --help           this text (docs/images.md has the curves and the colour map)\n"
     "example:\n"
     "  strahl convert ref.exr -o ref.png --exposure 2 --tonemap aces\n";
 

@@ -249,8 +249,22 @@ static void test_bad_input(void) {
     CHECK(before > 0 && before == after, "the input changed: %zu -> %zu bytes", before, after);
 }
 
+// --help on stdout, exit 0, naming every option (cli_help's list of
+// commands predates convert), a default and an example.
+static void test_help(void) {
+    char out[8192], cmd[4400];
+    snprintf(cmd, sizeof cmd, "'%s' convert --help 2>/dev/null", ST_TEST_STRAHL);
+    CHECK(st_test_capture(out, sizeof out, cmd) == 0, "convert --help");
+    const char *want[] = {
+        "usage: strahl convert", "-o OUT.png", "--exposure", "--tonemap", "aces", "filmic",
+        "--false-colour",        "--scale",    "default",    "example"};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
+        CHECK(strstr(out, want[i]) != NULL, "convert --help lacks '%s'", want[i]);
+}
+
 int main(void) {
     snprintf(dir, sizeof dir, "%s", ST_TEST_SCRATCH);
+    test_help();
     test_heatmap();
     test_tonemaps();
     test_false_colour();
