@@ -302,8 +302,11 @@ static void write_ranges(FILE *f, const ptable *t, double fy) {
         y0 = fmin(y0, y);
         y1 = fmax(y1, y);
     }
-    if (x0 == x1) fprintf(f, "set xrange [%.9g:%.9g]\n", x0 / 1.5, x1 * 1.5);
-    if (y0 == y1) fprintf(f, "set yrange [%.9g:%.9g]\n", y0 / 1.5, y1 * 1.5);
+    // Such a range may hold no decade: a tic at the value itself names it.
+    if (x0 == x1)
+        fprintf(f, "set xrange [%.9g:%.9g]\nset xtics add (%.9g)\n", x0 / 1.5, x1 * 1.5, x0);
+    if (y0 == y1)
+        fprintf(f, "set yrange [%.9g:%.9g]\nset ytics add (%.9g)\n", y0 / 1.5, y1 * 1.5, y0);
 }
 
 // The terminal, axes and title.
