@@ -364,10 +364,16 @@ static bool read_old_csv(const bench_args *b, const char *header, char **old, si
     size_t l1 = strcspn(*old, "\r\n");
     if (l1 != strlen(header) || strncmp(*old, header, l1)) {
         bool ours = !strncmp(*old, "scene,", 6);
+        // The file's text reaches the terminal: control characters become '?'.
+        char line[121];
+        size_t k = 0;
+        for (; k < l1 && k + 1 < sizeof line; k++)
+            line[k] = (unsigned char)(*old)[k] < 0x20 || (*old)[k] == 0x7f ? '?' : (*old)[k];
+        line[k] = 0;
         st_fail(err, ST_ERR_INPUT,
-                "--append %s: its first line '%.*s%s' is not this run's header; append to a CSV "
+                "--append %s: its first line '%s%s' is not this run's header; append to a CSV "
                 "that strahl bench wrote%s",
-                b->csv, (int)(l1 < 120 ? l1 : 120), *old, l1 > 120 ? "..." : "",
+                b->csv, line, l1 > k ? "..." : "",
                 ours ? " with the same --metric and strahl version" : "");
         free(*old);
         *old = NULL;

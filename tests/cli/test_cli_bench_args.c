@@ -35,15 +35,17 @@ int main(void) {
     char out[8192];
     // No ref.exr here: a run that passes the header check fails on it instead.
     const char *foreign[] = {"a,b,c\n1,2,3\n", "scene,setting\nx,y\n",
-                             "s.json,toth.samples=8,toth,8,10,1,1,1,0.1\n"};
+                             "s.json,toth.samples=8,toth,8,10,1,1,1,0.1\n",
+                             "x\033[2J,y\n"}; // an escape must not reach the terminal
     for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; i++) {
         write_text("o.csv", foreign[i]);
         int rc = bench(out, sizeof out, "--sweep toth.samples=8 --csv o.csv --append");
         char line1[64];
-        snprintf(line1, sizeof line1, "%.*s", (int)strcspn(foreign[i], "\n"), foreign[i]);
+        snprintf(line1, sizeof line1, "%.*s", (int)strcspn(foreign[i], "\n\033"), foreign[i]);
         CHECK(rc == 2 && strstr(out, "o.csv") && strstr(out, line1) && strstr(out, "header") &&
                   !strstr(out, "ref.exr"),
               "--append onto '%s': exit %d, %s", line1, rc, out);
+        CHECK(!strchr(out, '\033'), "a raw escape printed");
         char *now = read_text("o.csv");
         CHECK(now && !strcmp(now, foreign[i]), "o.csv changed: %s", now);
         free(now);
