@@ -371,8 +371,8 @@ static bool read_old_csv(const bench_args *b, const char *header, char **old, si
             line[k] = (unsigned char)(*old)[k] < 0x20 || (*old)[k] == 0x7f ? '?' : (*old)[k];
         line[k] = 0;
         st_fail(err, ST_ERR_INPUT,
-                "--append %s: its first line '%s%s' is not this run's header; append to a CSV "
-                "that strahl bench wrote%s",
+                "--append %s: header differs from this run's: its first line is '%s%s'; append "
+                "to a CSV that strahl bench wrote%s",
                 b->csv, line, l1 > k ? "..." : "",
                 ours ? " with the same --metric and strahl version" : "");
         free(*old);
