@@ -585,6 +585,80 @@ bool st_png_write8(const char *path, const uint8_t *px, int width, int height, i
     return st_out_commit(&o, err);
 }
 
+// CRC-32 of ISO 3309 (the PNG chunk checksum) over a chunk's type and data.
+static uint32_t png_crc(const uint8_t *p, size_t n) {
+    uint32_t c = 0xffffffffu;
+    for (size_t i = 0; i < n; i++) {
+        c ^= p[i];
+        for (int k = 0; k < 8; k++)
+            c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xffffffffu;
+}
+
+static bool png_text_ok(const char *key, const char *val) {
+    size_t kl = strlen(key);
+    if (kl < 1 || kl > 79 || key[0] == ' ' || key[kl - 1] == ' ') return false;
+    for (const char *s = key; *s; s++)
+        if ((unsigned char)*s < 0x20 || *s == 0x7f) return false;
+    for (const char *s = val; *s; s++)
+        if ((unsigned char)*s < 0x20 || *s == 0x7f) return false;
+    return true;
+}
+
+static void put_be32(FILE *f, uint32_t v) {
+    const uint8_t b[4] = {(uint8_t)(v >> 24), (uint8_t)(v >> 16), (uint8_t)(v >> 8), (uint8_t)v};
+    fwrite(b, 1, 4, f);
+}
+
+// One tEXt chunk: length, "tEXt", key NUL value, CRC.
+static bool png_text_chunk(FILE *f, const char *key, const char *val) {
+    size_t kl = strlen(key), vl = strlen(val), n = 4 + kl + 1 + vl;
+    uint8_t *c = malloc(n);
+    if (!c) return false;
+    memcpy(c, "tEXt", 4);
+    memcpy(c + 4, key, kl + 1);
+    memcpy(c + 5 + kl, val, vl);
+    put_be32(f, (uint32_t)(n - 4));
+    fwrite(c, 1, n, f);
+    put_be32(f, png_crc(c, n));
+    free(c);
+    return true;
+}
+
+bool st_png_write8_text(const char *path, const uint8_t *px, int width, int height, int comp,
+                        const char *const *text, st_err *err) {
+    if (!path || !path[0]) return st_fail(err, ST_ERR_INPUT, "empty output path");
+    if (!px || width <= 0 || height <= 0 || comp < 1 || comp > 4)
+        return st_fail(err, ST_ERR_INPUT, "%s: no image to write", path);
+    if ((size_t)width * comp > INT_MAX)
+        return st_fail(err, ST_ERR_INPUT, "%s: image too wide for PNG", path);
+    for (int i = 0; text && text[i]; i += 2)
+        if (!text[i + 1] || !png_text_ok(text[i], text[i + 1]))
+            return st_fail(err, ST_ERR_INPUT, "%s: bad PNG text key or value '%.80s'", path,
+                           text[i]);
+    int len = 0;
+    uint8_t *png = stbi_write_png_to_mem(px, width * comp, width, height, comp, &len);
+    // 8 bytes of signature and the 25 of IHDR come first; the text follows them.
+    const int head = 33;
+    if (!png || len < head) {
+        free(png);
+        return st_fail(err, ST_ERR_RUNTIME, "%s: cannot write PNG (encoder failed)", path);
+    }
+    st_outfile o;
+    FILE *f = st_out_begin(&o, path, err) ? st_out_stream(&o, err) : NULL;
+    bool ok = f != NULL && fwrite(png, 1, head, f) == (size_t)head;
+    for (int i = 0; ok && text && text[i]; i += 2)
+        ok = png_text_chunk(f, text[i], text[i + 1]);
+    ok = ok && fwrite(png + head, 1, (size_t)(len - head), f) == (size_t)(len - head);
+    free(png);
+    if (!ok) {
+        st_out_abort(&o);
+        return f ? st_fail(err, ST_ERR_RUNTIME, "%s: cannot write PNG (I/O error)", path) : false;
+    }
+    return st_out_commit(&o, err);
+}
+
 static uint8_t to8(double v) { // [0,1] -> 0..255, rounded
     return (uint8_t)floor(v * 255.0 + 0.5);
 }

@@ -64,6 +64,11 @@ bool st_image_write(const char *path, const st_image *img, float exposure, st_er
 // 8-bit pixels (comp 1..4, rows top first, tightly packed) as PNG, atomically.
 bool st_png_write8(const char *path, const uint8_t *px, int width, int height, int comp,
                    st_err *err);
+// As st_png_write8, with tEXt chunks (after IHDR): `text` holds key, value
+// pairs, NULL-terminated. Keys are 1..79 printable Latin-1 characters, values
+// have no control characters (so the metadata cannot forge lines).
+bool st_png_write8_text(const char *path, const uint8_t *px, int width, int height, int comp,
+                        const char *const *text, st_err *err);
 // Exact piecewise sRGB OETF of a linear value in [0, 1].
 double st_srgb_encode(double linear);
 
@@ -104,6 +109,9 @@ bool st_metrics_noise_dominates(const st_metrics *m);
 // Heat map of |a - b| (mean over R,G,B) divided by its maximum and mapped
 // to a black-blue-red-yellow-white ramp, 8-bit PNG, written atomically.
 bool st_image_write_heatmap(const char *path, const st_image *a, const st_image *b, st_err *err);
+// That ramp: t in [0, 1] (clamped) to 8-bit RGB, linear between the stops
+// black, blue, red, yellow, white at t = 0, 1/4, 1/2, 3/4, 1.
+void st_heat_colour(double t, uint8_t rgb[3]);
 
 #ifdef __cplusplus
 }

@@ -128,7 +128,7 @@ bool st_metrics_noise_dominates(const st_metrics *m) {
 }
 
 // Ramp stops black - blue - red - yellow - white at t = 0, 1/4, 1/2, 3/4, 1.
-static void ramp(double t, uint8_t rgb[3]) {
+void st_heat_colour(double t, uint8_t rgb[3]) {
     static const double stop[5][3] = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
     t = t < 0 ? 0 : t > 1 ? 1 : t;
     double x = t * 4;
@@ -163,7 +163,7 @@ bool st_image_write_heatmap(const char *path, const st_image *a, const st_image 
     }
     if (dmax < 1e-12) dmax = 1e-12; // identical images give a black map
     for (size_t i = 0; i < n; i++)
-        ramp(d[i] / dmax, px + 3 * i);
+        st_heat_colour(d[i] / dmax, px + 3 * i);
     bool ok = st_png_write8(path, px, a->width, a->height, 3, err);
     free(d);
     free(px);

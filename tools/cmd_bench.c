@@ -49,13 +49,16 @@ static const char help_text[] =
     "one CSV row per setting, the Pareto front on stdout, optionally a log-log plot.\n"
     "When REF has standard-error channels (strahl reference), the error column has the\n"
     "reference's own variance removed (mean((a-b)^2 - s^2), see strahl compare --help);\n"
-    "error_raw keeps the raw value, and a warning names the settings whose error the\n"
-    "reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3).\n"
+    "error_raw keeps the raw value, and one warning per run names the settings whose\n"
+    "error the reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3;\n"
+    "ref_noise_warning = 1 in the CSV, hollow in the plot).\n"
     "  --reference REF.exr        reference image of the same size (required)\n"
     "  --sweep MODULE.PARAM=v,... values to sweep (required, up to 4; the first is the\n"
-    "                             x along each curve of the plot)\n"
+    "                             x along each curve of the plot); a value given twice\n"
+    "                             (8,8 or 8,8.0) is refused\n"
     "  --csv OUT.csv              output table (required; written atomically)\n"
-    "  --append                   add rows to an existing CSV (default: overwrite)\n"
+    "  --append                   add rows to an existing CSV whose first line is this\n"
+    "                             run's header (else refused; default: overwrite)\n"
     "  --plot OUT.png|OUT.svg     log-log plot of time against error (default: none; the\n"
     "                             same as strahl plot OUT.csv afterwards, see its --help)\n"
     "  --baseline M.P=V,...       mark this setting in the plot, e.g. the brute-force one\n"
@@ -81,6 +84,21 @@ static const char help_text[] =
     "      --sweep toth.samples=16,64,256 --sweep toth.interleave=1,2 --csv toth.csv --plot "
     "toth.png\n";
 
+// Whether the last value of sw equals an earlier one, as text or as a number
+// ("8" and "8.0"): the same setting would be rendered twice.
+static bool repeated_value(const sweep *sw) {
+    const char *last = sw->values[sw->num_values - 1];
+    char *e1, *e2;
+    double x = strtod(last, &e1);
+    for (int k = 0; k < sw->num_values - 1; k++) {
+        double y = strtod(sw->values[k], &e2);
+        if (!strcmp(sw->values[k], last) ||
+            (e1 != last && !*e1 && e2 != sw->values[k] && !*e2 && x == y))
+            return true;
+    }
+    return false;
+}
+
 static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
     memset(sw, 0, sizeof *sw);
     const char *dot = strchr(s, '.'), *eq = strchr(s, '=');
@@ -96,6 +114,10 @@ static bool parse_sweep(const char *s, sweep *sw, st_err *err) {
                            MAX_VALUES);
         snprintf(sw->values[sw->num_values++], ST_NAME_MAX, "%.*s", (int)n, p);
         p = c ? c + 1 : p + n;
+        if (repeated_value(sw))
+            return st_fail(err, ST_ERR_INPUT,
+                           "--sweep %s: value '%s' is given twice (each setting runs once)", s,
+                           sw->values[sw->num_values - 1]);
     }
     return true;
 }
@@ -333,12 +355,27 @@ static bool read_old_csv(const bench_args *b, const char *header, char **old, si
     if (!b->append || access(b->csv, F_OK) != 0) return true;
     *old = st_read_input(b->csv, ST_CAP_TEXT, "CSV file", len, err);
     if (!*old) return false;
+    if (*len == 0) { // an empty file: as a new one, so it gets the header
+        free(*old);
+        *old = NULL;
+        return true;
+    }
+    // The whole first line must be this run's header: a foreign CSV (or a
+    // rows-only shard) would get rows its columns do not describe.
     size_t l1 = strcspn(*old, "\r\n");
-    if (!strncmp(*old, "scene,", 6) && (l1 != strlen(header) || strncmp(*old, header, l1))) {
+    if (l1 != strlen(header) || strncmp(*old, header, l1)) {
+        bool ours = !strncmp(*old, "scene,", 6);
+        // The file's text reaches the terminal: control characters become '?'.
+        char line[121];
+        size_t k = 0;
+        for (; k < l1 && k + 1 < sizeof line; k++)
+            line[k] = (unsigned char)(*old)[k] < 0x20 || (*old)[k] == 0x7f ? '?' : (*old)[k];
+        line[k] = 0;
         st_fail(err, ST_ERR_INPUT,
-                "--append %s: its header differs from this run's (%.*s); append to a CSV of "
-                "the same --metric and strahl version",
-                b->csv, (int)(l1 < 200 ? l1 : 200), *old);
+                "--append %s: header differs from this run's: its first line is '%s%s'; append "
+                "to a CSV that strahl bench wrote%s",
+                b->csv, line, l1 > k ? "..." : "",
+                ours ? " with the same --metric and strahl version" : "");
         free(*old);
         *old = NULL;
         return false;
@@ -399,8 +436,8 @@ static int setting_of(const bench_args *b, int idx, char assign[][256], char **a
 
 // Renders every setting of this shard into rows[0, *done).
 static bool run_settings(const bench_args *b, const st_image *ref, const st_image *ref_se,
-                         const st_exr_meta *meta, st_pixel_filter filter, row *rows, int total,
-                         int *done, st_progress_bar *bar, st_err *err) {
+                         st_pixel_filter filter, row *rows, int total, int *done,
+                         st_progress_bar *bar, st_err *err) {
     st_context *ctx = NULL;
     bool ok = true;
     for (int idx = 0; idx < total && ok; idx++) {
@@ -429,11 +466,50 @@ static bool run_settings(const bench_args *b, const st_image *ref, const st_imag
         }
         st_scene_free(&scene);
         if (!ok) break;
-        r->noisy_ref = st_warn_reference_noise("bench", b->ref_path, &r->m, meta->spp);
+        r->noisy_ref = st_metrics_noise_dominates(&r->m); // one warning at the end
         (*done)++;
     }
     st_context_destroy(ctx);
     return ok;
+}
+
+// One warning for the run, not one per row: which settings' errors the
+// reference's noise cannot resolve (ref_noise_rms > debiased rmse / 3; the
+// CSV's ref_noise_warning column flags them) and the spp that would resolve
+// them all (the standard error falls as 1/sqrt(spp)).
+static void warn_noisy_rows(const char *ref_path, int spp, const row *rows, int done) {
+    int n = 0, listed = 0;
+    double want = 0, noise = 0;
+    bool zero = false;
+    for (int i = 0; i < done; i++) {
+        if (!rows[i].noisy_ref) continue;
+        n++;
+        double e = rows[i].m.rmse_debiased[3], s = rows[i].m.ref_noise_rms[3];
+        noise = s;
+        if (e > 0)
+            want = fmax(want, ceil(spp * (3 * s / e) * (3 * s / e)));
+        else
+            zero = true;
+    }
+    if (!n) return;
+    fprintf(stderr,
+            "strahl bench: warning: %s: the reference's noise (rms standard error %.3g) is more "
+            "than a third of the error of %d of %d settings (ref_noise_warning = 1 in the CSV): ",
+            ref_path, noise, n, done);
+    for (int i = 0; i < done; i++) {
+        if (!rows[i].noisy_ref) continue;
+        if (listed == 8) {
+            fprintf(stderr, "; and %d more", n - listed);
+            break;
+        }
+        fprintf(stderr, "%s%s", listed++ ? "; " : "", rows[i].setting);
+    }
+    if (spp > 0 && want > 0)
+        fprintf(stderr, "; resolving them needs a reference of at least %.0f spp (it has %d)%s",
+                fmin(want, 1e9), spp, zero ? " and more for the rows of debiased error 0" : "");
+    else if (zero)
+        fprintf(stderr, "; a debiased error of 0 means the error is below what it resolves");
+    fputc('\n', stderr);
 }
 
 // The CSV, atomically; --append adds rows to an existing file.
@@ -520,13 +596,14 @@ static bool bench(const bench_args *b, const char *header, st_progress_bar *bar,
                                          : total);
         if (!rows) ok = st_fail(err, ST_ERR_RUNTIME, "out of memory");
     }
-    ok = ok && run_settings(b, &ref, &ref_se, &ref_meta, filter, rows, total, &done, bar, err);
+    ok = ok && run_settings(b, &ref, &ref_se, filter, rows, total, &done, bar, err);
     if (ok) {
         // Before anything goes to stdout, so the table does not run into the bar.
         char extra[64] = "";
         if (b->shard_n > 1) snprintf(extra, sizeof extra, "shard %ld/%ld", b->shard_i, b->shard_n);
         st_progress_end(bar, done, extra);
         bar->drawn = false;
+        warn_noisy_rows(b->ref_path, ref_meta.spp, rows, done);
         ok = write_csv(b, header, old, old_len, rows, done, err);
     }
     if (ok) print_front(b, rows, done);

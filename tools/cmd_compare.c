@@ -1,16 +1,18 @@
-// strahl compare A.exr B.exr [--json] [--heatmap OUT.png]
+// strahl compare A.exr B.exr [--json] [--heatmap OUT.png [--scale MAX]]
 // Error metrics of A against the reference B. Output is printed only after
 // everything (including the heat map) succeeded.
 #include "cmd_common.h"
+#include "false_colour.h"
 #include "st_cmd.h"
 #include "st_file.h"
 #include "st_image.h"
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const char help_text[] =
-    "usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png]\n"
+    "usage: strahl compare A.exr B.exr [--json] [--heatmap OUT.png [--scale MAX]]\n"
     "Error of A against the reference B, per channel and over R,G,B: rmse, relmse\n"
     "((a-b)^2 / (b^2 + 0.01)), psnr (peak = max of B), max_abs, the scale s minimising\n"
     "|s A - B| and the rmse after scaling.\n"
@@ -23,7 +25,13 @@ static const char help_text[] =
     "(the strahl.filter header attribute, box or point; a file without it counts as point,\n"
     "as strahl wrote them before it had the box filter).\n"
     "  --json             one JSON object instead of the table (default: text)\n"
-    "  --heatmap OUT.png  |A - B| as a colour ramp (default: none)\n"
+    "  --heatmap OUT.png  |A - B| (mean over R,G,B) in false colour, black 0, blue 1/4,\n"
+    "                     red 1/2, yellow 3/4, white the scale and above, with a colour\n"
+    "                     bar and its values in 24 rows below (the image is padded to\n"
+    "                     96 px wide); the scale is in the PNG's tEXt chunk strahl.scale\n"
+    "                     (default: none)\n"
+    "  --scale MAX        the difference drawn white, so heat maps of several images\n"
+    "                     share one scale (default: the largest difference)\n"
     "  -h, --help         this text\n"
     "example:\n"
     "  strahl compare out/toth.exr ref.exr --heatmap out/diff.png\n";
@@ -36,7 +44,7 @@ static int fail(const st_err *err) {
 static int bad_usage(const char *what, const char *arg) {
     fprintf(stderr,
             "strahl compare: %s '%s' (usage: strahl compare A.exr B.exr [--json] "
-            "[--heatmap OUT.png])\n",
+            "[--heatmap OUT.png [--scale MAX]])\n",
             what, arg);
     return ST_EXIT_INPUT;
 }
@@ -105,10 +113,40 @@ static void print_text(const st_metrics *m, int w, int h, const char *a, const c
     text_row("ref_noise_rms", m->ref_noise_rms);
 }
 
+// The mean over R,G,B of |A - B| (a grey image counts for all three), in
+// false colour with its legend; scale <= 0: the largest difference.
+static bool write_heatmap(const char *path, const st_image *a, const st_image *b, double scale,
+                          st_err *err) {
+    const size_t n = (size_t)a->width * a->height;
+    double *d = malloc(n * sizeof *d);
+    if (!d) return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
+    for (size_t i = 0; i < n; i++) {
+        const float *pa = a->data + i * a->channels, *pb = b->data + i * b->channels;
+        double s = 0;
+        for (int c = 0; c < 3; c++)
+            s += fabs((double)pa[a->channels >= 3 ? c : 0] - pb[b->channels >= 3 ? c : 0]);
+        d[i] = s / 3;
+    }
+    st_false_colour fc = {.quantity = "mean over R,G,B of |A - B|", .scale = scale};
+    // Identical images: a black map on the smallest scale rather than a division by 0.
+    if (!(fc.scale > 0)) fc.scale = fmax(st_false_colour_max(d, n), 1e-12);
+    bool ok = st_write_false_colour(path, d, a->width, a->height, &fc, err);
+    free(d);
+    return ok;
+}
+
+// --scale MAX: a positive finite number.
+static bool parse_scale(const char *s, double *out) {
+    char *e;
+    *out = strtod(s, &e);
+    return e != s && !*e && isfinite(*out) && *out > 0;
+}
+
 int st_cmd_compare(int argc, char **argv) {
     const char *files[3] = {NULL, NULL, NULL}, *heatmap = NULL;
     int nfiles = 0;
     bool json = false;
+    double scale = 0;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if (!strcmp(arg, "--json")) {
@@ -118,6 +156,10 @@ int st_cmd_compare(int argc, char **argv) {
             heatmap = argv[++i];
         } else if (!strncmp(arg, "--heatmap=", 10)) {
             heatmap = arg + 10;
+        } else if (!strcmp(arg, "--scale")) {
+            if (i + 1 >= argc) return bad_usage("missing value after", arg);
+            if (!parse_scale(argv[++i], &scale))
+                return bad_usage("--scale: expected a positive finite number, got", argv[i]);
         } else if (!strcmp(arg, "-h") || !strcmp(arg, "--help")) {
             fputs(help_text, stdout);
             return ST_EXIT_OK;
@@ -131,9 +173,11 @@ int st_cmd_compare(int argc, char **argv) {
     }
     if (nfiles < 2) {
         fprintf(stderr, "strahl compare: needs two images (usage: strahl compare A.exr B.exr "
-                        "[--json] [--heatmap OUT.png])\n");
+                        "[--json] [--heatmap OUT.png [--scale MAX]])\n");
         return ST_EXIT_INPUT;
     }
+    if (scale > 0 && !heatmap)
+        return bad_usage("--scale is the heat map's; give --heatmap with", "--scale");
     st_err err = {0};
     static const char *const exts[] = {"png", NULL};
     if (heatmap && !st_check_output("--heatmap", heatmap, exts, files, &err)) return fail(&err);
@@ -150,7 +194,7 @@ int st_cmd_compare(int argc, char **argv) {
         // Name both files: the message itself only knows "image"/"reference".
         st_err_prefix(&err, "%s vs %s: ", files[0], files[1]);
         rc = fail(&err);
-    } else if (heatmap && !st_image_write_heatmap(heatmap, &a, &b, &err)) {
+    } else if (heatmap && !write_heatmap(heatmap, &a, &b, scale, &err)) {
         rc = fail(&err);
     } else if (json) {
         print_json(&m, a.width, a.height);

@@ -10,6 +10,7 @@
 #include "st_file.h"
 #include "st_cmd.h"
 #include "st_module.h"
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,6 +38,9 @@ static const char help_text[] =
     "concatenated shards): one curve per combination of the parameters that vary,\n"
     "named by them, the first swept parameter along each curve; the Pareto front\n"
     "(settings no faster setting beats in error); the plugins' defaults; a baseline.\n"
+    "Each point is labelled with its swept value. Hollow points: the reference is too\n"
+    "noisy to resolve that row's error (ref_noise_warning = 1). A log axis has no 0: an\n"
+    "error of 0 is a triangle at the axis floor, a quarter of the smallest positive error.\n"
     "  -o OUT.png|OUT.svg        output (required; written atomically)\n"
     "  --baseline M.P=V,...      mark the setting with these values, e.g. the brute-force\n"
     "                            one (default: none)\n"
@@ -75,8 +79,8 @@ static bool equals_default(const char *name, const char *value) {
     return eq;
 }
 
-// "interleave 1, full": the parameters (other than the first) whose values
-// differ between rows; numbers and booleans keep the parameter's name.
+// "interleave 1, resolution full": the parameters (other than the first)
+// whose values differ between rows, each with its name.
 static void curve_label(const ptable *t, const prow *r, bool multi_scene, char *out, size_t n) {
     size_t len = 0;
     out[0] = 0;
@@ -89,13 +93,11 @@ static void curve_label(const ptable *t, const prow *r, bool multi_scene, char *
                     strcmp(t->rows[i].value[q], r->value[k]))
                     varies = true;
         if (!varies) continue;
+        // "resolution half", never a bare "half": the legend names what varies.
         const char *param = strchr(r->name[k], '.') + 1;
-        const char *v = r->value[k];
-        bool named = is_number(v) || !strcmp(v, "true") || !strcmp(v, "false");
-        len += (size_t)snprintf(out + len, n - len, "%s%s%s%s", len ? ", " : "", named ? param : "",
-                                named ? " " : "", v);
+        len += (size_t)snprintf(out + len, n - len, "%s%s %s", len ? ", " : "", param, r->value[k]);
     }
-    if (!out[0]) snprintf(out, n, "%.*s", (int)strcspn(r->name[0], "."), r->name[0]);
+    if (!out[0]) snprintf(out, n, "%s", r->name[0]); // one curve: "toth.samples"
 }
 
 static int cmp_ms(const void *a, const void *b) {
@@ -208,17 +210,52 @@ static bool assign_curves(ptable *t, const char *out, const char *baseline, bool
     return true;
 }
 
-// The data as a gnuplot datablock: one block (gnuplot `index`) per curve,
-// then the front, the baseline, the defaults (*nb, *nd: their points).
-static void write_data(FILE *d, ptable *t, int nc, int *nb, int *nd) {
+// A log axis has no 0: an error of 0 (a reference noisier than the error it
+// measures gives one) is drawn at this floor, a quarter of the smallest
+// positive error (1e-3 without one), with its own marker.
+static double error_floor(const ptable *t) {
+    double m = INFINITY;
+    for (int i = 0; i < t->n; i++)
+        if (t->rows[i].err > 0 && t->rows[i].err < m) m = t->rows[i].err;
+    return isfinite(m) ? m / 4 : 1e-3;
+}
+
+static double shown_err(const prow *r, double floor_y) {
+    return r->err > 0 ? r->err : floor_y;
+}
+
+// Filled circle; hollow where the reference is too noisy to resolve the
+// error; a triangle (down) for an error of 0 drawn at the floor.
+static int point_type(const prow *r) {
+    bool zero = !(r->err > 0);
+    return r->noisy_ref ? (zero ? 10 : 6) : (zero ? 11 : 7);
+}
+
+// The swept value as a point label: it sits between double quotes in the
+// datablock, so only letters, digits and . + - _ pass.
+static void point_label(const prow *r, char *out, size_t n) {
+    size_t k = 0;
+    for (const char *v = r->value[0]; *v && k + 1 < n; v++)
+        out[k++] = (isalnum((unsigned char)*v) || strchr(".+-_", *v)) ? *v : '_';
+    out[k] = 0;
+}
+
+// The data as a gnuplot datablock: one block (gnuplot `index`) per curve
+// (time, error, point type, label), then the front, the baseline, the
+// defaults (*nb, *nd: their points).
+static void write_data(FILE *d, ptable *t, int nc, double fy, int *nb, int *nd) {
     prow *sorted[MAX_ROWS];
     for (int i = 0; i < t->n; i++)
         sorted[i] = &t->rows[i];
     fprintf(d, "$data << EOD\n");
     qsort(sorted, (size_t)t->n, sizeof sorted[0], cmp_x);
     for (int c = 0, i = 0; c < nc; c++) {
-        for (; i < t->n && sorted[i]->curve == c; i++)
-            fprintf(d, "%.9g %.9g\n", sorted[i]->ms, sorted[i]->err);
+        for (; i < t->n && sorted[i]->curve == c; i++) {
+            char label[64];
+            point_label(sorted[i], label, sizeof label);
+            fprintf(d, "%.9g %.9g %d \"%s\"\n", sorted[i]->ms, shown_err(sorted[i], fy),
+                    point_type(sorted[i]), label);
+        }
         fprintf(d, "\n\n");
     }
     // The front of each scene (times and errors of different scenes do not
@@ -233,7 +270,7 @@ static void write_data(FILE *d, ptable *t, int nc, int *nb, int *nd) {
         for (int k = i; k < t->n; k++)
             if (!strcmp(sorted[k]->scene, sorted[i]->scene) && sorted[k]->err < best) {
                 best = sorted[k]->err;
-                fprintf(d, "%.9g %.9g\n", sorted[k]->ms, sorted[k]->err);
+                fprintf(d, "%.9g %.9g\n", sorted[k]->ms, shown_err(sorted[k], fy));
             }
         fputc('\n', d); // a blank line breaks the line between scenes
     }
@@ -245,11 +282,31 @@ static void write_data(FILE *d, ptable *t, int nc, int *nb, int *nd) {
     }
     if (*nb) fprintf(d, "\n\n");
     for (int i = 0; i < t->n; i++)
-        if (t->rows[i].is_baseline) fprintf(d, "%.9g %.9g\n", t->rows[i].ms, t->rows[i].err);
+        if (t->rows[i].is_baseline)
+            fprintf(d, "%.9g %.9g\n", t->rows[i].ms, shown_err(&t->rows[i], fy));
     if (*nd) fprintf(d, "\n\n");
     for (int i = 0; i < t->n; i++)
-        if (t->rows[i].is_default) fprintf(d, "%.9g %.9g\n", t->rows[i].ms, t->rows[i].err);
+        if (t->rows[i].is_default)
+            fprintf(d, "%.9g %.9g\n", t->rows[i].ms, shown_err(&t->rows[i], fy));
     fprintf(d, "EOD\n");
+}
+
+// One point, or points of one time or one error, give gnuplot an empty
+// range on a log axis: widen it by 1.5x each way.
+static void write_ranges(FILE *f, const ptable *t, double fy) {
+    double x0 = INFINITY, x1 = 0, y0 = INFINITY, y1 = 0;
+    for (int i = 0; i < t->n; i++) {
+        double y = shown_err(&t->rows[i], fy);
+        x0 = fmin(x0, t->rows[i].ms);
+        x1 = fmax(x1, t->rows[i].ms);
+        y0 = fmin(y0, y);
+        y1 = fmax(y1, y);
+    }
+    // Such a range may hold no decade: a tic at the value itself names it.
+    if (x0 == x1)
+        fprintf(f, "set xrange [%.9g:%.9g]\nset xtics add (%.9g)\n", x0 / 1.5, x1 * 1.5, x0);
+    if (y0 == y1)
+        fprintf(f, "set yrange [%.9g:%.9g]\nset ytics add (%.9g)\n", y0 / 1.5, y1 * 1.5, y0);
 }
 
 // The terminal, axes and title.
@@ -265,7 +322,8 @@ static void write_setup(FILE *f, const ptable *t, const char *out, const char *t
     const prow *r0 = &t->rows[0];
     snprintf(along, sizeof along, "%s",
              strchr(r0->name[0], '.') ? strchr(r0->name[0], '.') + 1 : r0->name[0]);
-    snprintf(def_title, sizeof def_title, "%.*s on %s (along each curve: %s)",
+    snprintf(def_title, sizeof def_title,
+             "%.*s on %s (along each curve: %s, each point labelled with its value)",
              (int)strcspn(r0->name[0], "."), r0->name[0],
              multi_scene ? "several scenes" : r0->scene, along);
     fprintf(f, "set terminal %s size 900,700 font ',10'\n", svg ? "svg" : "pngcairo");
@@ -280,13 +338,36 @@ static void write_setup(FILE *f, const ptable *t, const char *out, const char *t
                "0.05, graph 0.1, graph 0.1\n");
 }
 
-// The plot command: the curves, the front, the baseline and the defaults.
+// Legend entries for the markers that carry a meaning of their own: hollow
+// (the reference is too noisy) and the triangle (error 0 at the floor).
+static void write_marker_keys(FILE *f, const ptable *t, double fy) {
+    bool noisy = false, zero = false;
+    for (int i = 0; i < t->n; i++) {
+        noisy |= t->rows[i].noisy_ref;
+        zero |= !(t->rows[i].err > 0);
+    }
+    if (noisy)
+        fprintf(f, ", \\\n     keyentry with points pt 6 ps 0.9 lc rgb 'black' title 'hollow: the "
+                   "reference is too noisy to resolve this error (ref_noise_warning)'");
+    if (zero)
+        fprintf(f,
+                ", \\\n     keyentry with points pt 11 ps 0.9 lc rgb 'black' title 'error 0, "
+                "drawn at the axis floor %.3g'",
+                fy);
+}
+
+// The plot command: per curve its line, its points (pt from the data) and
+// their labels; the front, the baseline and the defaults.
 static void write_plot(FILE *f, char (*labels)[256], int nc, int nb, int nd, const char *baseline) {
     fprintf(f, "plot ");
     for (int c = 0; c < nc; c++) {
-        fprintf(f, "$data index %d using 1:2 with linespoints lw 1.5 pt 7 ps 0.7 title ", c);
+        fprintf(f, "$data index %d using 1:2 with lines lt %d lw 1.5 title ", c, c + 1);
         gp_str(f, labels[c]);
-        fprintf(f, ", \\\n     ");
+        fprintf(f,
+                ", \\\n     $data index %d using 1:2:3 with points lt %d pt variable ps 0.9 "
+                "notitle, \\\n     $data index %d using 1:2:4 with labels tc lt %d offset char "
+                "0.5,0.5 left font ',7' noenhanced notitle, \\\n     ",
+                c, c + 1, c, c + 1);
     }
     fprintf(f, "$data index %d using 1:2 with steps lw 2 dt 2 lc rgb 'black' title 'Pareto front'",
             nc);
@@ -306,7 +387,27 @@ static void write_plot(FILE *f, char (*labels)[256], int nc, int nb, int nd, con
             "defaults'",
             nc + 1 + (nb > 0));
     }
-    fputc('\n', f);
+}
+
+// gnuplot's error from its messages: the last line that is not a warning
+// ("Warning: empty x range" may come first and is not why it failed), its
+// leading blanks and control characters gone; "" when there is none.
+static void gnuplot_error(FILE *log, char *msg, size_t n) {
+    static char text[16384];
+    rewind(log);
+    size_t got = fread(text, 1, sizeof text - 1, log);
+    text[got] = 0;
+    msg[0] = 0;
+    for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+        while (*line == ' ' || *line == '\t')
+            line++;
+        if (!*line || strstr(line, "Warning:") || strstr(line, "warning:") || *line == '^')
+            continue;
+        size_t k = 0;
+        for (; line[k] && k + 1 < n; k++)
+            msg[k] = (unsigned char)line[k] < 0x20 || line[k] == 0x7f ? ' ' : line[k];
+        msg[k] = 0;
+    }
 }
 
 // Runs gnuplot on the script into `out` (atomically). gnuplot's chatter
@@ -322,11 +423,8 @@ static bool plot_to(const char *script, size_t script_len, const char *out, st_e
     }
     bool ok = run_gnuplot(script, script_len, o.fd, fileno(log), err);
     if (!ok) {
-        char msg[512] = "";
-        rewind(log);
-        size_t got = fread(msg, 1, sizeof msg - 1, log);
-        msg[got] = 0;
-        msg[strcspn(msg, "\n")] = 0;
+        char msg[512];
+        gnuplot_error(log, msg, sizeof msg);
         st_out_abort(&o);
         fclose(log);
         return st_fail(err, ST_ERR_RUNTIME, "gnuplot failed drawing %s%s%s", out,
@@ -349,7 +447,8 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
     size_t script_len = 0;
     FILE *f = open_memstream(&script, &script_len);
     if (!f) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
-    write_data(f, t, nc, &nb, &nd);
+    const double fy = error_floor(t);
+    write_data(f, t, nc, fy, &nb, &nd);
     if (baseline && baseline[0] && !nb) {
         fclose(f);
         free(script);
@@ -357,7 +456,10 @@ static bool draw(ptable *t, const char *out, const char *baseline, const char *t
                        baseline);
     }
     write_setup(f, t, out, title, multi_scene);
+    write_ranges(f, t, fy);
     write_plot(f, labels, nc, nb, nd, baseline);
+    write_marker_keys(f, t, fy);
+    fputc('\n', f);
     if (fclose(f) != 0) {
         free(script);
         return st_fail(err, ST_ERR_RUNTIME, "out of memory");

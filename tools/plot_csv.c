@@ -12,6 +12,9 @@ bool st_plot_has_control(const char *s) {
     return false;
 }
 
+// Where strahl bench writes ref_noise_warning (0-based), the last of its 21 columns.
+#define NOISE_COL_DEFAULT 20
+
 static bool is_number(const char *s) {
     char *e;
     strtod(s, &e);
@@ -37,6 +40,9 @@ static bool parse_line(char *line, const char *name, int ln, st_plot_table *t, s
     if (!strcmp(fld[0], "scene")) { // a header (shard 1, or a concatenation)
         if (nf > 8 && !strncmp(fld[8], "error_", 6))
             snprintf(t->metric, sizeof t->metric, "%s", fld[8] + 6);
+        t->noise_col = 0;
+        for (int k = 0; k < nf; k++)
+            if (!strcmp(fld[k], "ref_noise_warning")) t->noise_col = k + 1;
         return true;
     }
     if (nf < 9)
@@ -72,6 +78,9 @@ static bool parse_line(char *line, const char *name, int ln, st_plot_table *t, s
     if (!r->np)
         return st_fail(err, ST_ERR_INPUT, "%s:%d: setting '%.64s' has no MODULE.PARAM=VALUE", name,
                        ln, fld[1]);
+    // Rows without a header (shards 2..N) have the column where bench writes it.
+    int nc = t->noise_col ? t->noise_col - 1 : nf == NOISE_COL_DEFAULT + 1 ? NOISE_COL_DEFAULT : -1;
+    r->noisy_ref = nc >= 0 && nc < nf && !strcmp(fld[nc], "1");
     r->x = is_number(r->value[0]) ? atof(r->value[0]) : 0;
     if (!isfinite(r->x)) r->x = 0;
     t->n++;

@@ -17,12 +17,14 @@ typedef struct st_plot_row {
     double ms, err, x;
     int curve;
     bool is_default, is_baseline;
+    bool noisy_ref; // ref_noise_warning = 1: the reference cannot resolve this error
 } st_plot_row;
 
 typedef struct st_plot_table {
     st_plot_row *rows; // ST_PLOT_MAX_ROWS of them
     int n;
     char metric[64];
+    int noise_col; // 1 + the ref_noise_warning column of the last header (0: none seen)
 } st_plot_table;
 
 // Appends the rows of one CSV text (len bytes; `name` is used in messages)

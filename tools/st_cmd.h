@@ -12,5 +12,6 @@ int st_cmd_bench(int argc, char **argv);
 int st_cmd_merge(int argc, char **argv);
 int st_cmd_plot(int argc, char **argv);
 int st_cmd_info(int argc, char **argv);
+int st_cmd_convert(int argc, char **argv);
 
 #endif

@@ -15,6 +15,7 @@
 #pragma weak st_cmd_merge
 #pragma weak st_cmd_plot
 #pragma weak st_cmd_info
+#pragma weak st_cmd_convert
 
 #ifndef ST_VERSION
 #define ST_VERSION "unknown"
@@ -44,7 +45,10 @@ int main(int argc, char **argv) {
         {"modules", st_cmd_modules, "[--json]"},
         {"reference", st_cmd_reference,
          "SCENE.json -o OUT.exr [--spp N] [--seed S] [--aov combined|direct|indirect|inscatter]"},
-        {"compare", st_cmd_compare, "A.exr B.exr [--json] [--heatmap OUT.png]"},
+        {"convert", st_cmd_convert,
+         "IN.exr -o OUT.png [--exposure EV] [--tonemap clamp|aces|filmic] [--false-colour "
+         "[--scale MAX]]"},
+        {"compare", st_cmd_compare, "A.exr B.exr [--json] [--heatmap OUT.png [--scale MAX]]"},
         {"merge", st_cmd_merge, "SHARD.exr SHARD.exr... -o OUT.exr"},
         {"plot", st_cmd_plot, "BENCH.csv... -o OUT.png|OUT.svg [--baseline MODULE.PARAM=V,...]"},
         {"bench", st_cmd_bench,

@@ -2,9 +2,13 @@
 // sweep exactly once, only shard 1 writes the header, so their concatenation
 // is the CSV of the unsharded run (same settings, same columns); bad --shard
 // values are bad input. Also checks the error columns against a reference
-// without standard-error channels: debiased = raw, reference noise 0.
+// without standard-error channels: debiased = raw, reference noise 0; and
+// against a far too noisy one: one warning for the run naming every setting,
+// the CSV's ref_noise_warning column set, and the plot (errors of 0, a
+// one-row sweep) drawn.
 #include "st_test.h"
 #include "st_base.h"
+#include "st_image.h"
 
 static char dir[4096];
 
@@ -35,6 +39,58 @@ static const char *field(const char *line, int k, char *buf, size_t n) {
     if (!line) return "";
     snprintf(buf, n, "%.*s", (int)strcspn(line, ","), line);
     return buf;
+}
+
+// ref.exr with standard-error channels of 10 (far above any error) and spp 4.
+static void write_noisy_reference(void) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/ref.exr", dir);
+    st_image ref = {0}, noisy = {0};
+    st_err err = {0};
+    CHECK(st_image_read_exr(path, &ref, &err), "%s", err.msg);
+    if (!ref.data || !st_image_alloc(&noisy, ref.width, ref.height, 6, &err)) return;
+    for (int j = 0; j < ref.height; j++)
+        for (int i = 0; i < ref.width; i++)
+            for (int c = 0; c < 6; c++)
+                st_image_px(&noisy, i, j)[c] = c < 3 ? st_image_px(&ref, i, j)[c] : 10.0f;
+    static const char *const names[] = {"R", "G", "B", "stderr.R", "stderr.G", "stderr.B"};
+    st_exr_meta meta = {.spp = 4, .filter = "point"};
+    snprintf(path, sizeof path, "%s/noisy.exr", dir);
+    CHECK(st_image_write_exr_meta(path, &noisy, names, &meta, &err), "%s", err.msg);
+    st_image_free(&ref);
+    st_image_free(&noisy);
+}
+
+static void test_noisy_reference(const char *scene) {
+    write_noisy_reference();
+    char cmd[8192], out[16384], path[4200], f[64];
+    const char *args = "--reference noisy.exr --size 32x32 --frames 1 --warmup 0";
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && '%s' bench '%s' %s --sweep toth.samples=8,16 --csv n.csv --plot n.svg",
+             dir, ST_TEST_STRAHL, scene, args);
+    CHECK(st_test_capture(out, sizeof out, cmd) == 0, "bench with a noisy reference");
+    int warnings = 0;
+    for (const char *p = out; (p = strstr(p, "warning:")); p++)
+        warnings++;
+    CHECK(warnings == 1 && strstr(out, "2 of 2 settings") && strstr(out, "toth.samples=8;") &&
+              strstr(out, "toth.samples=16"),
+          "one warning naming both settings: '%s'", out);
+    snprintf(path, sizeof path, "%s/n.csv", dir);
+    st_err err = {0};
+    char *csv = st_read_file(path, NULL, &err), *lines[8];
+    int n = csv ? lines_of(csv, lines, 8) : 0;
+    CHECK(n == 3, "n.csv: %d lines", n);
+    for (int k = 1; k < n; k++)
+        CHECK(!strcmp(field(lines[k], 20, f, sizeof f), "1"), "row %d ref_noise_warning '%s'", k,
+              f);
+    free(csv);
+    snprintf(path, sizeof path, "%s/n.svg", dir);
+    CHECK(st_test_exists(path), "n.svg (errors of 0) not drawn");
+    // Issue 36 item 8: one setting with --plot.
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && '%s' bench '%s' %s --sweep toth.samples=8 --csv one.csv --plot one.png",
+             dir, ST_TEST_STRAHL, scene, args);
+    CHECK(st_test_capture(out, sizeof out, cmd) == 0, "one-setting bench --plot: %s", out);
 }
 
 int main(void) {
@@ -118,5 +174,6 @@ int main(void) {
     }
     snprintf(path, sizeof path, "%s/bad.csv", dir);
     CHECK(!st_test_exists(path), "bad.csv written");
+    test_noisy_reference(scene);
     return st_test_summary("cli_bench_shard");
 }

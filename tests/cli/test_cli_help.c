@@ -8,7 +8,7 @@
 #include "st_module.h"
 
 static const char *const commands[] = {"render", "view",  "modules", "reference", "compare",
-                                       "bench",  "merge", "plot",    "info"};
+                                       "bench",  "merge", "plot",    "info",      "convert"};
 
 // Appends to opts (NUL-separated, at most max) every "-..." literal that is
 // the second argument of a strcmp/strncmp in src; returns the count.

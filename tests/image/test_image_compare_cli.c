@@ -135,9 +135,11 @@ int main(void) {
     size_t len = 0;
     st_err e2 = {0};
     char *png = st_read_file(heat, &len, &e2);
-    // PNG signature, then IHDR with width 2 and height 2 (big endian).
-    CHECK(png && len > 24 && !memcmp(png, "\x89PNG\r\n\x1a\n", 8) && png[19] == 2 && png[23] == 2,
-          "heat map is a 2x2 PNG");
+    // PNG signature, then IHDR: the 2x2 map padded to 96 wide, 24 rows of
+    // colour bar below (big endian).
+    CHECK(png && len > 24 && !memcmp(png, "\x89PNG\r\n\x1a\n", 8) && png[19] == 96 &&
+              png[23] == 2 + 24,
+          "heat map is a 2x2 PNG with its legend");
     free(png);
     free(out);
     free(err);
