@@ -142,6 +142,17 @@ st_context *st_context_create_window(int width, int height, const char *title, i
     return c;
 }
 
+bool st_context_make_current(st_context *c, bool current, st_err *err) {
+    if (c->window) {
+        glfwMakeContextCurrent(current ? c->window : NULL);
+        return true;
+    }
+    if (!eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, current ? c->ctx : EGL_NO_CONTEXT))
+        return st_fail(err, ST_ERR_RUNTIME, "eglMakeCurrent failed: %s",
+                       egl_error_name(eglGetError()));
+    return true;
+}
+
 void st_context_destroy(st_context *c) {
     if (!c) return;
     if (c->window) {

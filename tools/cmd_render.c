@@ -4,6 +4,7 @@
 #include "cmd_common.h"
 #include "st_cmd.h"
 #include "st_file.h"
+#include "st_still.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -198,6 +199,14 @@ static bool render_flag(void *ctx, const char *a) {
     return false;
 }
 
+// The still loop's options (st_still.h) of the command line.
+static st_still_opts still_opts(const render_args *r) {
+    return (st_still_opts){.frames = r->frames,
+                           .warmup = r->warmup,
+                           .max_seconds = r->max_seconds,
+                           .frames_given = r->frames_given};
+}
+
 // Fills r from argv and settles frames and warm-up; *help: -h was given
 // (the text is printed).
 static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err *err) {
@@ -210,43 +219,9 @@ static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err
     static const char *const exts[] = {"exr", "png", NULL};
     const char *inputs[] = {r->scene_path, NULL};
     if (!st_check_output("-o", r->out, exts, inputs, err)) return false;
-    // Without --frames a still image is a converged one: frames run until
-    // every progressive module reports convergence (or a cap is reached).
-    if (!r->frames_given) r->frames = r->max_frames;
-    if (r->warmup < 0) r->warmup = r->frames > 1 && r->frames_given ? 1 : 0;
-    if (r->warmup >= r->frames) r->warmup = r->frames - 1;
-    return true;
-}
-
-// What the frames did: their times after the warm-up, how many ran, the
-// last progress report.
-typedef struct run_result {
-    float *frame_ms;
-    int timed;
-    long ran;
-    double total_ms;
-    st_progress prog;
-    bool has_prog;
-} run_result;
-
-// Runs the frames (until converged without --frames).
-static bool run_frames(const render_args *r, st_world *w, run_result *o, st_err *err) {
-    bool until_converged = !r->frames_given;
-    double start = st_now_ms();
-    o->prog = (st_progress){.converged = true};
-    for (long f = 0; f < r->frames; f++) {
-        if (f == r->warmup) st_world_reset_samples(w);
-        double t0 = st_now_ms();
-        if (!st_world_frame(w, err)) return false;
-        glFinish();
-        if (f >= r->warmup) o->frame_ms[o->timed++] = (float)(st_now_ms() - t0);
-        o->ran++;
-        o->has_prog = st_world_progress(w, &o->prog);
-        if (until_converged &&
-            (!o->has_prog || o->prog.converged || st_now_ms() - start > 1000 * r->max_seconds))
-            break;
-    }
-    o->total_ms = st_now_ms() - start;
+    st_still_opts s = still_opts(r);
+    st_still_settle(&s, r->max_frames);
+    r->frames = s.frames, r->warmup = s.warmup;
     return true;
 }
 
@@ -278,16 +253,15 @@ int st_cmd_render(int argc, char **argv) {
     if (r.filter_arg) st_filter_parse(r.filter_arg, &scene.filter);
     st_context *ctx = st_context_create_headless(&err);
     st_world *w = NULL;
-    run_result res = {.frame_ms = calloc((size_t)r.frames, sizeof *res.frame_ms)};
+    const st_still_opts still = still_opts(&r);
+    st_still_result res = {.frame_ms = calloc((size_t)r.frames, sizeof *res.frame_ms)};
     st_image img = {0};
     bool ok = ctx && res.frame_ms;
     if (ok) {
-        st_world_opts opts = {.timing = r.stats != 0, .filter = scene.filter};
-        // --frames N: the box filter's mean of exactly N frames.
-        if (r.frames_given) opts.filter_max_frames = (int)r.frames, opts.filter_tolerance = -1;
+        st_world_opts opts = st_still_world_opts(&scene, &still, r.stats != 0);
         w = st_world_create(&scene, &opts, &err);
     }
-    ok = ok && w && run_frames(&r, w, &res, &err) && st_world_read(w, &img, &err) &&
+    ok = ok && w && st_still_run(w, &still, &res, &err) && st_world_read(w, &img, &err) &&
          write_image(&r, &img, scene.filter, &err);
     if (ok && r.stats)
         print_stats(w, res.frame_ms, res.timed, r.stats == 2, res.has_prog ? &res.prog : NULL,

@@ -1,0 +1,34 @@
+// The still loop that `strahl render` and the Python module share: how
+// many frames a still takes, the world options that go with them, and the
+// frames themselves (until converged unless the count is given).
+#ifndef ST_STILL_H
+#define ST_STILL_H
+#include "st_world.h"
+
+typedef struct st_still_opts {
+    long frames;        // frames to run (without frames_given: the cap, max frames)
+    long warmup;        // frames before the timed ones (-1: 1 if frames > 1 were given, else 0)
+    double max_seconds; // cap on seconds when running to convergence
+    bool frames_given;  // exactly `frames` frames (box: their mean), else until converged
+} st_still_opts;
+
+// What the frames did: their times after the warm-up (frame_ms holds
+// o->frames values, the caller's), how many ran, the last progress report.
+typedef struct st_still_result {
+    float *frame_ms;
+    int timed;
+    long ran;
+    double total_ms;
+    st_progress prog;
+    bool has_prog;
+} st_still_result;
+
+// Settles frames and warm-up: without frames_given frames becomes max_frames.
+void st_still_settle(st_still_opts *o, long max_frames);
+// The world options of a still of `scene` with o (settled): the scene's
+// filter; a given frame count is the box filter's exact mean of that many.
+st_world_opts st_still_world_opts(const st_scene *scene, const st_still_opts *o, bool timing);
+// Runs the frames (until converged without frames_given).
+bool st_still_run(st_world *w, const st_still_opts *o, st_still_result *res, st_err *err);
+
+#endif
