@@ -18,9 +18,11 @@ typedef struct world_obj {
 // What one call does on the world, without the GIL.
 typedef bool (*world_op)(world_obj *o, void *arg, st_err *err);
 
+static bool op_create(world_obj *o, void *arg, st_err *err);
+
 // Runs op under the shared context with the GIL released; NULL (raised) on failure.
 static bool run_op(world_obj *o, world_op op, void *arg) {
-    if (!o->w && op) return PyErr_SetString(stpy_error, "the World is closed"), false;
+    if (!o->w && op != op_create) return PyErr_SetString(stpy_error, "the World is closed"), false;
     st_err err = {0};
     bool ok;
     Py_BEGIN_ALLOW_THREADS ok = stpy_gl_enter(&err);
