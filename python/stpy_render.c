@@ -6,12 +6,19 @@
 #include "stpy.h"
 #include <string.h>
 
+bool stpy_disable(st_world *w, const char *module, st_err *err) {
+    // A name that is not loaded is a mistake (a typo would go unnoticed).
+    if (!st_world_has_module(w, module))
+        return st_fail(err, ST_ERR_INPUT, "disable %s: module '%s' is not loaded", module, module);
+    return st_world_enable(w, module, false, err);
+}
+
 bool stpy_switch_modules(st_world *w, const stpy_strings *on, const stpy_strings *off,
                          st_err *err) {
     for (int i = 0; i < on->n; i++)
         if (!st_world_enable(w, on->s[i], true, err)) return false;
     for (int i = 0; i < off->n; i++)
-        if (!st_world_enable(w, off->s[i], false, err)) return false;
+        if (!stpy_disable(w, off->s[i], err)) return false;
     return true;
 }
 

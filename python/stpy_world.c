@@ -8,6 +8,7 @@
 
 bool stpy_switch_modules(st_world *w, const stpy_strings *on, const stpy_strings *off, st_err *err);
 bool stpy_finite(const st_image *img, st_err *err);
+bool stpy_disable(st_world *w, const char *module, st_err *err);
 
 typedef struct world_obj {
     PyObject_HEAD st_scene scene; // lent to the world: lives as long as it
@@ -181,7 +182,7 @@ typedef struct enable_arg {
 
 static bool op_enable(world_obj *o, void *arg, st_err *err) {
     enable_arg *a = arg;
-    return st_world_enable(o->w, a->name, a->on, err);
+    return a->on ? st_world_enable(o->w, a->name, true, err) : stpy_disable(o->w, a->name, err);
 }
 
 static PyObject *world_switch(world_obj *o, PyObject *args, bool on) {
