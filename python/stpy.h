@@ -8,10 +8,12 @@
 #define STPY_H
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include "st_gl.h"
 #include "st_image.h"
 #include "st_scene.h"
+#include "st_world.h"
 
-#define STPY_MAX_NAMES 64
+#define STPY_MAX_NAMES 128
 
 extern PyObject *stpy_error, *stpy_render_error;
 extern PyTypeObject stpy_world_type;
@@ -22,6 +24,8 @@ PyObject *stpy_raise(const st_err *err);
 // use); call with the GIL released. stpy_gl_leave undoes it.
 bool stpy_gl_enter(st_err *err);
 void stpy_gl_leave(void);
+// The shared context (between enter and leave).
+st_context *stpy_gl_context(void);
 
 // Argument conversion; each sets a Python exception and returns false on
 // bad input.
@@ -32,6 +36,7 @@ typedef struct stpy_strings {
     int n;
 } stpy_strings;
 void stpy_strings_free(stpy_strings *l);
+bool stpy_push(stpy_strings *l, const char *what, const char *s);
 // A path (str or os.PathLike) as an owned string.
 bool stpy_path(PyObject *o, const char *what, char **out);
 // size=(w, h), 1..16384 each; None leaves *w, *h alone.
@@ -39,12 +44,21 @@ bool stpy_size(PyObject *o, int *w, int *h);
 // set={"module.param": value} as "module.param=value" assignments (bools
 // true/false, numbers exactly, strings as they are).
 bool stpy_sets(PyObject *o, stpy_strings *out);
+// A value as --set spells it; false (exception set) for other types.
+bool stpy_format_value(PyObject *v, const char *key, char *out, size_t n);
 // A sequence of names (enable=, disable=); a lone string is one name.
 bool stpy_names(PyObject *o, const char *what, stpy_strings *out);
 // A parameter value as the scene file would hold it.
 bool stpy_value(PyObject *o, const char *what, st_value *out);
 // filter="box"|"point"; None leaves *out alone.
 bool stpy_filter(PyObject *o, st_pixel_filter *out);
+
+// What render and World share (stpy_render.c): enable= and disable= on a
+// world (disabling a module that is not loaded is an error), and the
+// command line's refusal of non-finite images.
+bool stpy_switch_modules(st_world *w, const stpy_strings *on, const stpy_strings *off, st_err *err);
+bool stpy_disable(st_world *w, const char *module, st_err *err);
+bool stpy_finite(const st_image *img, st_err *err);
 
 // Channels [c0, c0 + 3) of img as a new float32 (H, W, 3) array.
 PyObject *stpy_array(const st_image *img, int c0);
@@ -57,6 +71,7 @@ PyObject *stpy_render(PyObject *self, PyObject *args, PyObject *kw);
 PyObject *stpy_reference(PyObject *self, PyObject *args, PyObject *kw);
 PyObject *stpy_compare(PyObject *self, PyObject *args, PyObject *kw);
 PyObject *stpy_modules(PyObject *self, PyObject *unused);
+PyObject *stpy_bench(PyObject *self, PyObject *args, PyObject *kw);
 PyObject *stpy_read_exr(PyObject *self, PyObject *args, PyObject *kw);
 
 #endif

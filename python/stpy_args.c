@@ -17,7 +17,7 @@ void stpy_strings_free(stpy_strings *l) {
     l->n = 0;
 }
 
-static bool push(stpy_strings *l, const char *what, const char *s) {
+bool stpy_push(stpy_strings *l, const char *what, const char *s) {
     if (l->n == STPY_MAX_NAMES) {
         PyErr_Format(stpy_error, "%s: at most %d entries", what, STPY_MAX_NAMES);
         return false;
@@ -62,8 +62,7 @@ bool stpy_size(PyObject *o, int *w, int *h) {
     return true;
 }
 
-// A value as --set would spell it; false (exception set) for other types.
-static bool format_value(PyObject *v, const char *key, char *out, size_t n) {
+bool stpy_format_value(PyObject *v, const char *key, char *out, size_t n) {
     if (PyBool_Check(v)) {
         snprintf(out, n, "%s", v == Py_True ? "true" : "false");
     } else if (PyLong_Check(v)) {
@@ -99,16 +98,16 @@ bool stpy_sets(PyObject *o, stpy_strings *out) {
             return false;
         }
         char val[256], assign[512];
-        if (!format_value(v, key, val, sizeof val)) return false;
+        if (!stpy_format_value(v, key, val, sizeof val)) return false;
         snprintf(assign, sizeof assign, "%s=%s", key, val);
-        if (!push(out, "set", assign)) return false;
+        if (!stpy_push(out, "set", assign)) return false;
     }
     return true;
 }
 
 bool stpy_names(PyObject *o, const char *what, stpy_strings *out) {
     if (!o || o == Py_None) return true;
-    if (PyUnicode_Check(o)) return push(out, what, PyUnicode_AsUTF8(o));
+    if (PyUnicode_Check(o)) return stpy_push(out, what, PyUnicode_AsUTF8(o));
     PyObject *seq = PySequence_Fast(o, "expected a list of module names");
     if (!seq) return false;
     bool ok = true;
@@ -116,7 +115,7 @@ bool stpy_names(PyObject *o, const char *what, stpy_strings *out) {
         PyObject *x = PySequence_Fast_GET_ITEM(seq, i);
         const char *s = PyUnicode_Check(x) ? PyUnicode_AsUTF8(x) : NULL;
         if (!s) PyErr_Format(PyExc_TypeError, "%s: expected module names (str)", what);
-        ok = s && push(out, what, s);
+        ok = s && stpy_push(out, what, s);
     }
     Py_DECREF(seq);
     return ok;

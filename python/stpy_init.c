@@ -20,6 +20,10 @@ static PyMethodDef methods[] = {
      "compare(a, b, stderr=None) -> dict: the metrics of `strahl compare --json` of a against "
      "the reference b (arrays or EXR paths); debiased with b's standard error (stderr=, or "
      "the stderr channels of b's file)"},
+    {"bench", KW(stpy_bench),
+     "bench(scene, reference, sweep, *, set=None, size=None, filter=None, frames=10, warmup=2, "
+     "metric='rmse', mode='recompute') -> list of dict: the rows `strahl bench` writes, keyed "
+     "by the CSV's columns; sweep={\"module.param\": [v1, v2, ...]}, the first key is x"},
     {"modules", (PyCFunction)stpy_modules, METH_NOARGS,
      "modules() -> list of dict: every installed plugin's descriptor, as `strahl modules`"},
     {"read_exr", KW(stpy_read_exr),

@@ -39,6 +39,10 @@ bool stpy_gl_enter(st_err *err) {
     return true;
 }
 
+st_context *stpy_gl_context(void) {
+    return gl_ctx;
+}
+
 void stpy_gl_leave(void) {
     // Released, so the next call may come from another thread.
     st_context_make_current(gl_ctx, false, NULL);

@@ -6,10 +6,6 @@
 #include <math.h>
 #include <string.h>
 
-bool stpy_switch_modules(st_world *w, const stpy_strings *on, const stpy_strings *off, st_err *err);
-bool stpy_finite(const st_image *img, st_err *err);
-bool stpy_disable(st_world *w, const char *module, st_err *err);
-
 typedef struct world_obj {
     PyObject_HEAD st_scene scene; // lent to the world: lives as long as it
     bool has_scene;
