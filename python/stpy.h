@@ -73,5 +73,6 @@ PyObject *stpy_compare(PyObject *self, PyObject *args, PyObject *kw);
 PyObject *stpy_modules(PyObject *self, PyObject *unused);
 PyObject *stpy_bench(PyObject *self, PyObject *args, PyObject *kw);
 PyObject *stpy_read_exr(PyObject *self, PyObject *args, PyObject *kw);
+PyObject *stpy_write_exr(PyObject *self, PyObject *args, PyObject *kw);
 
 #endif

@@ -28,6 +28,9 @@ static PyMethodDef methods[] = {
      "modules() -> list of dict: every installed plugin's descriptor, as `strahl modules`"},
     {"read_exr", KW(stpy_read_exr),
      "read_exr(path) -> (image, stderr or None): an EXR's R, G, B and stderr.R/G/B"},
+    {"write_exr", KW(stpy_write_exr),
+     "write_exr(path, image, stderr=None): an (H, W, 3) image (and its standard error as "
+     "stderr.R/G/B) as a 32-bit float EXR, written atomically"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {

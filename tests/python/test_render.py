@@ -79,6 +79,25 @@ for m in (strahl.compare(lo, ref), strahl.compare(strahl.read_exr(lo)[0], r_img,
                for k, v in cli.items())
     check(same and set(m) == set(cli), "compare: the same metrics as strahl compare --json")
 
+# bench: the rows `strahl bench` writes (its timings aside).
+ref16 = os.path.join(SCRATCH, "ref16.exr")
+subprocess.run([CLI, "reference", small, "--size", "16x16", "--spp", "2", "-o", ref16],
+               check=True, stdout=subprocess.DEVNULL)
+csv_path = os.path.join(SCRATCH, "bench.csv")
+subprocess.run([CLI, "bench", small, "--reference", ref16, "--sweep", "toth.samples=8,16",
+                "--size", "16x16", "--frames", "1", "--warmup", "0", "--csv", csv_path],
+               check=True, capture_output=True)
+rows = strahl.bench(small, ref16, {"toth.samples": [8, 16]}, size=(16, 16), frames=1, warmup=0)
+with open(csv_path) as f:
+    import csv
+    cli_rows = list(csv.DictReader(f))
+timing = {"frame_ms_median", "module_gpu_ms_median", "module_cpu_ms_median", "pass_gpu_ms",
+          "peak_rss_kb"}
+check(len(rows) == 2 and all(set(r) == set(c) and all(str(r[k]) == c[k] or float(r[k]) ==
+                                                      float(c[k]) for k in c if k not in timing)
+                             for r, c in zip(rows, cli_rows)),
+      "bench: the CSV's columns and values (timings aside)")
+
 # modules: the descriptors `strahl modules --json` lists.
 cli = json.loads(subprocess.run([CLI, "modules", "--json"], capture_output=True, text=True,
                                 check=True).stdout)
