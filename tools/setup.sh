@@ -5,7 +5,8 @@ set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config clang clang-format libclang-rt-dev git
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
       libcglm-dev libtinygltf-dev nlohmann-json3-dev libopenexr-dev libstb-dev libcjson-dev
-      libembree-dev libopenvdb-dev libboost-dev gnuplot-nox xvfb xauth valgrind)
+      libembree-dev libopenvdb-dev libboost-dev gnuplot-nox xvfb xauth valgrind
+      python3-dev python3-numpy python3-venv python3-setuptools python3-pip)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
