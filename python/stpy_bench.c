@@ -113,11 +113,13 @@ PyObject *stpy_bench(PyObject *self, PyObject *args, PyObject *kw) {
     }
     st_err err = {0};
     char *text = NULL;
-    Py_BEGIN_ALLOW_THREADS if (stpy_gl_enter(&err)) {
+    PyThreadState *ts = PyEval_SaveThread();
+    if (stpy_gl_enter(&err)) {
         text = st_bench_rows(a.n, a.s, stpy_gl_context(), &err);
         stpy_gl_leave();
     }
-    Py_END_ALLOW_THREADS PyObject *out = text ? rows_of(text) : stpy_raise(&err);
+    PyEval_RestoreThread(ts);
+    PyObject *out = text ? rows_of(text) : stpy_raise(&err);
     free(text);
     stpy_strings_free(&a);
     return out;

@@ -83,8 +83,9 @@ PyObject *stpy_reference(PyObject *self, PyObject *args, PyObject *kw) {
     st_err err = {0};
     bool ok = reference_args(&q, args, kw), done = false;
     if (ok) {
-        Py_BEGIN_ALLOW_THREADS done = reference_c(&q, &img, &err);
-        Py_END_ALLOW_THREADS
+        PyThreadState *ts = PyEval_SaveThread();
+        done = reference_c(&q, &img, &err);
+        PyEval_RestoreThread(ts);
     }
     PyObject *out = NULL;
     if (ok && done) {

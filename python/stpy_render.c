@@ -91,8 +91,9 @@ PyObject *stpy_render(PyObject *self, PyObject *args, PyObject *kw) {
     st_err err = {0};
     bool ok = render_args(&q, args, kw), done = false;
     if (ok) {
-        Py_BEGIN_ALLOW_THREADS done = render_still(&q, &img, &err);
-        Py_END_ALLOW_THREADS
+        PyThreadState *ts = PyEval_SaveThread();
+        done = render_still(&q, &img, &err);
+        PyEval_RestoreThread(ts);
     }
     PyObject *out = !ok ? NULL : done ? stpy_array(&img, 0) : stpy_raise(&err);
     st_image_free(&img);

@@ -21,13 +21,14 @@ static bool op_create(world_obj *o, void *arg, st_err *err);
 static bool run_op(world_obj *o, world_op op, void *arg) {
     if (!o->w && op != op_create) return PyErr_SetString(stpy_error, "the World is closed"), false;
     st_err err = {0};
-    bool ok;
-    Py_BEGIN_ALLOW_THREADS ok = stpy_gl_enter(&err);
+    PyThreadState *ts = PyEval_SaveThread();
+    bool ok = stpy_gl_enter(&err);
     if (ok) {
         ok = op(o, arg, &err);
         stpy_gl_leave();
     }
-    Py_END_ALLOW_THREADS if (!ok) stpy_raise(&err);
+    PyEval_RestoreThread(ts);
+    if (!ok) stpy_raise(&err);
     return ok;
 }
 
@@ -268,6 +269,11 @@ static PyObject *world_light(world_obj *o, PyObject *args, PyObject *kw) {
     Py_RETURN_NONE;
 }
 
+static bool op_bytes(world_obj *o, void *arg, st_err *err) {
+    *(size_t *)arg = st_world_memory_bytes(o->w);
+    return true;
+}
+
 // One pass's statistics as a dict.
 static PyObject *pass_dict(const st_pass_stats *s) {
     return Py_BuildValue("{s:s,s:s,s:I,s:I,s:I,s:d,s:d}", "module", s->module, "pass", s->pass,
@@ -290,12 +296,10 @@ static PyObject *world_stats(world_obj *o, PyObject *unused) {
     uint32_t acc = st_world_accumulated(o->w, &done);
     // The memory table asks GL for tracked objects' sizes: under the context.
     size_t bytes = 0;
-    Py_BEGIN_ALLOW_THREADS st_err err = {0};
-    if (stpy_gl_enter(&err)) {
-        bytes = st_world_memory_bytes(o->w);
-        stpy_gl_leave();
+    if (!passes || !run_op(o, op_bytes, &bytes)) {
+        Py_XDECREF(passes);
+        return NULL;
     }
-    Py_END_ALLOW_THREADS if (!passes) return NULL;
     return Py_BuildValue("{s:N,s:n,s:O,s:d,s:O,s:s,s:I,s:O}", "passes", passes, "gpu_bytes",
                          (Py_ssize_t)bytes, "converged", pr.converged ? Py_True : Py_False, "error",
                          has ? pr.error : 0.0, "progressive", has ? Py_True : Py_False,
