@@ -28,6 +28,7 @@ bool st_still_run(st_world *w, const st_still_opts *o, st_still_result *res, st_
         if (f >= o->warmup) res->frame_ms[res->timed++] = (float)(st_now_ms() - t0);
         res->ran++;
         res->has_prog = st_world_progress(w, &res->prog);
+        if (o->on_frame) o->on_frame(o->user, res->ran, &res->prog, res->has_prog);
         if (until_converged &&
             (!res->has_prog || res->prog.converged || st_now_ms() - start > 1000 * o->max_seconds))
             break;

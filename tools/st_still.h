@@ -10,6 +10,10 @@ typedef struct st_still_opts {
     long warmup;        // frames before the timed ones (-1: 1 if frames > 1 were given, else 0)
     double max_seconds; // cap on seconds when running to convergence
     bool frames_given;  // exactly `frames` frames (box: their mean), else until converged
+    // Called after every frame (NULL: none), e.g. for a command's progress
+    // line; the loop itself prints nothing (the Python module shares it).
+    void (*on_frame)(void *user, long ran, const st_progress *prog, bool has_prog);
+    void *user;
 } st_still_opts;
 
 // What the frames did: their times after the warm-up (frame_ms holds
