@@ -33,6 +33,15 @@ static const char *egl_error_name(EGLint e) {
     }
 }
 
+// Headless contexts alive in this process. EGL displays are per process and
+// eglTerminate ends every context of one, so it waits for the last (a host
+// such as the Python module keeps one context while a bench makes its own).
+static int g_live_headless;
+
+static void release_display(EGLDisplay dpy) {
+    if (g_live_headless == 0) eglTerminate(dpy);
+}
+
 // Tries one display: initialise, pick a config, make a 4.5 core context
 // current without a surface. Returns false (display terminated) on failure.
 static bool try_display(st_context *c, EGLDisplay dpy) {
@@ -64,9 +73,10 @@ static bool try_display(st_context *c, EGLDisplay dpy) {
     }
     c->dpy = dpy;
     c->ctx = ctx;
+    g_live_headless++;
     return true;
 fail:
-    eglTerminate(dpy);
+    release_display(dpy);
     return false;
 }
 
@@ -142,6 +152,17 @@ st_context *st_context_create_window(int width, int height, const char *title, i
     return c;
 }
 
+bool st_context_make_current(st_context *c, bool current, st_err *err) {
+    if (c->window) {
+        glfwMakeContextCurrent(current ? c->window : NULL);
+        return true;
+    }
+    if (!eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, current ? c->ctx : EGL_NO_CONTEXT))
+        return st_fail(err, ST_ERR_RUNTIME, "eglMakeCurrent failed: %s",
+                       egl_error_name(eglGetError()));
+    return true;
+}
+
 void st_context_destroy(st_context *c) {
     if (!c) return;
     if (c->window) {
@@ -150,7 +171,8 @@ void st_context_destroy(st_context *c) {
     } else {
         eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(c->dpy, c->ctx);
-        eglTerminate(c->dpy);
+        g_live_headless--;
+        release_display(c->dpy);
     }
     free(c);
 }

@@ -18,6 +18,10 @@ st_context *st_context_create_headless(st_err *err);
 st_context *st_context_create_window(int width, int height, const char *title, int vsync,
                                      st_err *err);
 void st_context_destroy(st_context *ctx);
+// Makes ctx current on the calling thread, or (current false) releases it
+// so that another thread may take it (a host that calls from several
+// threads, e.g. the Python module). A new context is current already.
+bool st_context_make_current(st_context *ctx, bool current, st_err *err);
 void *st_context_window(st_context *ctx); // GLFWwindow* or NULL when headless
 const char *st_context_renderer(void);    // GL_RENDERER string
 

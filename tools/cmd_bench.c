@@ -7,6 +7,7 @@
 // costs per frame. Writes CSV, prints the Pareto front, draws a log-log plot (gnuplot).
 #define _GNU_SOURCE
 #include "cmd_common.h"
+#include "cmd_shared.h"
 #include "st_cmd.h"
 #include "st_file.h"
 #include "st_world.h"
@@ -216,6 +217,9 @@ typedef struct bench_args {
     double budget;
     bool append, recompute;
 } bench_args;
+
+static const bench_args bench_defaults = {
+    .metric = "rmse", .frames = 10, .warmup = 2, .budget = -1, .recompute = true};
 
 // Options that take a value checked as a number or a word: argv[*i] is the
 // option, v its value. Returns false with err set; *known says whether the
@@ -434,11 +438,12 @@ static int setting_of(const bench_args *b, int idx, char assign[][256], char **a
     return n;
 }
 
-// Renders every setting of this shard into rows[0, *done).
+// Renders every setting of this shard into rows[0, *done), on `shared` (a
+// caller's context, current) or a context of its own.
 static bool run_settings(const bench_args *b, const st_image *ref, const st_image *ref_se,
                          st_pixel_filter filter, row *rows, int total, int *done,
-                         st_progress_bar *bar, st_err *err) {
-    st_context *ctx = NULL;
+                         st_progress_bar *bar, st_context *shared, st_err *err) {
+    st_context *ctx = shared; // NULL: its own, made when first needed
     bool ok = true;
     for (int idx = 0; idx < total && ok; idx++) {
         // --shard I/N: settings I-1, I-1+N, ... (round robin, so shards of a
@@ -469,7 +474,7 @@ static bool run_settings(const bench_args *b, const st_image *ref, const st_imag
         r->noisy_ref = st_metrics_noise_dominates(&r->m); // one warning at the end
         (*done)++;
     }
-    st_context_destroy(ctx);
+    if (ctx != shared) st_context_destroy(ctx);
     return ok;
 }
 
@@ -512,6 +517,30 @@ static void warn_noisy_rows(const char *ref_path, int spp, const row *rows, int 
     fputc('\n', stderr);
 }
 
+// The CSV's rows (the columns of bench_header).
+static void write_rows(FILE *f, const bench_args *b, const row *rows, int done) {
+    for (int i = 0; i < done; i++) {
+        const row *r = &rows[i];
+        fprintf(f,
+                "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%"
+                ".9g,%.9g,%d\n",
+                b->scene_path, r->setting, r->curve, r->x, b->frames, r->frame_ms, r->module_gpu_ms,
+                r->module_cpu_ms, r->error, r->m.rmse[3], r->m.relmse[3],
+                isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3], r->m.scale,
+                r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
+                r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
+    }
+}
+
+// The CSV's header line (without the newline).
+static void bench_header(const char *metric, char *out, size_t n) {
+    snprintf(out, n,
+             "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_"
+             "ms_median,error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,"
+             "pass_gpu_ms,error_raw,ref_noise_rms,ref_noise_warning",
+             metric);
+}
+
 // The CSV, atomically; --append adds rows to an existing file.
 static bool write_csv(const bench_args *b, const char *header, const char *old, size_t old_len,
                       const row *rows, int done, st_err *err) {
@@ -527,17 +556,7 @@ static bool write_csv(const bench_args *b, const char *header, const char *old, 
     } else if (b->shard_i <= 1) { // shards 2..N: rows only, so `cat` of all shards is one CSV
         fprintf(f, "%s\n", header);
     }
-    for (int i = 0; i < done; i++) {
-        const row *r = &rows[i];
-        fprintf(f,
-                "%s,%s,%s,%g,%ld,%.4f,%.4f,%.4f,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.9g,%ld,%zu,%s,%"
-                ".9g,%.9g,%d\n",
-                b->scene_path, r->setting, r->curve, r->x, b->frames, r->frame_ms, r->module_gpu_ms,
-                r->module_cpu_ms, r->error, r->m.rmse[3], r->m.relmse[3],
-                isfinite(r->m.psnr[3]) ? r->m.psnr[3] : 999.0, r->m.max_abs[3], r->m.scale,
-                r->m.scaled_rmse[3], r->peak_rss_kb, r->gpu_bytes, r->passes, r->error_raw,
-                r->m.ref_noise_rms[3], r->noisy_ref ? 1 : 0);
-    }
+    write_rows(f, b, rows, done);
     return st_out_commit(&o, err);
 }
 
@@ -573,6 +592,20 @@ static void print_front(const bench_args *b, row *rows, int done) {
         printf("no setting reaches %s <= %g\n", metric, b->budget);
 }
 
+// Rows for every setting of the sweep (*total of them).
+static row *alloc_rows(const bench_args *b, int *total, st_err *err) {
+    *total = 1;
+    for (int k = 0; k < b->nsweeps; k++)
+        *total *= b->sweeps[k].num_values;
+    if (*total > MAX_ROWS) {
+        st_fail(err, ST_ERR_INPUT, "%d settings: at most %d", *total, MAX_ROWS);
+        return NULL;
+    }
+    row *rows = calloc((size_t)*total, sizeof *rows);
+    if (!rows) st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    return rows;
+}
+
 // Everything after the arguments: render, write, report.
 static bool bench(const bench_args *b, const char *header, st_progress_bar *bar, st_err *err) {
     char *old = NULL;
@@ -582,21 +615,16 @@ static bool bench(const bench_args *b, const char *header, st_progress_bar *bar,
     st_exr_meta ref_meta = {0};
     st_pixel_filter filter;
     row *rows = NULL;
-    int total = 1, done = 0;
-    for (int k = 0; k < b->nsweeps; k++)
-        total *= b->sweeps[k].num_values;
-    bool ok = read_reference(b, &ref, &ref_se, &ref_meta, &filter, err);
-    if (ok && total > MAX_ROWS)
-        ok = st_fail(err, ST_ERR_INPUT, "%d settings: at most %d", total, MAX_ROWS);
+    int total = 0, done = 0;
+    bool ok = read_reference(b, &ref, &ref_se, &ref_meta, &filter, err) &&
+              (rows = alloc_rows(b, &total, err)) != NULL;
     if (ok) {
-        rows = calloc((size_t)total, sizeof *rows);
         // A shard runs about total/N settings (shard I: ceil((total - I + 1) / N)).
         st_progress_begin(bar, "bench", "settings",
                           b->shard_n > 1 ? (int)((total - b->shard_i + b->shard_n) / b->shard_n)
                                          : total);
-        if (!rows) ok = st_fail(err, ST_ERR_RUNTIME, "out of memory");
     }
-    ok = ok && run_settings(b, &ref, &ref_se, filter, rows, total, &done, bar, err);
+    ok = ok && run_settings(b, &ref, &ref_se, filter, rows, total, &done, bar, NULL, err);
     if (ok) {
         // Before anything goes to stdout, so the table does not run into the bar.
         char extra[64] = "";
@@ -616,20 +644,49 @@ static bool bench(const bench_args *b, const char *header, st_progress_bar *bar,
 }
 
 int st_cmd_bench(int argc, char **argv) {
-    bench_args b = {.metric = "rmse", .frames = 10, .warmup = 2, .budget = -1, .recompute = true};
+    bench_args b = bench_defaults;
     st_err err = {0};
     bool help;
     if (!parse_args(&b, argc, argv, &help, &err)) return st_report("bench", &err);
     if (help) return ST_EXIT_OK;
     if (!check_args(&b, &err)) return st_report("bench", &err);
     char header[1024];
-    snprintf(header, sizeof header,
-             "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_"
-             "ms_median,error_%s,rmse,relmse,psnr,max_abs,scale,scaled_rmse,peak_rss_kb,gpu_bytes,"
-             "pass_gpu_ms,error_raw,ref_noise_rms,ref_noise_warning",
-             b.metric);
+    bench_header(b.metric, header, sizeof header);
     st_progress_bar bar = {0};
     if (bench(&b, header, &bar, &err)) return ST_EXIT_OK;
     if (bar.drawn) fputc('\n', stderr); // end the bar's line before the message
     return st_report("bench", &err);
+}
+
+char *st_bench_rows(int argc, char **argv, st_context *ctx, st_err *err) {
+    bench_args b = bench_defaults;
+    bool help;
+    if (!parse_args(&b, argc, argv, &help, err)) return NULL;
+    // Rows only: no CSV file is written, the name just passes check_args.
+    if (!b.csv) b.csv = "rows.csv";
+    st_image ref = {0}, ref_se = {0};
+    st_exr_meta meta = {0};
+    st_pixel_filter filter;
+    st_progress_bar bar = {0}; // never drawn: the caller reports progress
+    row *rows = NULL;
+    int total = 0, done = 0;
+    char *text = NULL, header[1024];
+    size_t len = 0;
+    bool ok = !help && check_args(&b, err) &&
+              read_reference(&b, &ref, &ref_se, &meta, &filter, err) &&
+              (rows = alloc_rows(&b, &total, err)) != NULL &&
+              run_settings(&b, &ref, &ref_se, filter, rows, total, &done, &bar, ctx, err);
+    FILE *f = ok ? open_memstream(&text, &len) : NULL;
+    if (f) {
+        bench_header(b.metric, header, sizeof header);
+        fprintf(f, "%s\n", header);
+        write_rows(f, &b, rows, done);
+        fclose(f);
+    } else if (ok) {
+        st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    }
+    st_image_free(&ref);
+    st_image_free(&ref_se);
+    free(rows);
+    return f ? text : NULL;
 }

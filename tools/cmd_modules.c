@@ -1,5 +1,6 @@
 // strahl modules: every installed plugin with its parameters (from the
 // descriptors, so plugins written later show up without changes here).
+#include "cmd_shared.h"
 #include "st_cmd.h"
 #include "st_module.h"
 #include <stdio.h>
@@ -17,7 +18,7 @@ static void json_str(const char *s) {
     putchar('"');
 }
 
-static const char *type_name(st_param_type t) {
+const char *st_param_type_name(st_param_type t) {
     switch (t) {
     case ST_PARAM_FLOAT:
         return "float";
@@ -43,8 +44,7 @@ static const char help_text[] =
     "example:\n"
     "  strahl modules --json\n";
 
-// The light types a plugin handles (0 in the descriptor: point lights only).
-static unsigned light_types(const st_plugin *p) {
+unsigned st_plugin_lights(const st_plugin *p) {
     return p->light_types ? p->light_types : ST_LIGHT_BIT(ST_LIGHT_POINT);
 }
 
@@ -54,7 +54,7 @@ static void print_param_json(const st_param_def *d, bool first) {
     st_param_format(d, d->def, def, sizeof def);
     printf("%s\n   {\"name\": ", first ? "" : ",");
     json_str(d->name);
-    printf(", \"type\": \"%s\", \"default\": ", type_name(d->type));
+    printf(", \"type\": \"%s\", \"default\": ", st_param_type_name(d->type));
     if (d->type == ST_PARAM_ENUM)
         json_str(def);
     else if (d->type == ST_PARAM_BOOL)
@@ -84,7 +84,7 @@ static void print_json(const st_plugin *p, bool first) {
     json_str(p->provides);
     printf(", \"lights\": [");
     for (int t = 0, n = 0; t < ST_LIGHT_TYPE_COUNT; t++)
-        if (light_types(p) & ST_LIGHT_BIT(t))
+        if (st_plugin_lights(p) & ST_LIGHT_BIT(t))
             printf("%s\"%s\"", n++ ? ", " : "", st_light_type_name(t));
     printf("]");
     printf(", \"params\": [");
@@ -101,13 +101,13 @@ static void print_text(const st_plugin *p) {
     if (p->provides && p->provides[0]) printf("  provides: %s\n", p->provides);
     printf("  lights:");
     for (int t = 0; t < ST_LIGHT_TYPE_COUNT; t++)
-        if (light_types(p) & ST_LIGHT_BIT(t)) printf(" %s", st_light_type_name(t));
+        if (st_plugin_lights(p) & ST_LIGHT_BIT(t)) printf(" %s", st_light_type_name(t));
     printf("\n");
     for (int k = 0; k < p->num_params; k++) {
         const st_param_def *d = &p->params[k];
         char def[64];
         st_param_format(d, d->def, def, sizeof def);
-        printf("  %-16s %-5s default %-8s", d->name, type_name(d->type), def);
+        printf("  %-16s %-5s default %-8s", d->name, st_param_type_name(d->type), def);
         if (d->type == ST_PARAM_FLOAT || d->type == ST_PARAM_INT)
             printf(" [%g, %g]", d->min, d->max);
         if (d->type == ST_PARAM_ENUM) printf(" {%s}", d->choices);

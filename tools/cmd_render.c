@@ -5,6 +5,7 @@
 #include "render_status.h"
 #include "st_cmd.h"
 #include "st_file.h"
+#include "st_still.h"
 #include "st_world.h"
 #include <math.h>
 #include <stdio.h>
@@ -227,6 +228,15 @@ static bool check_output(const render_args *r, int i, st_err *err) {
     return true;
 }
 
+// The still loop's options (st_still.h) of the command line.
+static st_still_opts still_opts(const render_args *r) {
+    return (st_still_opts){.frames = r->frames,
+                           .warmup = r->warmup,
+                           .max_seconds = r->max_seconds,
+                           .frames_given = r->frames_given,
+                           .max_frames_given = r->max_frames_given};
+}
+
 // Fills r from argv and settles frames and warm-up; *help: -h was given
 // (the text is printed).
 static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err *err) {
@@ -238,66 +248,22 @@ static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err
                        "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)");
     for (int i = 0; i < r->num_outs; i++)
         if (!check_output(r, i, err)) return false;
-    // Without --frames a still image is a converged one: frames run until
-    // every progressive module reports convergence (or a cap is reached).
-    if (!r->frames_given) r->frames = r->max_frames;
-    if (r->warmup < 0) r->warmup = r->frames > 1 && r->frames_given ? 1 : 0;
-    if (r->warmup >= r->frames) r->warmup = r->frames - 1;
+    st_still_opts s = still_opts(r);
+    st_still_settle(&s, r->max_frames);
+    r->frames = s.frames, r->warmup = s.warmup;
     return true;
 }
 
-// What the frames did: their times after the warm-up, how many ran, why
-// they stopped and the last progress report.
-typedef struct run_result {
-    float *frame_ms;
-    int timed;
-    st_still_status st;
-} run_result;
-
-// Why a run to convergence stopped here (after frame f of r->frames), or
-// -1 to go on.
-static int stop_reason(const render_args *r, const run_result *o, long f, double ms) {
-    const st_progress *p = &o->st.prog;
-    if (!o->st.has_prog) return ST_STOP_CONVERGED; // nothing progressive: one frame is the image
-    if (p->converged) {
-        // The box filter also reports converged at its own frame cap.
-        bool capped = p->frames >= ST_FILTER_MAX_FRAMES && p->error > ST_FILTER_TOLERANCE;
-        return capped ? ST_STOP_FILTER_CAP : ST_STOP_CONVERGED;
-    }
-    if (ms > 1000 * r->max_seconds) return ST_STOP_MAX_SECONDS;
-    if (f + 1 == r->frames) return r->max_frames_given ? ST_STOP_MAX_FRAMES : ST_STOP_CAP;
-    return -1;
-}
-
-// Runs the frames (until converged without --frames), with the progress
-// line on a terminal.
-static bool run_frames(const render_args *r, st_world *w, run_result *o, st_err *err) {
-    double start = st_now_ms();
-    st_still_status *st = &o->st;
-    *st = (st_still_status){.stop = ST_STOP_FRAMES,
-                            .limit = r->frames,
-                            .max_seconds = r->max_seconds,
-                            .prog = {.converged = true}};
+// The progress line (and whether --frames fixed the count, for its ETA).
+typedef struct progress_line {
     st_still_progress bar;
-    st_still_progress_begin(&bar, r->quiet);
-    for (long f = 0; f < r->frames; f++) {
-        if (f == r->warmup) st_world_reset_samples(w);
-        double t0 = st_now_ms();
-        if (!st_world_frame(w, err)) break;
-        glFinish();
-        if (f >= r->warmup) o->frame_ms[o->timed++] = (float)(st_now_ms() - t0);
-        st->ran++;
-        st->has_prog = st_world_progress(w, &st->prog);
-        int why = r->frames_given ? -1 : stop_reason(r, o, f, st_now_ms() - start);
-        if (why >= 0) {
-            st->stop = (st_stop)why;
-            break;
-        }
-        st_still_progress_update(&bar, st, r->frames_given);
-    }
-    st_still_progress_end(&bar);
-    st->total_ms = st_now_ms() - start;
-    return !err->msg[0];
+    bool frames_given;
+} progress_line;
+
+// After every frame (st_still_opts.on_frame).
+static void show_progress(void *user, const st_still_status *st) {
+    progress_line *p = user;
+    st_still_progress_update(&p->bar, st, p->frames_given);
 }
 
 // The image to every output (EXR with the filter in its header, or PNG
@@ -332,17 +298,20 @@ int st_cmd_render(int argc, char **argv) {
     if (r.filter_arg) st_filter_parse(r.filter_arg, &scene.filter);
     st_context *ctx = st_context_create_headless(&err);
     st_world *w = NULL;
-    run_result res = {.frame_ms = calloc((size_t)r.frames, sizeof *res.frame_ms)};
+    st_still_opts still = still_opts(&r);
+    st_still_result res = {.frame_ms = calloc((size_t)r.frames, sizeof *res.frame_ms)};
     st_image img = {0};
     bool ok = ctx && res.frame_ms;
     if (ok) {
-        st_world_opts opts = {.timing = r.stats != 0, .filter = scene.filter};
-        // --frames N: the box filter's mean of exactly N frames.
-        if (r.frames_given) opts.filter_max_frames = (int)r.frames, opts.filter_tolerance = -1;
+        st_world_opts opts = st_still_world_opts(&scene, &still, r.stats != 0);
         w = st_world_create(&scene, &opts, &err);
     }
-    ok = ok && w && run_frames(&r, w, &res, &err) && st_world_read(w, &img, &err) &&
+    progress_line progress = {.frames_given = r.frames_given};
+    st_still_progress_begin(&progress.bar, r.quiet);
+    still.on_frame = show_progress, still.user = &progress;
+    ok = ok && w && st_still_run(w, &still, &res, &err) && st_world_read(w, &img, &err) &&
          write_images(&r, &img, scene.filter, &err);
+    st_still_progress_end(&progress.bar);
     char line[1024];
     st_still_status_line(&res.st, line, sizeof line);
     if (ok && r.stats)

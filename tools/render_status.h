@@ -2,27 +2,7 @@
 // and the self-overwriting progress line shown on a terminal while they run.
 #ifndef ST_RENDER_STATUS_H
 #define ST_RENDER_STATUS_H
-#include "st_module.h"
-
-// What ended the frames.
-typedef enum {
-    ST_STOP_CONVERGED,   // every progressive module and the box filter converged
-    ST_STOP_FRAMES,      // --frames N ran
-    ST_STOP_MAX_FRAMES,  // --max-frames N reached
-    ST_STOP_CAP,         // the default cap on frames reached (no --max-frames)
-    ST_STOP_MAX_SECONDS, // --max-seconds (or its default) ran out
-    ST_STOP_FILTER_CAP,  // the box filter's own cap (ST_FILTER_MAX_FRAMES) ended it unconverged
-} st_stop;
-
-typedef struct st_still_status {
-    st_stop stop;
-    long ran;           // frames run
-    long limit;         // the frame count of --frames, --max-frames or the cap
-    double total_ms;    // wall time of the frames
-    double max_seconds; // the time cap
-    bool has_prog;      // some module or the box filter reports progress
-    st_progress prog;   // the last report
-} st_still_status;
+#include "st_still.h"
 
 // The final line, without the "strahl render: " prefix: "converged after N
 // frame(s), T ms, estimated remaining relative error E" only when it did;

@@ -6,7 +6,9 @@ pkgs=(build-essential cmake ninja-build pkg-config clang clang-format libclang-r
       libglfw3-dev libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
       libcglm-dev libtinygltf-dev nlohmann-json3-dev libopenexr-dev libstb-dev libcjson-dev
       libembree-dev libopenvdb-dev libboost-dev gnuplot-nox xvfb xauth valgrind
-      bsdutils) # bsdutils: script(1), the pseudo-terminal of cli_first_hour's progress-line check
+      bsdutils python3-dev python3-numpy python3-venv python3-setuptools python3-pip)
+# bsdutils: script(1), the pseudo-terminal of cli_first_hour's progress-line check;
+# python3-*: the strahl Python module (python/), its tests and `pip install .`
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
