@@ -11,7 +11,7 @@
 // Cases: a Cornell box with a bounce over the pixel's box, and a god-ray
 // window at pixel centres (in-scattering). A Sobol run and an independent
 // one agree the same way (both unbiased), and at equal spp the Sobol run is
-// less noisy (the point of the sampler).
+// less noisy (the point of the sampler). Also --target-error.
 #include "st_test.h"
 #include "st_base.h"
 #include "st_image.h"
@@ -71,6 +71,35 @@ static double rms_se(const char *scene, const char *opts) {
     return sqrt(se2 / n);
 }
 
+// --target-error: passes until sqrt(mean stderr^2) / mean <= E; the header's
+// spp is the total, and the file's own stderr channels show the error.
+static void target_error(const char *scene) {
+    const char *opts = "--size 24x24 --spp 16 --bounces 1 --filter point";
+    double first = rms_se(scene, opts);
+    char topts[256];
+    snprintf(topts, sizeof topts, "%s --target-error 0.02", opts);
+    run(scene, topts, "t.exr", 3);
+    st_image a = {0}, sa = {0};
+    st_exr_meta meta;
+    char path[4200];
+    snprintf(path, sizeof path, "%s/t.exr", dir);
+    st_err e = {0};
+    if (!load("t.exr", &a, &sa) || !st_image_read_exr_meta(path, &meta, &e)) return;
+    double se2 = 0, sum = 0;
+    size_t n = (size_t)a.width * a.height * 3;
+    for (size_t i = 0; i < n; i++)
+        se2 += (double)sa.data[i] * sa.data[i], sum += fabs(a.data[i]);
+    double rel = sqrt(se2 / n) / (sum / n);
+    printf("  --target-error 0.02: %d spp, relative error %.4f (16 spp: rms stderr %.4g)\n",
+           meta.spp, rel, first);
+    CHECK(rel <= 0.02 && rel > 0.01, "relative error reached %.4f", rel);
+    CHECK(meta.spp > 16, "header spp %d", meta.spp);
+    CHECK(st_test_sh("'%s' reference '%s/%s' -o %s/bad.exr --target-error 0", ST_TEST_STRAHL,
+                     ST_TEST_SOURCE_DIR, scene, dir) == 2,
+          "--target-error 0 is refused");
+    st_image_free(&a), st_image_free(&sa);
+}
+
 int main(void) {
     snprintf(dir, sizeof dir, "%s", ST_TEST_SCRATCH);
     const char *cornell = "tests/data/crosscheck/cornell_front.json";
@@ -89,5 +118,6 @@ int main(void) {
     printf("  cornell 256 spp: rms stderr sobol %.4g, independent %.4g (%.2fx)\n", sobol, indep,
            indep / sobol);
     CHECK(indep > 1.25 * sobol, "sobol %.4g not below independent %.4g / 1.25", sobol, indep);
+    target_error(cornell);
     return st_test_summary("reference_zscore");
 }
