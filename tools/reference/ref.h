@@ -88,10 +88,12 @@ typedef struct st_ref_surface {
 // dimension of an Owen-scrambled Sobol sequence instead (ref_rng.c).
 typedef struct st_ref_rng {
     uint64_t state, inc;
-    uint64_t key;      // scrambles of the sample's batch (its pixel, seed and batch)
-    uint32_t index, n; // the sample's index in its batch, the batch's size
-    uint32_t dim;      // the next dimension
-    bool ld;           // low-discrepancy: false = plain PCG32
+    uint64_t key;        // scrambles of the sample's batch (its pixel, seed and batch)
+    uint32_t index, n;   // the sample's index in its batch, the batch's size
+    uint32_t dim;        // the next dimension
+    uint32_t pair_index; // the current dimension pair's shuffled index
+    uint64_t scrambles;  // and its two Owen scramble seeds (32 bits each)
+    bool ld;             // low-discrepancy: false = plain PCG32
 } st_ref_rng;
 void st_ref_rng_seed(st_ref_rng *r, uint64_t seed, uint64_t stream);
 uint32_t st_ref_rng_u32(st_ref_rng *r);
