@@ -23,6 +23,10 @@ static const char usage_text[] =
     "of the mean (stderr.R/G/B); the header records spp and the seed (strahl merge reads them).\n"
     "  -o OUT.exr                output (required; .exr only, written atomically)\n"
     "  --spp N                   samples per pixel, 1..10000000 (default 64)\n"
+    "  --target-error E          add samples (passes with seeds derived from --seed, the\n"
+    "                            first with --spp) until the image's estimated relative\n"
+    "                            error sqrt(mean stderr^2) / mean falls to E, in (0, 1);\n"
+    "                            the header's spp is the total reached\n"
     "  --aov combined|direct|indirect|inscatter   what to render (default combined)\n"
     "  --seed S                  random seed, unsigned 64-bit (default 0); runs with\n"
     "                            different seeds are independent shards for strahl merge\n"
@@ -31,6 +35,9 @@ static const char usage_text[] =
     "  --bounce-visibility on|off  visibility test in the bounce (default on)\n"
     "  --estimator area|thesis   bounce estimator (default area)\n"
     "  --steps N                 strata per view ray for in-scattering, 1..1000000 (default 256)\n"
+    "  --sampler sobol|independent  random numbers (default sobol): Owen-scrambled Sobol\n"
+    "                            points in 16 independently scrambled batches per pixel\n"
+    "                            (stderr from the batch means), or independent numbers\n"
     "  --filter box|point        pixel filter (default: the scene's image.filter, box): box =\n"
     "                            samples stratified over the pixel's square, point = its centre;\n"
     "                            recorded in the header as strahl.filter\n"
@@ -76,11 +83,13 @@ typedef struct ref_args {
     const char *scene_path, *out_path;
     char *sets[MAX_SETS];
     int num_sets, width, height;
-    int filter; // -1: the scene's
+    int filter;    // -1: the scene's
+    double target; // --target-error; 0: none
     st_ref_options o;
 } ref_args;
 
-// The choice options (--aov, --bounce-visibility, --estimator, --filter);
+// The choice options (--aov, --bounce-visibility, --estimator, --sampler,
+// --filter);
 // *known says whether `a` is one of them.
 static bool parse_choice_option(ref_args *r, const char *a, const char *v, bool *known,
                                 st_err *err) {
@@ -101,6 +110,11 @@ static bool parse_choice_option(ref_args *r, const char *a, const char *v, bool 
         if (!parse_choice(v, names, 2, &choice))
             return bad(err, "--estimator %s: expected area or thesis", v);
         r->o.estimator = (st_ref_estimator)choice;
+    } else if (!strcmp(a, "--sampler")) {
+        static const char *const names[] = {"sobol", "independent"};
+        if (!parse_choice(v, names, 2, &choice))
+            return bad(err, "--sampler %s: expected sobol or independent", v);
+        r->o.sampler = (st_ref_sampler)choice;
     } else if (!strcmp(a, "--filter")) {
         static const char *const names[] = {"point", "box"};
         if (!parse_choice(v, names, 2, &choice))
@@ -123,6 +137,12 @@ static bool parse_option(ref_args *r, const char *a, const char *v, st_err *err)
     } else if (!strcmp(a, "--spp")) {
         if (!st_parse_int(v, 1, 10000000, &n)) return bad(err, "--spp %s: expected 1..10000000", v);
         r->o.spp = (int)n;
+    } else if (!strcmp(a, "--target-error")) {
+        char *e;
+        errno = 0;
+        r->target = strtod(v, &e);
+        if (*e || errno || !(r->target > 0.0 && r->target < 1.0))
+            return bad(err, "--target-error %s: expected a relative error in (0, 1)", v);
     } else if (!strcmp(a, "--seed")) {
         if (!parse_u64(v, &r->o.seed))
             return bad(err, "--seed %s: expected an unsigned integer", v);
@@ -189,10 +209,12 @@ static bool write_reference(const ref_args *r, const st_image *img, int w0, int 
     // reference reads no module): shards merge only if this matches.
     static const char *const aovs[] = {"combined", "direct", "indirect", "inscatter"};
     snprintf(meta.config, sizeof meta.config,
-             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d filter=%s",
+             "%s %dx%d aov=%s bounces=%d visibility=%s estimator=%s steps=%d filter=%s "
+             "sampler=%s",
              r->scene_path, w0, h0, aovs[o->aov], o->bounces, o->no_visibility ? "off" : "on",
              o->estimator == ST_REF_EST_THESIS ? "thesis" : "area",
-             o->march_steps > 0 ? o->march_steps : 256, meta.filter);
+             o->march_steps > 0 ? o->march_steps : 256, meta.filter,
+             o->sampler == ST_REF_SAMPLER_INDEPENDENT ? "independent" : "sobol");
     return st_image_write_exr_meta(r->out_path, img, names, &meta, err);
 }
 
@@ -215,7 +237,13 @@ int st_cmd_reference(int argc, char **argv) {
     st_progress_begin(&bar, "reference", "rows", h0);
     r.o.progress = on_rows;
     r.o.progress_user = &bar;
-    bool ok = st_ref_render(&scene, &r.o, &img, &err);
+    long spp = r.o.spp;
+    double reached = 0.0;
+    bool ok = r.target > 0.0 ? st_ref_render_target(&scene, &r.o, r.target, 10000000, &img, &spp,
+                                                    &reached, &err)
+                             : st_ref_render(&scene, &r.o, &img, &err);
+    if (ok && r.target <= 0.0) reached = st_ref_relative_error(&img);
+    r.o.spp = (int)spp; // the header records the samples reached
     double secs = (st_now_ms() - t0) / 1000.0;
     // On a terminal the bar ends here; otherwise the stdout line below is the summary.
     if (bar.tty) st_progress_end(&bar, ok ? h0 : 0, NULL);
@@ -232,6 +260,7 @@ int st_cmd_reference(int argc, char **argv) {
     int w = img.width, h = img.height;
     st_image_free(&img);
     if (!ok) return st_report("reference", &err);
-    printf("strahl reference: %s (%dx%d, %d spp, %.2f s)\n", r.out_path, w, h, r.o.spp, secs);
+    printf("strahl reference: %s (%dx%d, %d spp, %.2f s, estimated relative error %.3g)\n",
+           r.out_path, w, h, r.o.spp, secs, reached);
     return ST_EXIT_OK;
 }

@@ -11,7 +11,11 @@
 // 64x64 image that see the medium's noise; we accept [0.8, 1.35], about 9 of
 // those, since the march's samples are not Gaussian. The merged mean and
 // standard error are also checked value by value against the formulas, and
-// the merged noise level against the single run's (same spp: ratio 1).
+// the merged noise level against the single run's: the same spp, but the
+// Sobol sampler (the default) stratifies each of the 16 batches of a pixel
+// over its own samples, 2 in the single run of 32 and 1 in the shards of 4,
+// so the single run is less noisy (measured 1.40x); merged shards stay
+// within sqrt(2) of it (accepted [0.85, 1.45]).
 #include "st_test.h"
 #include "st_base.h"
 #include "st_image.h"
@@ -36,10 +40,7 @@ int main(void) {
     snprintf(dir, sizeof dir, "%s", ST_TEST_SCRATCH);
     char cmd[8192];
     const int spp[4] = {4, 4, 8, 16};
-    // The point filter: samples independent of their index, so 4 shards of
-    // 32 spp in all are as noisy as one run of 32 (the box filter stratifies
-    // each run's samples over the pixel, and a run of 32 spp is stratified
-    // finer than shards of 4 to 16: 1.2x less noise on this scene).
+    // The point filter: only the march's jitter is random.
     const char *common = "--size 64x64 --bounces 0 --steps 64 --threads 2 --filter point";
     for (int k = 0; k < 4; k++) {
         snprintf(cmd, sizeof cmd,
@@ -98,7 +99,8 @@ int main(void) {
         chi2 / k_noisy, k_noisy, sqrt(vm / vr), worst_mean, worst_se);
     CHECK(k_noisy > 1500, "only %d values with noise", k_noisy);
     CHECK(chi2 / k_noisy > 0.8 && chi2 / k_noisy < 1.35, "chi2/K = %.4f", chi2 / k_noisy);
-    CHECK(fabs(sqrt(vm / vr) - 1) < 0.15, "merged noise / single-run noise = %.4f", sqrt(vm / vr));
+    CHECK(sqrt(vm / vr) > 0.85 && sqrt(vm / vr) < 1.45, "merged noise / single-run noise = %.4f",
+          sqrt(vm / vr));
     CHECK(worst_mean < 1e-5, "merged mean differs from sum n_i m_i / N by %.3g", worst_mean);
     CHECK(worst_se < 1e-5, "merged stderr differs from sqrt(sum n_i^2 s_i^2) / N by %.3g",
           worst_se);

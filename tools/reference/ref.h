@@ -27,6 +27,10 @@
 
 typedef enum { ST_REF_COMBINED = 0, ST_REF_DIRECT, ST_REF_INDIRECT, ST_REF_INSCATTER } st_ref_aov;
 typedef enum { ST_REF_EST_AREA = 0, ST_REF_EST_THESIS } st_ref_estimator;
+// How a pixel's samples draw their random numbers (ref_render.c): Owen-
+// scrambled Sobol points in independent batches (the default), or
+// independent PCG32 numbers with the box filter's stratified grid.
+typedef enum { ST_REF_SAMPLER_SOBOL = 0, ST_REF_SAMPLER_INDEPENDENT } st_ref_sampler;
 
 typedef struct st_ref_options {
     int spp; // samples per pixel (>= 1; 0 means 1)
@@ -38,6 +42,7 @@ typedef struct st_ref_options {
     int march_steps;        // strata per view ray for in-scattering (0: 256)
     int threads;            // 0: all online cores
     st_pixel_filter filter; // point (0): pixel centres; box: stratified over the pixel
+    st_ref_sampler sampler;
     // Called from the calling thread about every 10 ms with the rows done
     // (and once at the end with all of them); NULL: none.
     void (*progress)(void *user, int rows_done, int rows);
@@ -78,13 +83,25 @@ typedef struct st_ref_surface {
     uint32_t prim;
 } st_ref_surface;
 
-// PCG32 (O'Neill), one stream per pixel, seeded from (seed, pixel).
+// PCG32 (O'Neill), one stream per pixel, seeded from (seed, pixel). After
+// st_ref_rng_start_sample, st_ref_rng_uniform returns the sample's next
+// dimension of an Owen-scrambled Sobol sequence instead (ref_rng.c).
 typedef struct st_ref_rng {
     uint64_t state, inc;
+    uint64_t key;        // scrambles of the sample's batch (its pixel, seed and batch)
+    uint32_t index, n;   // the sample's index in its batch, the batch's size
+    uint32_t dim;        // the next dimension
+    uint32_t pair_index; // the current dimension pair's shuffled index
+    uint64_t scrambles;  // and its two Owen scramble seeds (32 bits each)
+    bool ld;             // low-discrepancy: false = plain PCG32
 } st_ref_rng;
 void st_ref_rng_seed(st_ref_rng *r, uint64_t seed, uint64_t stream);
 uint32_t st_ref_rng_u32(st_ref_rng *r);
 double st_ref_rng_uniform(st_ref_rng *r); // [0, 1)
+// Sample `index` of a batch of n, scrambled by `key`: from now on each
+// st_ref_rng_uniform is the next dimension of that point.
+void st_ref_rng_start_sample(st_ref_rng *r, uint64_t key, uint32_t index, uint32_t n);
+uint64_t st_ref_rng_hash(uint64_t a, uint64_t b);
 
 bool st_ref_geometry_build(st_ref_geometry *g, const st_scene *scene, st_err *err);
 void st_ref_geometry_free(st_ref_geometry *g);
@@ -131,5 +148,15 @@ void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const d
 // each pixel's mean (stderr.R/G/B). Deterministic for a given seed and
 // independent of the thread count.
 bool st_ref_render(const st_scene *scene, const st_ref_options *o, st_image *out, st_err *err);
+
+// The image's estimated relative error: sqrt(mean stderr^2) / mean |value|
+// over R, G, B (compare's debiased NRMSE against its own expectation).
+double st_ref_relative_error(const st_image *img);
+// Renders passes (the first with o's spp and seed, the next with seeds
+// derived from it, merged like `strahl merge`) until the relative error is at
+// most `target` or max_spp samples are reached (ref_target.c); *spp_out and
+// *reached: what was reached.
+bool st_ref_render_target(const st_scene *scene, const st_ref_options *o, double target,
+                          long max_spp, st_image *out, long *spp_out, double *reached, st_err *err);
 
 #endif

@@ -120,74 +120,71 @@ static int pixel_point(int k, int m, int whole, st_ref_rng *rng, double *u, doub
     return q;
 }
 
-static void render_pixel(const ref_job *job, double *cells, int i, int j) {
+// What a pixel's samples need to know.
+typedef struct {
+    bool box, want_direct, want_indirect, want_inscatter, varies;
+    int n; // samples (1 where nothing in the pixel is random)
+} pixel_plan;
+
+// One sample's value v of the pixel, its view ray already in r.
+static void sample_value(const ref_job *job, const pixel_plan *pl, ref_view *r, st_ref_rng *rng,
+                         double v[3]) {
     const st_ref_geometry *g = job->geo;
     const st_ref_options *o = job->opt;
-    const st_scene *sc = g->desc;
-    const int w = job->out->width;
-    const bool box = o->filter == ST_FILTER_BOX;
-    st_ref_rng rng;
-    st_ref_rng_seed(&rng, o->seed, (uint64_t)j * (uint64_t)w + (uint64_t)i);
-    ref_view r;
-    if (!box) view_ray(job, i, j, 0.5, 0.5, &r); // one view ray for every sample
+    double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0};
+    if (pl->varies && pl->want_direct && r->x.hit) st_ref_direct(g, &r->x, rng, r->direct);
+    if (pl->varies) st_ref_transmittance(g, job->cam.pos, r->dir, 0.0, r->s, rng, r->T);
+    if (pl->want_indirect && r->x.hit && r->x.lit_side)
+        st_ref_indirect(g, o, &r->x, o->bounces, rng, ind);
+    if (pl->want_inscatter) st_ref_inscatter(g, o, job->cam.pos, r->dir, r->s, rng, ins);
+    for (int c = 0; c < 3; c++) {
+        switch (o->aov) {
+        case ST_REF_DIRECT:
+            v[c] = r->direct[c];
+            break;
+        case ST_REF_INDIRECT:
+            v[c] = ind[c];
+            break;
+        case ST_REF_INSCATTER:
+            v[c] = ins[c];
+            break;
+        case ST_REF_COMBINED:
+        default:
+            v[c] = (r->direct[c] + ind[c]) * r->T[c] + ins[c];
+            break;
+        }
+    }
+}
 
-    const bool want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
-    const bool want_indirect =
-        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) && o->bounces > 0;
-    const bool want_inscatter =
-        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
-    const int spp = o->spp > 0 ? o->spp : 1;
-    // Welford's running mean and squared deviations, per channel.
-    double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-    // Direct light through the centre alone has no noise; over the pixel or
-    // through a varying density it has.
-    const bool varies = sc->medium.present && st_density_varies(&sc->density);
-    const bool stochastic =
-        box || varies || want_inscatter || (want_indirect && r.x.hit && r.x.lit_side);
-    const int n = stochastic ? spp : 1;
+// Independent samples (PCG32), the box filter's over its stratified grid;
+// the standard error from the cells' own variances.
+static void pixel_independent(const ref_job *job, const pixel_plan *pl, ref_view *r,
+                              st_ref_rng *rng, double *cells, int i, int j, float *px) {
+    const int n = pl->n;
     const int m = grid_size(n), whole = n / (m * m) * (m * m), per_cell = n / (m * m);
-    if (box) memset(cells, 0, sizeof(double) * 6 * (size_t)(m * m));
+    // Welford's running mean and squared deviations, per channel.
+    double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0}, v[3];
+    if (pl->box) memset(cells, 0, sizeof(double) * 6 * (size_t)(m * m));
     for (int k = 0; k < n; k++) {
         int cell = -1;
-        if (box) {
-            double u, v;
-            cell = pixel_point(k, m, whole, &rng, &u, &v);
-            view_ray(job, i, j, u, v, &r);
+        if (pl->box) {
+            double u, w;
+            cell = pixel_point(k, m, whole, rng, &u, &w);
+            view_ray(job, i, j, u, w, r);
         }
-        double ind[3] = {0, 0, 0}, ins[3] = {0, 0, 0}, v[3];
-        if (varies && want_direct && r.x.hit) st_ref_direct(g, &r.x, &rng, r.direct);
-        if (varies) st_ref_transmittance(g, job->cam.pos, r.dir, 0.0, r.s, &rng, r.T);
-        if (want_indirect && r.x.hit && r.x.lit_side)
-            st_ref_indirect(g, o, &r.x, o->bounces, &rng, ind);
-        if (want_inscatter) st_ref_inscatter(g, o, job->cam.pos, r.dir, r.s, &rng, ins);
+        sample_value(job, pl, r, rng, v);
         for (int c = 0; c < 3; c++) {
-            switch (o->aov) {
-            case ST_REF_DIRECT:
-                v[c] = r.direct[c];
-                break;
-            case ST_REF_INDIRECT:
-                v[c] = ind[c];
-                break;
-            case ST_REF_INSCATTER:
-                v[c] = ins[c];
-                break;
-            case ST_REF_COMBINED:
-            default:
-                v[c] = (r.direct[c] + ind[c]) * r.T[c] + ins[c];
-                break;
-            }
             double delta = v[c] - mean[c];
             mean[c] += delta / (k + 1);
             m2[c] += delta * (v[c] - mean[c]);
             if (cell >= 0) cells[6 * cell + c] += v[c], cells[6 * cell + 3 + c] += v[c] * v[c];
         }
     }
-    float *px = st_image_px(job->out, i, j);
     for (int c = 0; c < 3; c++) {
         px[c] = (float)mean[c];
         // Standard error of the mean; 0 where it cannot be estimated (1 sample).
         double var_mean = n > 1 ? m2[c] / (n - 1) / n : 0;
-        if (box && n > 1 && per_cell >= 4) {
+        if (pl->box && n > 1 && per_cell >= 4) {
             // Stratified: the cells' own variances (r = per_cell samples each),
             // plus the uniform rest with the pixel's variance.
             double within = 0;
@@ -199,6 +196,70 @@ static void render_pixel(const ref_job *job, double *cells, int i, int j) {
         }
         px[3 + c] = (float)sqrt(var_mean);
     }
+}
+
+// Owen-scrambled Sobol points in ST_REF_BATCHES independent batches, each
+// with its own scrambles: the samples of a batch are correlated (that is
+// what stratifies them), the batches are not, so the batch means give an
+// honest standard error (B - 1 degrees of freedom) of their mean, the
+// pixel's value. Sample k is in batch k mod B, so a pixel's batches differ
+// in size by at most one sample; each batch mean is unbiased by itself.
+#define ST_REF_BATCHES 16
+static void pixel_sobol(const ref_job *job, const pixel_plan *pl, ref_view *r, st_ref_rng *rng,
+                        int i, int j, float *px) {
+    const int n = pl->n, nb = n < ST_REF_BATCHES ? n : ST_REF_BATCHES;
+    const uint64_t pixel = (uint64_t)j * (uint64_t)job->out->width + (uint64_t)i;
+    const uint64_t key = st_ref_rng_hash(job->opt->seed, pixel);
+    double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0}, v[3];
+    for (int b = 0; b < nb; b++) {
+        const int size = n / nb + (b < n % nb);
+        const uint64_t bkey = st_ref_rng_hash(key, (uint64_t)b);
+        double sum[3] = {0, 0, 0};
+        for (int k = 0; k < size; k++) {
+            st_ref_rng_start_sample(rng, bkey, (uint32_t)k, (uint32_t)size);
+            if (pl->box) {
+                double u = st_ref_rng_uniform(rng), w = st_ref_rng_uniform(rng);
+                view_ray(job, i, j, u, w, r);
+            }
+            sample_value(job, pl, r, rng, v);
+            for (int c = 0; c < 3; c++)
+                sum[c] += v[c];
+        }
+        for (int c = 0; c < 3; c++) { // Welford over the batch means
+            double bm = sum[c] / size, delta = bm - mean[c];
+            mean[c] += delta / (b + 1);
+            m2[c] += delta * (bm - mean[c]);
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        px[c] = (float)mean[c];
+        px[3 + c] = (float)(nb > 1 ? sqrt(m2[c] / (nb - 1) / nb) : 0.0);
+    }
+}
+
+static void render_pixel(const ref_job *job, double *cells, int i, int j) {
+    const st_ref_options *o = job->opt;
+    const st_scene *sc = job->geo->desc;
+    pixel_plan pl = {.box = o->filter == ST_FILTER_BOX};
+    st_ref_rng rng;
+    st_ref_rng_seed(&rng, o->seed, (uint64_t)j * (uint64_t)job->out->width + (uint64_t)i);
+    ref_view r;
+    if (!pl.box) view_ray(job, i, j, 0.5, 0.5, &r); // one view ray for every sample
+    pl.want_direct = o->aov == ST_REF_COMBINED || o->aov == ST_REF_DIRECT;
+    pl.want_indirect = (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INDIRECT) && o->bounces > 0;
+    pl.want_inscatter =
+        (o->aov == ST_REF_COMBINED || o->aov == ST_REF_INSCATTER) && sc->medium.present;
+    // Direct light through the centre alone has no noise; over the pixel or
+    // through a varying density it has.
+    pl.varies = sc->medium.present && st_density_varies(&sc->density);
+    const bool stochastic =
+        pl.box || pl.varies || pl.want_inscatter || (pl.want_indirect && r.x.hit && r.x.lit_side);
+    pl.n = stochastic ? (o->spp > 0 ? o->spp : 1) : 1;
+    float *px = st_image_px(job->out, i, j);
+    if (o->sampler == ST_REF_SAMPLER_INDEPENDENT)
+        pixel_independent(job, &pl, &r, &rng, cells, i, j, px);
+    else
+        pixel_sobol(job, &pl, &r, &rng, i, j, px);
 }
 
 static void *worker(void *arg) {
