@@ -77,6 +77,24 @@ static double brute(RTCScene sc, const float *pos, const float *nrm, int x, doub
     return sum;
 }
 
+// The same triangles in a scene of our own for the exact rays.
+static RTCScene exact_scene(RTCDevice dev, const float *tris, int n) {
+    RTCScene sc = rtcNewScene(dev);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), 3 * (size_t)n);
+    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), (size_t)n);
+    memcpy(vb, tris, 9 * sizeof(float) * (size_t)n);
+    for (int i = 0; i < 3 * n; i++)
+        ib[i] = (unsigned)i;
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(sc, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(sc);
+    return sc;
+}
+
 int main(void) {
     const double ang = 0.5236, hb = 0.3, h = 2 * HALF / G; // the block: 0.6 m wide, turned 30 deg
     float tris[36 * 9];
@@ -126,19 +144,7 @@ int main(void) {
         mean[k] = a > 0 ? f / a : 0;
     }
     RTCDevice dev = rtcNewDevice("threads=1");
-    RTCScene sc = rtcNewScene(dev);
-    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                        3 * sizeof(float), 3 * (size_t)n);
-    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                           3 * sizeof(unsigned), (size_t)n);
-    memcpy(vb, tris, 9 * sizeof(float) * (size_t)n);
-    for (int i = 0; i < 3 * n; i++)
-        ib[i] = (unsigned)i;
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(sc, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(sc);
+    RTCScene sc = exact_scene(dev, tris, n);
     double lo = INFINITY, hi = 0;
     int count = 0;
     for (int j = 0; j < G; j++)
