@@ -494,12 +494,56 @@ static void *worker(void *p) {
     return NULL;
 }
 
+// Does the ray's direction d meet triangle prim's back (its own normal,
+// counter-clockwise seen from its front, points along d)?
+static bool back_face(const float *tris, unsigned prim, const float *d) {
+    const float *v = tris + 9 * (size_t)prim;
+    float e1[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]};
+    float e2[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
+    float ng[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    return ng[0] * d[0] + ng[1] * d[1] + ng[2] * d[2] > 0;
+}
+
+// An intersect context that ignores one triangle (Embree's context filter).
+typedef struct skip_ctx {
+    struct RTCIntersectContext ic; // first: Embree passes &ic to the filter
+    unsigned skip;
+} skip_ctx;
+
+static void skip_filter(const struct RTCFilterFunctionNArguments *a) {
+    const skip_ctx *s = (const skip_ctx *)a->context;
+    // RTCHitN is SoA: primID is the sixth array of N (rtcore_ray.h's
+    // RTCHitN_primID, which is C++ only).
+    const unsigned *prim = (const unsigned *)a->hit + 5 * a->N;
+    for (unsigned i = 0; i < a->N; i++)
+        if (prim[i] == s->skip) a->valid[i] = 0;
+}
+
+// What a ray from inside a solid meets first where two solids touch (a
+// block standing on a slab) is a pair of coincident faces: the slab's top
+// from behind and the block's bottom from the front, and which one Embree
+// reports depends on rounding (it changed between CPUs). A front face with
+// a back face at the same distance counts as a back face: from outside
+// every solid no back face can be met first.
+static bool meets_back(const ctx *c, const float *tris, struct RTCRayHit *rh, const float *d) {
+    if (back_face(tris, rh->hit.primID, d)) return true;
+    float t = rh->ray.tfar, tol = (float)c->o->offset + 1e-4f * t;
+    skip_ctx sc;
+    rtcInitIntersectContext(&sc.ic);
+    sc.ic.filter = skip_filter;
+    sc.skip = rh->hit.primID;
+    struct RTCRayHit h2 = *rh;
+    h2.ray.tnear = t > tol ? t - tol : 0, h2.ray.tfar = t + tol;
+    h2.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(c->scene, &sc.ic, &h2);
+    return h2.hit.geomID != RTC_INVALID_GEOMETRY_ID && back_face(tris, h2.hit.primID, d);
+}
+
 // A texel whose centre lies inside a closed solid (a floor texel under a
 // box, a wall's face covered by the next wall box, the back side of a
-// double-sided closed mesh) sees only back faces. Four of five rays suffice
-// (none may escape): where closed meshes touch, a ray from inside one
-// crosses coincident faces and may report the other mesh's front face
-// (a slab's back side under a block standing on it).
+// double-sided closed mesh) sees only back faces (Unity's backFaceTolerance
+// test): four of five rays must meet a back face first and none may escape.
 // Its value still reaches the image through the atlas' bilinear filter at
 // contact edges, so it borrows the position of a nearby free texel.
 static bool buried(const ctx *c, const float *tris, const texel *x) {
@@ -533,13 +577,7 @@ static bool buried(const ctx *c, const float *tris, const texel *x) {
         rtcInitIntersectContext(&ic);
         rtcIntersect1(c->scene, &ic, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-        // The triangle's own normal: counter-clockwise seen from its front.
-        const float *v = tris + 9 * (size_t)rh.hit.primID;
-        float e1[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]};
-        float e2[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
-        float ng[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                       e1[0] * e2[1] - e1[1] * e2[0]};
-        back += ng[0] * d[0] + ng[1] * d[1] + ng[2] * d[2] > 0;
+        back += meets_back(c, tris, &rh, d);
     }
     return back >= 4;
 }
@@ -587,6 +625,7 @@ static long *find_buried(const ctx *c, const float *tris, const texel *tx, int W
 static bool make_scene(ctx *c, RTCDevice dev, const float *tris, uint32_t n, st_err *err) {
     c->scene = rtcNewScene(dev);
     rtcSetSceneBuildQuality(c->scene, RTC_BUILD_QUALITY_MEDIUM);
+    rtcSetSceneFlags(c->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION); // meets_back
     if (n) {
         RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
         float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
