@@ -84,6 +84,11 @@ vec3 froxel_near(int l, vec3 dir, float s) {
 // m = 8 within 2 pixels, 4 up to 8. The surface depth s is the frame's
 // sample's for all of them. The point filter and a still's first frame keep
 // the single centre ray (bit-identical).
+// The frame's sample offset from the pixel centre in pixels (NDC axes): the
+// jittered projection's shift (st_filter.c's jitter_matrices; 0 on the point
+// filter and a still's first frame).
+vec2 froxel_jitter_px() { return vec2(st_proj[2][0], st_proj[2][1]) * st_resolution * 0.5; }
+
 vec3 froxel_near_pixel(int l, vec2 uv, float s) {
     vec2 ndc = uv * 2.0 - 1.0;
     int m = 1;
@@ -93,11 +98,9 @@ vec3 froxel_near_pixel(int l, vec2 uv, float s) {
         float h = length(v - dot(v, dir) * dir) / pixel;
         m = h < 2.0 ? 8 : h < 8.0 ? 4 : 1;
     }
-    // The frame's sample offset from the pixel centre in pixels (NDC axes):
-    // the jittered projection's shift (st_filter.c's jitter_matrices; 0 on
-    // the point filter, where the one ray is the centre's). One loop, so
-    // that llvmpipe runs the near field once where no pixel needs more.
-    vec2 jit = vec2(st_proj[2][0], st_proj[2][1]) * st_resolution * 0.5;
+    // One loop, so that llvmpipe runs the near field once where no pixel
+    // needs more.
+    vec2 jit = froxel_jitter_px();
     vec3 sum = vec3(0.0);
     for (int k = 0; k < m * m; k++) {
         vec2 q = (vec2(k % m, k / m) + jit + 0.5) / float(m) - 0.5;
@@ -116,14 +119,11 @@ void main() {
     float z = min(s * c, froxel_far);
     float n = float(froxel_grid.z);
     float k = clamp(floor(froxel_slice(z) * n), 0.0, n - 1.0);
-    // The columns around the pixel, bilinear; in a jittered frame (grid.glsl:
-    // the grid shifted by the sample offset) the one whose cell holds the
-    // pixel, so that the frames' mean is a box over one cell, not a tent over
-    // two.
-    vec2 g = vec2(froxel_grid.xy), o = froxel_sample_offset().xy;
-    vec2 cuv = uv - o / g;
-    if (froxel_jitter != 0 && st_filter_sample > 0)
-        cuv = (clamp(floor(uv * g - o), vec2(0.0), g - 1.0) + 0.5) / g;
+    // The columns around the pixel, bilinear. A still's jittered frame that
+    // reuses its first frame's grid (centred projection) reads it at this
+    // frame's sample, jit pixels off the centre (froxel_jitter_px).
+    vec2 cuv = uv;
+    if (froxel_reuse != 0) cuv += froxel_jitter_px() / st_resolution;
     vec4 prev = k > 0.0 ? texture(froxel_integrated_tex, vec3(cuv, k - 1.0)) : vec4(0.0);
     vec4 src = texture(froxel_inject_tex, vec3(cuv, k));
     float dt = max(z - froxel_depth(k / n), 0.0) / c;

@@ -10,29 +10,13 @@ uniform ivec3 froxel_grid;     // columns, rows, slices
 uniform float froxel_far;      // view depth of the last slice's end
 uniform float froxel_exponent; // depth distribution
 uniform float froxel_offset;   // temporal: where in its slice a froxel is sampled, [0, 1)
-uniform int froxel_jitter;     // 1: the sample positions move with the box filter's samples
+uniform int froxel_reuse;      // 1: a box still's jittered frame reads its first frame's grid
 uniform int st_filter_sample;  // the world's: this frame's index in the box filter's mean
 
-// Where this frame samples its froxels: x, y the columns' offset from their
-// cells' centres in cells, [-0.5, 0.5); z the fraction of the slice's depth.
-// With jitter, filter sample k takes the Halton (5, 7) point k for x, y (the
-// camera's own sub-pixel jitter is Halton (2, 3)) and the golden-ratio
-// sequence for z, all centred at k = 0 (the point filter: cell centres, slice
-// midpoints), so the still the box filter averages integrates each froxel's
-// footprint instead of sampling its centre.
-float froxel_radical_inverse(int k, int base) {
-    float r = 0.0, f = 1.0 / float(base);
-    for (int n = k; n > 0; n /= base, f /= float(base))
-        r += f * float(n % base);
-    return r;
-}
-
-vec3 froxel_sample_offset() {
-    if (froxel_jitter == 0 || st_filter_sample == 0) return vec3(0.0, 0.0, froxel_offset);
-    int k = st_filter_sample;
-    vec2 xy = fract(vec2(froxel_radical_inverse(k, 5), froxel_radical_inverse(k, 7)) + 0.5) - 0.5;
-    return vec3(xy, fract(0.5 + float(k) * 0.61803398875));
-}
+// Where in its slice this frame samples its froxels, [0, 1): the midpoint,
+// or with temporal the frame's offset. The columns pass through their
+// cells' centres (of the frame's projection).
+float froxel_slice_offset() { return froxel_offset; }
 
 // View depth of the slice coordinate u in [0, 1].
 float froxel_depth(float u) {
@@ -116,10 +100,9 @@ vec3 froxel_ndc_dir(vec2 ndc) {
     return normalize(b.xyz / b.w - a.xyz / a.w);
 }
 
-// The ray of column c: through its cell of the screen, at the centre shifted
-// by this frame's offset.
+// The ray of column c: through its cell's centre on the screen.
 vec3 froxel_column_dir(ivec2 c) {
-    vec2 cell = vec2(c) + 0.5 + froxel_sample_offset().xy;
+    vec2 cell = vec2(c) + 0.5;
     return froxel_ndc_dir(cell / vec2(froxel_grid.xy) * 2.0 - 1.0);
 }
 

@@ -3,7 +3,7 @@
 // (docs/physics.md): density sigma_s sum over the lights of
 // phase(theta) E V e^(-optical depth to the light), E = I/d^2 (point),
 // I falloff/d^2 (spot), the irradiance (sun), V from shadow_map. The sample
-// lies on the column's ray at the offset of grid.glsl's froxel_sample_offset;
+// lies on the column's ray at the offset of grid.glsl's froxel_slice_offset;
 // with taps (below) the source is the mean over 4 points of the froxel.
 #include "common/uniforms.glsl"
 #include "shadow_map/visibility.glsl"
@@ -82,21 +82,37 @@ const float FROXEL_GL4_W[2] = float[2](0.6521451549, 0.3478548451);
 #ifndef FROXEL_TAPS
 #define FROXEL_TAPS 0
 #endif
+// FROXEL_TAP_SPREAD 0 keeps the taps on the column's ray (a box still's
+// kept grid: its frames' sub-pixel offsets already spread it over the pixel).
+#ifndef FROXEL_TAP_SPREAD
+#define FROXEL_TAP_SPREAD 1.0
+#endif
 const vec2 FROXEL_TAP_XY[4] = vec2[4](vec2(-0.375, -0.125), vec2(0.125, -0.375),
                                       vec2(0.375, 0.125), vec2(-0.125, 0.375));
 
-// Node k (Gauss-Legendre, 4 points) of [a, b] and its weight (sum 1).
+// Node k of [a, b] and its weight (sum 1): Gauss-Legendre, 4 points, or
+// with FROXEL_MIDPOINTS n the midpoints of n equal parts (a box still's
+// kept grid: a shadow's edge inside a slice weighs by the stretch it cuts
+// off, where 4 Gauss nodes round it to their weights).
+#ifndef FROXEL_MIDPOINTS
+#define FROXEL_MIDPOINTS 0
+#endif
+const int FROXEL_NODES = FROXEL_MIDPOINTS > 0 ? FROXEL_MIDPOINTS : 4;
 float froxel_node(float a, float b, int k) {
+    if (FROXEL_MIDPOINTS > 0) return a + (b - a) * (float(k) + 0.5) / float(FROXEL_MIDPOINTS);
     return 0.5 * (a + b) + 0.5 * (b - a) * (k < 2 ? -FROXEL_GL4_X[1 - k] : FROXEL_GL4_X[k - 2]);
 }
-float froxel_node_w(int k) { return 0.5 * FROXEL_GL4_W[k < 2 ? 1 - k : k - 2]; }
+float froxel_node_w(int k) {
+    if (FROXEL_MIDPOINTS > 0) return 1.0 / float(FROXEL_MIDPOINTS);
+    return 0.5 * FROXEL_GL4_W[k < 2 ? 1 - k : k - 2];
+}
 
 vec3 froxel_tap_point(vec3 dir, float t, float c, int k) {
     vec3 right = vec3(st_view[0][0], st_view[1][0], st_view[2][0]);
     vec3 up = vec3(st_view[0][1], st_view[1][1], st_view[2][1]);
     float sy = 2.0 * tan(0.5 * st_fov_y) / float(froxel_grid.y);
     float sx = sy * (st_resolution.x / st_resolution.y) * float(froxel_grid.y) / float(froxel_grid.x);
-    vec2 o = FROXEL_TAP_XY[k] * vec2(sx, sy) * (t * c);
+    vec2 o = FROXEL_TAP_SPREAD * FROXEL_TAP_XY[k & 3] * vec2(sx, sy) * (t * c);
     return st_cam_pos + t * dir + o.x * right + o.y * up;
 }
 
@@ -143,7 +159,7 @@ vec3 froxel_positioned(int l, vec3 dir, float t0, float t1, float width, float c
     float mean = ang / (h * max(b - a, 1e-20));
     vec3 num = vec3(0.0);
     float den = 0.0;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < FROXEL_NODES; k++) {
         float t = froxel_node(a, b, k);
         float w = froxel_node_w(k) / (h2 + t * t);
         vec3 to_light = normalize(across - t * dir); // from the ray point at foot + t
@@ -170,7 +186,7 @@ void main() {
     float n = float(froxel_grid.z);
     float z0 = froxel_depth(float(id.z) / n), z1 = froxel_depth(float(id.z + 1) / n);
     float t0 = z0 / c, t1 = z1 / c;
-    float at = froxel_sample_offset().z;
+    float at = froxel_slice_offset();
     vec3 x = st_cam_pos + dir * mix(t0, t1, at);
     // The froxel's width across the ray at the sample (its rows span the
     // view's height at that depth).
@@ -193,7 +209,7 @@ void main() {
             if (FROXEL_TAPS == 0) {
                 S += G * froxel_medium_at(l, x);
             } else {
-                for (int k = 0; k < 4; k++)
+                for (int k = 0; k < FROXEL_NODES; k++)
                     S += froxel_node_w(k) * G * froxel_medium_at(l, froxel_tap_point(dir, froxel_node(t0, t1, k), c, k));
             }
         } else {
