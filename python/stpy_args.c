@@ -5,8 +5,29 @@
 #include <numpy/arrayobject.h>
 #include <string.h>
 
+// Imports numpy; where the interpreter has none of its own (a pyenv python3
+// of the same version beside Debian's), the numpy the module was compiled
+// against (STPY_NUMPY_SITE, appended to sys.path: the interpreter's own
+// packages keep precedence).
+static int import_numpy(void) {
+    PyObject *np = PyImport_ImportModule("numpy");
+    if (np || !PyErr_ExceptionMatches(PyExc_ImportError)) {
+        Py_XDECREF(np);
+        return np ? 0 : -1;
+    }
+    PyErr_Clear();
+    PyObject *path = PySys_GetObject("path"), *site = PyUnicode_FromString(STPY_NUMPY_SITE);
+    int rc = path && site ? PyList_Append(path, site) : -1;
+    Py_XDECREF(site);
+    if (rc < 0) return -1;
+    np = PyImport_ImportModule("numpy");
+    Py_XDECREF(np);
+    return np ? 0 : -1;
+}
+
 int stpy_numpy_init(void);
 int stpy_numpy_init(void) {
+    if (import_numpy() < 0) return -1;
     import_array1(-1);
     return 0;
 }
