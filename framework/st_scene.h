@@ -17,6 +17,11 @@ extern "C" {
 #ifndef ST_SCENE_MAX_TRIANGLES
 #define ST_SCENE_MAX_TRIANGLES (1ull << 27)
 #endif
+// Upper bound on the bytes one glTF's node instances expand to (positions,
+// normals, UVs and indices copied per instance), summed before any copy.
+#ifndef ST_SCENE_MAX_MESH_BYTES
+#define ST_SCENE_MAX_MESH_BYTES (2ull << 30)
+#endif
 
 typedef struct st_camera_desc {
     float position[3], target[3], up[3];
@@ -161,7 +166,28 @@ typedef struct st_scene {
     // medium.density (kind ST_DENSITY_UNIFORM without one). Here and not in
     // st_medium_desc because fields of st_scene are only appended (plugin ABI).
     st_density_desc density;
+    // Every file the scene was read from: the scene file, each glTF with its
+    // buffers, a VDB (path as opened, st_dev/st_ino when read). Outputs are
+    // checked against them (st_scene_check_output), so no render overwrites
+    // its own input.
+    struct st_scene_file *files;
+    int num_files;
 } st_scene;
+
+typedef struct st_scene_file {
+    char *path;
+    uint64_t dev, ino;
+} st_scene_file;
+// Notes that the scene read `path` (its identity now); false only when out
+// of memory. A path that cannot be stat'ed is skipped.
+bool st_scene_note_file(st_scene *scene, const char *path, st_err *err);
+// The output check that needs the loaded scene (st_check_output runs before
+// it): `path` must not be any file the scene was read from. `flag` ("-o",
+// "capture") starts the message, which names the asset (ST_ERR_INPUT).
+bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path,
+                           st_err *err);
+// Frees the list (st_scene_free calls it).
+void st_scene_files_free(st_scene *scene);
 
 // Parses and validates a scene file. Strict: unknown keys, wrong types,
 // NaN/Inf, out-of-range values and missing files fail with an ST_ERR_INPUT

@@ -156,6 +156,11 @@ bool st_j_string(st_jctx *c, const cJSON *obj, const char *key, char *out, size_
     size_t n = strlen(v->valuestring);
     if (n == 0) return st_j_fail(c, key, "empty string");
     if (n >= cap) return st_j_fail(c, key, "string longer than %zu characters", cap - 1);
+    // Strings reach messages (names, paths): no escape sequence for the terminal.
+    for (size_t i = 0; i < n; i++)
+        if ((unsigned char)v->valuestring[i] < 0x20 || v->valuestring[i] == 0x7f)
+            return st_j_fail(c, key, "contains the control character 0x%02x at offset %zu",
+                             (unsigned char)v->valuestring[i], i);
     memcpy(out, v->valuestring, n + 1);
     return true;
 }

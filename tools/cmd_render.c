@@ -275,6 +275,11 @@ int st_cmd_render(int argc, char **argv) {
     st_scene scene = {0};
     if (!st_load_scene_with(r.scene_path, r.sets, r.num_sets, r.width, r.height, &scene, &err))
         return st_report("render", &err);
+    // Only the loaded scene knows its glTF, buffer and VDB files.
+    if (!st_scene_check_output(&scene, "-o", r.out, &err)) {
+        st_scene_free(&scene);
+        return st_report("render", &err);
+    }
     if (r.filter_arg) st_filter_parse(r.filter_arg, &scene.filter);
     st_context *ctx = st_context_create_headless(&err);
     st_world *w = NULL;
