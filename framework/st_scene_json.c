@@ -112,6 +112,9 @@ bool st_j_number(st_jctx *c, const cJSON *obj, const char *key, double *out, boo
 
 static bool to_float(st_jctx *c, const char *key, double d, float *out) {
     if (fabs(d) > FLT_MAX) return st_j_fail(c, key, "%.9g is out of range for a 32-bit float", d);
+    // A value that would become 0 is reported as written, not as "got 0".
+    if (d != 0 && (float)d == 0)
+        return st_j_fail(c, key, "%.9g is too small for a 32-bit float (it would be 0)", d);
     *out = (float)d;
     return true;
 }
