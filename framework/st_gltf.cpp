@@ -63,7 +63,7 @@ bool fail(std::string &e, const char *fmt, ...) {
 struct AssetFs {
     std::string base, root;
     bool anywhere = false;
-    std::string refused; // why a URI was refused (replaces tinygltf's message)
+    std::string refused;           // why a URI was refused (replaces tinygltf's message)
     std::vector<std::string> read; // the buffer files read (st_scene_note_file)
 };
 

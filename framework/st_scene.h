@@ -184,8 +184,7 @@ bool st_scene_note_file(st_scene *scene, const char *path, st_err *err);
 // The output check that needs the loaded scene (st_check_output runs before
 // it): `path` must not be any file the scene was read from. `flag` ("-o",
 // "capture") starts the message, which names the asset (ST_ERR_INPUT).
-bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path,
-                           st_err *err);
+bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path, st_err *err);
 // Frees the list (st_scene_free calls it).
 void st_scene_files_free(st_scene *scene);
 

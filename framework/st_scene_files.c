@@ -11,7 +11,8 @@ bool st_scene_note_file(st_scene *scene, const char *path, st_err *err) {
     struct stat st;
     if (!path || stat(path, &st) != 0) return true; // nothing there to overwrite
     for (int i = 0; i < scene->num_files; i++)
-        if (scene->files[i].dev == (uint64_t)st.st_dev && scene->files[i].ino == (uint64_t)st.st_ino)
+        if (scene->files[i].dev == (uint64_t)st.st_dev &&
+            scene->files[i].ino == (uint64_t)st.st_ino)
             return true;
     st_scene_file *f = realloc(scene->files, (size_t)(scene->num_files + 1) * sizeof *f);
     char *copy = strdup(path);
@@ -24,8 +25,7 @@ bool st_scene_note_file(st_scene *scene, const char *path, st_err *err) {
     return true;
 }
 
-bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path,
-                           st_err *err) {
+bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path, st_err *err) {
     struct stat st;
     // An output that does not exist yet is no input; one that does is
     // compared by identity, so hard links and symlinks are caught too.

@@ -185,8 +185,13 @@ static void test_vdb_files(void) {
     if (rc == 2) BAD(rc, "flip.vdb", NULL, "flipped byte");
     // Two voxels 400 apart: a 401^3 block, over the voxel cap; refused from
     // the grid's metadata before its voxels are read.
-    st_test_vdb far = {.name = "density", .n = {1, 1, 1}, .value = 1.0f, .voxel = 0.1,
-                       .has_bad = true, .bad = {400, 400, 400}, .bad_value = 1.0f};
+    st_test_vdb far = {.name = "density",
+                       .n = {1, 1, 1},
+                       .value = 1.0f,
+                       .voxel = 0.1,
+                       .has_bad = true,
+                       .bad = {400, 400, 400},
+                       .bad_value = 1.0f};
     write_vdb("far.vdb", &far);
     vdb_scene("far.json", "far.vdb", "density", 1);
     rc = run("reference far.json -o c.exr --spp 1");

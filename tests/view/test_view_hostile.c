@@ -32,8 +32,8 @@ static bool unchanged(const char *path, const char *want) {
 }
 
 #define REFUSED(rc, culprit, why, what)                                                            \
-    CHECK((rc) == 2 && strstr(log_buf, culprit) && strstr(log_buf, why),                         \
-          "%s: exit %d, log: %s", what, rc, log_buf)
+    CHECK((rc) == 2 && strstr(log_buf, culprit) && strstr(log_buf, why), "%s: exit %d, log: %s",   \
+          what, rc, log_buf)
 
 int main(int argc, char **argv) {
     (void)argc;

@@ -203,8 +203,8 @@ bool view_screenshot(view *v, const char *base, st_err *err);
 // starts the message): an allowed extension (exts), a folder that takes a
 // new file, and not the scene file, a file the scene was read from (glTF,
 // buffers, VDB) or the running script (ST_ERR_INPUT).
-bool view_check_output(const view *v, const char *what, const char *path,
-                       const char *const *exts, st_err *err);
+bool view_check_output(const view *v, const char *what, const char *path, const char *const *exts,
+                       st_err *err);
 bool view_write_stats(view *v, const char *path, st_err *err);
 void view_set_camera(view *v, const float pos[3], const float target[3]);
 // A key press (GLFW key code and modifier bits), from GLFW or a script.

@@ -305,8 +305,8 @@ bool view_reload(view *v) {
     return true;
 }
 
-bool view_check_output(const view *v, const char *what, const char *path,
-                       const char *const *exts, st_err *err) {
+bool view_check_output(const view *v, const char *what, const char *path, const char *const *exts,
+                       st_err *err) {
     const char *inputs[] = {v->scene_path, v->script_path, NULL};
     return st_check_output(what, path, exts, inputs, err) &&
            st_scene_check_output(v->scene, what, path, err);

@@ -155,7 +155,7 @@ static bool camera_ok(view *v, const view_cam *before, const line *l, st_err *er
         dd += d * d;
         finite = finite && isfinite(c->pos[k]) && isfinite(c->target[k]) && isfinite(c->up[k]);
     }
-    const char *why = !finite ? "leaves the camera at a non-finite position or target"
+    const char *why = !finite     ? "leaves the camera at a non-finite position or target"
                       : !(dd > 0) ? "puts the target at the position (no view direction)"
                                   : NULL;
     if (!why) {
