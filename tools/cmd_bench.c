@@ -416,7 +416,11 @@ static bool run_settings(const bench_args *b, const st_image *ref, const st_imag
             break;
         }
         scene.filter = filter;
-        if (scene.width != ref->width || scene.height != ref->height)
+        // Only the loaded scene knows its glTF, buffer and VDB files.
+        if (!st_scene_check_output(&scene, "--csv", b->csv, err) ||
+            (b->plot && !st_scene_check_output(&scene, "--plot", b->plot, err)))
+            ok = false;
+        else if (scene.width != ref->width || scene.height != ref->height)
             ok = st_fail(err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)",
                          b->ref_path, ref->width, ref->height, scene.width, scene.height);
         else if (!ctx && !(ctx = st_context_create_headless(err)))

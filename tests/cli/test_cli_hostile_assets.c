@@ -111,6 +111,9 @@ static void vdb_scene(const char *name, const char *vdb, const char *grid, doubl
 static const st_test_vdb small_box = {
     .name = "density", .n = {4, 4, 4}, .value = 0.5f, .voxel = 0.25, .single_grid = true};
 
+static void shard(const char *name, const char *seeds, int spp, const char *config,
+                  const char *filter);
+
 // Item 2: -o is checked against every file the loaded scene read.
 static void test_outputs_vs_assets(void) {
     tri_bin("buf.exr"); // a buffer named like an output
@@ -138,6 +141,21 @@ static void test_outputs_vs_assets(void) {
     CHECK(link(a, b) == 0, "hard link");
     rc = run("render a.json -o hard.png");
     BAD(rc, "-o hard.png", "model.png", "render -o onto a hard link of the glTF");
+    // bench --csv onto a glTF named like a CSV (checked after the load, before rendering).
+    gltf_with_buffer("model.csv", "buf.exr");
+    snprintf(s, sizeof s,
+             "{%s, \"geometry\": [{\"gltf\": \"model.csv\"}], \"modules\": [{\"name\": "
+             "\"shadow_map\"}]}",
+             camera_light);
+    put("b.json", s);
+    shard("ref1.exr", "1", 4, "cfg", "box");
+    size_t c0 = 0, c1 = 0;
+    char *csv0 = slurp("model.csv", &c0);
+    rc = run("bench b.json --reference ref1.exr --sweep shadow_map.bias=0.1 --csv model.csv");
+    BAD(rc, "--csv model.csv", "read from", "bench --csv onto the glTF");
+    char *csv1 = slurp("model.csv", &c1);
+    CHECK(csv0 && csv1 && c0 == c1 && !memcmp(csv0, csv1, c0), "bench overwrote the glTF");
+    free(csv0), free(csv1);
     size_t m0 = 0, m1 = 0, m2 = 0;
     char *g1 = slurp("model.png", &m0), *b1 = slurp("buf.exr", &m1), *v1 = slurp("cloud.exr", &m2);
     CHECK(g0 && g1 && n0 == m0 && !memcmp(g0, g1, n0), "the glTF was overwritten");
