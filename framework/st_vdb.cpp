@@ -7,7 +7,9 @@
 // file.
 #include "st_file.h"
 #include "st_scene.h"
+#include "st_vdb_header.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 #include <cerrno>
 #include <cmath>
@@ -111,6 +113,9 @@ static openvdb::FloatGrid::Ptr read_grid(const char *path, const char *name, st_
         int fd;
         ~FdCloser() { close(fd); }
     } closer{fd};
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !st_vdb_check_header(fd, (uint64_t)st.st_size, path, err))
+        return nullptr;
     openvdb::initialize();
     openvdb::io::File file(proc);
     file.open(false); // no delayed loading: the file may change after this call

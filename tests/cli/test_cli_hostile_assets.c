@@ -201,6 +201,22 @@ static void test_vdb_files(void) {
     rc = run("reference flip.json -o c.exr --spp 1");
     CHECK(rc == 2 || rc == 0, "flipped byte: exit %d: %s", rc, out);
     if (rc == 2) BAD(rc, "flip.vdb", NULL, "flipped byte");
+    // A string length of 2^31 - 1 (the grid's name): OpenVDB would fill a
+    // 2 GB string before noticing the end of the file (found by fuzz_vdb).
+    write_vdb("len.vdb", &small_box);
+    size_t ln = 0;
+    char *lb = slurp("len.vdb", &ln);
+    bool hit = false;
+    for (size_t i = 0; lb && i + 11 < ln && !hit; i++)
+        if (!memcmp(lb + i, "\7\0\0\0density", 11))
+            memcpy(lb + i, "\377\377\377\177", 4), hit = true;
+    CHECK(hit, "the grid name was not found in len.vdb");
+    if (lb) put_bytes("len.vdb", lb, ln);
+    free(lb);
+    vdb_scene("len.json", "len.vdb", "density", 1);
+    rc = run("reference len.json -o c.exr --spp 1");
+    BAD(rc, "len.vdb", "past the end", "VDB string length 2^31 - 1");
+    CHECK(child_peak_mib() < 1024, "peak memory of a bad length: %.0f MiB", child_peak_mib());
     // Two voxels 400 apart: a 401^3 block, over the voxel cap; refused from
     // the grid's metadata before its voxels are read.
     st_test_vdb far = {.name = "density",
