@@ -70,7 +70,7 @@ static const char help_text[] =
     "  --size WxH                 render size (default: the scene's; must match REF)\n"
     "  --filter box|point         pixel filter (default: REF's strahl.filter header attribute,\n"
     "                             point without one); a different one is used with a warning\n"
-    "  --allow-outside-assets     let glTF buffer/image URIs leave the glTF file's folder\n"
+    "  --allow-outside-assets     let glTF buffer/image URIs and VDB files leave their folder\n"
     "                             (default: refused)\n"
     "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
     "                             (default 1/1: all); only shard 1 writes the CSV header,\n"

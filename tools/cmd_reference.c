@@ -36,7 +36,7 @@ static const char usage_text[] =
     "                            recorded in the header as strahl.filter\n"
     "  --threads N               worker threads, 1..256 (default: all online cores)\n"
     "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
-    "  --allow-outside-assets    let glTF buffer/image URIs leave the glTF file's folder\n"
+    "  --allow-outside-assets    let glTF buffer/image URIs and VDB files leave their folder\n"
     "                            (default: refused)\n"
     "  -h, --help                this text\n"
     "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"

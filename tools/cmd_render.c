@@ -33,7 +33,7 @@ static const char help_text[] =
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
-    "  --allow-outside-assets   let glTF buffer/image URIs leave the glTF file's folder\n"
+    "  --allow-outside-assets   let glTF buffer/image URIs and VDB files leave their folder\n"
     "                           (default: refused)\n"
     "  -h, --help               this text\n"
     "example:\n"
