@@ -217,6 +217,16 @@ static void test_vdb_files(void) {
     rc = run("reference len.json -o c.exr --spp 1");
     BAD(rc, "len.vdb", "past the end", "VDB string length 2^31 - 1");
     CHECK(child_peak_mib() < 1024, "peak memory of a bad length: %.0f MiB", child_peak_mib());
+    // A blosc block whose size field asks for 56 PB (found by fuzz_vdb):
+    // OpenVDB's new char[] throws, reported as a corrupt file.
+    snprintf(src, sizeof src, "%s/tests/fuzz/seeds/vdb/crash_blosc_size.vdb", ST_TEST_SOURCE_DIR);
+    char *bl = st_read_file(src, &n, &e);
+    CHECK(bl != NULL, "reading %s: %s", src, e.msg);
+    if (bl) put_bytes("blosc.vdb", bl, n);
+    free(bl);
+    vdb_scene("blosc.json", "blosc.vdb", "density", 1);
+    rc = run("reference blosc.json -o c.exr --spp 1");
+    BAD(rc, "blosc.vdb", "not a readable OpenVDB file", "VDB blosc size 56 PB");
     // Two voxels 400 apart: a 401^3 block, over the voxel cap; refused from
     // the grid's metadata before its voxels are read.
     st_test_vdb far = {.name = "density",
