@@ -978,6 +978,13 @@ bool load(const unsigned char *data, size_t len, const char *name, const char *b
         st_err_prefix(err, "%s: ", name);
         return false;
     }
+    // Image files are never opened, but they are the model's too: no output
+    // may replace them either.
+    for (const tinygltf::Image &im : model.images)
+        if (!im.uri.empty() && !tinygltf::IsDataURI(im.uri)) {
+            std::string d = tinygltf::dlib::urldecode(im.uri);
+            fs.read.push_back(d[0] == '/' ? d : fs.base + "/" + d);
+        }
     for (const std::string &f : fs.read)
         if (!st_scene_note_file(scene, f.c_str(), err)) return false;
     return true;

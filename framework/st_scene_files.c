@@ -34,7 +34,7 @@ bool st_scene_check_output(const st_scene *scene, const char *flag, const char *
         const st_scene_file *f = &scene->files[i];
         if (f->dev == (uint64_t)st.st_dev && f->ino == (uint64_t)st.st_ino)
             return st_fail(err, ST_ERR_INPUT,
-                           "%s %s: is '%s', a file the scene %s was read from (the same file); "
+                           "%s %s: is '%s', a file the scene %s uses (the same file); "
                            "refusing to overwrite it",
                            flag ? flag : "output", path, f->path, scene->path);
     }

@@ -128,11 +128,11 @@ static void test_outputs_vs_assets(void) {
     size_t n0 = 0, n1 = 0, n2 = 0;
     char *g0 = slurp("model.png", &n0), *b0 = slurp("buf.exr", &n1), *v0 = slurp("cloud.exr", &n2);
     int rc = run("render a.json -o model.png");
-    BAD(rc, "-o model.png", "a file the scene a.json was read from", "render -o onto the glTF");
+    BAD(rc, "-o model.png", "a file the scene a.json uses", "render -o onto the glTF");
     rc = run("reference a.json -o cloud.exr --spp 1");
-    BAD(rc, "-o cloud.exr", "read from", "reference -o onto the VDB");
+    BAD(rc, "-o cloud.exr", "the scene", "reference -o onto the VDB");
     rc = run("reference a.json -o buf.exr --spp 1");
-    BAD(rc, "-o buf.exr", "read from", "reference -o onto the glTF's buffer");
+    BAD(rc, "-o buf.exr", "the scene", "reference -o onto the glTF's buffer");
     // A hard link to the glTF is the same file.
     char a[1200], b[1200];
     at(a, sizeof a, "model.png");
@@ -152,10 +152,30 @@ static void test_outputs_vs_assets(void) {
     size_t c0 = 0, c1 = 0;
     char *csv0 = slurp("model.csv", &c0);
     rc = run("bench b.json --reference ref1.exr --sweep shadow_map.bias=0.1 --csv model.csv");
-    BAD(rc, "--csv model.csv", "read from", "bench --csv onto the glTF");
+    BAD(rc, "--csv model.csv", "the scene", "bench --csv onto the glTF");
     char *csv1 = slurp("model.csv", &c1);
     CHECK(csv0 && csv1 && c0 == c1 && !memcmp(csv0, csv1, c0), "bench overwrote the glTF");
     free(csv0), free(csv1);
+    // A texture of the glTF (never opened, still the model's file).
+    put("tex.png", "not really a png");
+    char g[2048];
+    snprintf(g, sizeof g,
+             "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"uri\": \"tex.png\"}], "
+             "\"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}}]}], "
+             "\"nodes\": [{\"mesh\": 0}], \"buffers\": [{\"byteLength\": 36, \"uri\": "
+             "\"buf.exr\"}], \"bufferViews\": [{\"buffer\": 0, \"byteLength\": 36}], "
+             "\"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 3, "
+             "\"type\": \"VEC3\", \"min\": [-1, 0, 0], \"max\": [1, 1, 0]}]}");
+    put("textured.gltf", g);
+    snprintf(s, sizeof s, "{%s, \"geometry\": [{\"gltf\": \"textured.gltf\"}]}", camera_light);
+    put("t.json", s);
+    rc = run("reference t.json -o tex.exr --spp 1 --size 8x8");
+    CHECK(rc == 0, "a textured glTF renders: exit %d: %s", rc, out);
+    rc = run("render t.json -o tex.png");
+    BAD(rc, "-o tex.png", "the scene", "render -o onto the glTF's texture");
+    char *tex = slurp("tex.png", NULL);
+    CHECK(tex && !strcmp(tex, "not really a png"), "the texture was overwritten");
+    free(tex);
     size_t m0 = 0, m1 = 0, m2 = 0;
     char *g1 = slurp("model.png", &m0), *b1 = slurp("buf.exr", &m1), *v1 = slurp("cloud.exr", &m2);
     CHECK(g0 && g1 && n0 == m0 && !memcmp(g0, g1, n0), "the glTF was overwritten");

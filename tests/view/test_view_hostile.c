@@ -64,10 +64,10 @@ int main(int argc, char **argv) {
     REFUSED(rc, "s.json", "same file", "stats over the scene");
     snprintf(path, sizeof path, "capture %s", gltf);
     rc = script_run("b.script", path);
-    REFUSED(rc, "model.png", "read from", "capture over the scene's glTF");
+    REFUSED(rc, "model.png", "the scene", "capture over the scene's glTF");
     snprintf(path, sizeof path, "screenshot %s/model", D);
     rc = script_run("c.script", path);
-    REFUSED(rc, "model.png", "read from", "screenshot over the scene's glTF");
+    REFUSED(rc, "model.png", "the scene", "screenshot over the scene's glTF");
     snprintf(path, sizeof path, "stats %s/self.json", D);
     rc = script_run("self.json", path);
     REFUSED(rc, "self.json", "same file", "stats over the running script");
