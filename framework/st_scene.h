@@ -166,10 +166,10 @@ typedef struct st_scene {
     // medium.density (kind ST_DENSITY_UNIFORM without one). Here and not in
     // st_medium_desc because fields of st_scene are only appended (plugin ABI).
     st_density_desc density;
-    // Every file the scene was read from: the scene file, each glTF with its
-    // buffers, a VDB (path as opened, st_dev/st_ino when read). Outputs are
-    // checked against them (st_scene_check_output), so no render overwrites
-    // its own input.
+    // Every file of the scene: the scene file, each glTF with its buffers
+    // and image files (never opened, still the model's), a VDB; path as
+    // opened, st_dev/st_ino when loaded. Outputs are checked against them
+    // (st_scene_check_output), so no render overwrites its own input.
     struct st_scene_file *files;
     int num_files;
 } st_scene;
@@ -182,7 +182,7 @@ typedef struct st_scene_file {
 // of memory. A path that cannot be stat'ed is skipped.
 bool st_scene_note_file(st_scene *scene, const char *path, st_err *err);
 // The output check that needs the loaded scene (st_check_output runs before
-// it): `path` must not be any file the scene was read from. `flag` ("-o",
+// it): `path` must not be any file of the scene. `flag` ("-o",
 // "capture") starts the message, which names the asset (ST_ERR_INPUT).
 bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path, st_err *err);
 // Frees the list (st_scene_free calls it).
