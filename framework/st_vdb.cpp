@@ -64,10 +64,9 @@ static std::string printable(const std::string &s) {
 }
 
 // The voxel cap, checked on the grid's statistics metadata (which OpenVDB
-// writes with every grid) before a single voxel is read: *clip gets the
-// active bounding box and a margin, and only the leaves inside it are read.
+// writes with every grid) before a single voxel is read.
 static bool declared_bounds(const openvdb::GridBase &meta, const char *path, const char *name,
-                            openvdb::BBoxd *clip, st_err *err) {
+                            st_err *err) {
     const std::string q = printable(name);
     auto lo = meta.getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MIN);
     auto hi = meta.getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MAX);
@@ -92,11 +91,6 @@ static bool declared_bounds(const openvdb::GridBase &meta, const char *path, con
                        "%s: grid '%s' spans %lld x %lld x %lld voxels, more than the limit of %llu",
                        path, q.c_str(), span[0], span[1], span[2],
                        (unsigned long long)ST_VDB_MAX_VOXELS);
-    // A margin of 4 voxels keeps the block's ring of zeros (grid_block) as
-    // the whole file has it.
-    openvdb::CoordBBox box(openvdb::Coord(lo->value()) - openvdb::Coord(4),
-                           openvdb::Coord(hi->value()) + openvdb::Coord(4));
-    *clip = meta.transform().indexToWorld(box);
     return true;
 }
 
@@ -139,13 +133,13 @@ static openvdb::FloatGrid::Ptr read_grid(const char *path, const char *name, st_
                        q.c_str(), printable(base->valueType()).c_str()),
                nullptr;
     }
-    openvdb::BBoxd clip;
-    if (!declared_bounds(*base, path, name, &clip, err)) {
+    if (!declared_bounds(*base, path, name, err)) {
         file.close();
         return nullptr;
     }
-    openvdb::FloatGrid::Ptr grid =
-        openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name, clip));
+    // The whole grid: a clipped read would skip leaves through OpenVDB's
+    // delayed-load mask, which asserts on a corrupt file (found by fuzz_vdb).
+    openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
     file.close();
     if (!grid) st_fail(err, ST_ERR_INPUT, "%s: grid '%s' could not be read", path, q.c_str());
     return grid;

@@ -247,6 +247,17 @@ static void test_vdb_files(void) {
     vdb_scene("blosc.json", "blosc.vdb", "density", 1);
     rc = run("reference blosc.json -o c.exr --spp 1");
     BAD(rc, "blosc.vdb", "not a readable OpenVDB file", "VDB blosc size 56 PB");
+    // A delayed-load mask shorter than the leaves: a clipped read asserted
+    // inside OpenVDB (abort; found by fuzz_vdb). The whole grid is read.
+    snprintf(src, sizeof src, "%s/tests/fuzz/seeds/vdb/crash_delayed_load_mask.vdb",
+             ST_TEST_SOURCE_DIR);
+    char *dl = st_read_file(src, &n, &e);
+    CHECK(dl != NULL, "reading %s: %s", src, e.msg);
+    if (dl) put_bytes("dl.vdb", dl, n);
+    free(dl);
+    vdb_scene("dl.json", "dl.vdb", "density", 1);
+    rc = run("reference dl.json -o c.exr --spp 1");
+    BAD(rc, "dl.vdb", "not a readable OpenVDB file", "VDB with a short delayed-load mask");
     // Two voxels 400 apart: a 401^3 block, over the voxel cap; refused from
     // the grid's metadata before its voxels are read.
     st_test_vdb far = {.name = "density",
