@@ -69,6 +69,30 @@ static void meta_map(cursor *c) {
     }
 }
 
+// Bytes of a map's data after its type name (math/Maps.h, each map's
+// read()); 0: a map strahl refuses (frustum) or does not know.
+static uint64_t map_bytes(const char *map) {
+    if (!strcmp(map, "UniformScaleMap") || !strcmp(map, "ScaleMap")) return 5 * 24;
+    if (!strcmp(map, "UniformScaleTranslateMap") || !strcmp(map, "ScaleTranslateMap"))
+        return 6 * 24;
+    if (!strcmp(map, "TranslationMap")) return 24;
+    if (!strcmp(map, "AffineMap") || !strcmp(map, "UnitaryMap")) return 128;
+    return 0;
+}
+
+// A float tree's root (tree/RootNode.h readTopology): a buffer count, the
+// background, then tile and child counts that OpenVDB loops over; each
+// tile takes 12 + 4 + 1 bytes, each child at least its coordinates and two
+// 4096-byte masks. Counts beyond the grid's bytes would spin for minutes.
+static void float_root(cursor *c, uint64_t end) {
+    u32(c, "grid topology past the end");
+    u32(c, "grid topology past the end"); // background
+    uint64_t tiles = u32(c, "grid topology past the end");
+    uint64_t children = u32(c, "grid topology past the end");
+    if (!c->why && tiles * 17 + children * (12 + 8192) > end - c->at)
+        c->why = "more root tiles or children than the grid's bytes hold";
+}
+
 bool st_vdb_check_header(int fd, uint64_t size, const char *path, st_err *err) {
     cursor c = {fd, 0, size, NULL};
     uint64_t magic = u64(&c, "shorter than a VDB header");
@@ -103,6 +127,12 @@ bool st_vdb_check_header(int fd, uint64_t size, const char *path, st_err *err) {
         meta_map(&at);
         char map[64];
         string(&at, map, sizeof map, "grid transform past the end");
+        if (!at.why && !strcmp(map, "NonlinearFrustumMap"))
+            at.why = "a frustum transform (expected an affine one)";
+        uint64_t mb = map_bytes(map);
+        if (!at.why && mb && take(&at, NULL, mb, "grid transform past the end") &&
+            !strcmp(type, "Tree_float_5_4_3"))
+            float_root(&at, block_pos); // the topology precedes the data blocks
         c.why = at.why;
         if (!c.why && at.at > block_pos) c.why = "grid metadata past its data";
         c.at = end_pos; // the next descriptor follows this grid's data
