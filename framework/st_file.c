@@ -116,6 +116,44 @@ FILE *st_fopen_input(const char *path, uint64_t cap, const char *what, st_err *e
     return f;
 }
 
+// Whether rel, taken lexically, climbs above its folder ("..", "a/../..").
+static bool climbs_out(const char *rel) {
+    int depth = 0;
+    for (const char *p = rel; *p;) {
+        size_t len = strcspn(p, "/");
+        if (len == 2 && p[0] == '.' && p[1] == '.') {
+            if (--depth < 0) return true;
+        } else if (len > 0 && !(len == 1 && p[0] == '.')) {
+            depth++;
+        }
+        p += len;
+        while (*p == '/')
+            p++;
+    }
+    return false;
+}
+
+bool st_path_confined(const char *dir, const char *rel, bool anywhere, char *out, size_t n,
+                      st_err *err) {
+    st_path_join(out, n, dir, rel);
+    if (anywhere) return true;
+    char root[PATH_MAX], real[PATH_MAX];
+    if (!realpath(dir && dir[0] ? dir : ".", root))
+        return st_fail(err, ST_ERR_INPUT, "folder '%s': %s", dir, strerror(errno));
+    bool out_of_tree = rel[0] == '/' || climbs_out(rel);
+    if (!out_of_tree && realpath(out, real)) {
+        size_t k = strlen(root);
+        out_of_tree = strcmp(root, "/") && (strncmp(real, root, k) || (real[k] && real[k] != '/'));
+        if (!out_of_tree) snprintf(out, n, "%s", real);
+    }
+    if (out_of_tree)
+        return st_fail(err, ST_ERR_INPUT,
+                       "'%s' is outside the scene's folder '%s' (--allow-outside-assets allows "
+                       "it)",
+                       rel, root);
+    return true;
+}
+
 bool st_same_file(const char *a, const char *b) {
     struct stat x, y;
     return a && b && stat(a, &x) == 0 && stat(b, &y) == 0 && x.st_dev == y.st_dev &&

@@ -32,6 +32,15 @@ char *st_read_input(const char *path, uint64_t cap, const char *what, size_t *le
 // Same as a stdio stream (line readers).
 FILE *st_fopen_input(const char *path, uint64_t cap, const char *what, st_err *err);
 
+// Resolves `rel`, a path written in an input file, against the folder `dir`
+// into `out` and keeps it inside dir's folder tree: an absolute path, a ".."
+// above dir, or a file that resolves (symlinks, realpath) outside
+// realpath(dir) is refused (ST_ERR_INPUT naming rel; `what` says whose rule
+// it is). A file that does not exist is left to the open to report.
+// anywhere: no confinement (--allow-outside-assets).
+bool st_path_confined(const char *dir, const char *rel, bool anywhere, char *out, size_t n,
+                      st_err *err);
+
 // Checks an output path before any work (ST_ERR_INPUT, exit 2): not empty;
 // the extension is one of exts (e.g. {"exr", "png", NULL}, case-insensitive;
 // NULL: any); the name fits NAME_MAX; it is not a directory or other

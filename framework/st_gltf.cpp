@@ -63,8 +63,17 @@ bool fail(std::string &e, const char *fmt, ...) {
 struct AssetFs {
     std::string base, root;
     bool anywhere = false;
-    std::string refused; // why a URI was refused (replaces tinygltf's message)
+    std::string refused;           // why a URI was refused (replaces tinygltf's message)
+    std::vector<std::string> read; // the buffer files read (st_scene_note_file)
 };
+
+// A URI's decoded path with a NUL ("tri.bin%00x" would open "tri.bin") or
+// another control character is refused, not truncated.
+bool has_control(const std::string &path) {
+    for (unsigned char c : path)
+        if (c < 0x20 || c == 0x7f) return true;
+    return false;
+}
 
 // The URI as written in the glTF (percent-decoded), from the path tinygltf built.
 std::string uri_of(const AssetFs &fs, const std::string &path) {
@@ -101,15 +110,31 @@ bool read_regular(const std::string &path, std::vector<unsigned char> &out, std:
 // that their message reaches the user instead of "File not found".
 bool fs_exists(const std::string &path, void *) {
     struct stat st;
-    return stat(path.c_str(), &st) == 0;
+    return has_control(path) || stat(path.c_str(), &st) == 0;
 }
-std::string fs_expand(const std::string &path, void *) {
+// tinygltf joins an absolute URI to the folder ("dir//abs"): the file meant
+// is the absolute one (then confined like any other).
+std::string fs_expand(const std::string &path, void *user) {
+    const AssetFs *fs = (const AssetFs *)user;
+    if (fs && !fs->base.empty() && path.compare(0, fs->base.size() + 2, fs->base + "//") == 0)
+        return path.substr(fs->base.size() + 1);
     return path;
 }
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path,
              void *user) {
     AssetFs *fs = (AssetFs *)user;
     std::string e, file = path;
+    if (has_control(path)) {
+        std::string shown;
+        for (unsigned char c : uri_of(*fs, path)) {
+            char b[8];
+            snprintf(b, sizeof b, c < 0x20 || c == 0x7f ? "\\x%02x" : "%c", c);
+            shown += b;
+        }
+        fs->refused = "buffer URI '" + shown + "': contains a NUL or control character";
+        if (err) *err += fs->refused;
+        return false;
+    }
     if (fs && !fs->anywhere) {
         char real[PATH_MAX];
         if (!realpath(path.c_str(), real)) {
@@ -128,7 +153,10 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
         }
         file = real;
     }
-    if (read_regular(file, *out, e)) return true;
+    if (read_regular(file, *out, e)) {
+        if (fs) fs->read.push_back(file);
+        return true;
+    }
     if (fs) fs->refused = "buffer URI '" + uri_of(*fs, path) + "': " + e;
     if (err) *err += e;
     return false;
@@ -716,6 +744,38 @@ struct Result {
     st_camera_desc camera = {};
 };
 
+// Copies every instance's primitives into meshes, after the caps: the
+// triangles and bytes the instances would expand to are summed first, so
+// 1000 nodes sharing one large mesh are refused before any copy is made.
+bool expand(const std::vector<std::vector<Prim>> &prims,
+            const std::vector<std::pair<size_t, Mat>> &inst, uint64_t tris_before, Result &r,
+            std::string &e) {
+    uint64_t tris = tris_before, bytes = 0, count = 0;
+    for (const auto &[mi, w] : inst)
+        for (const Prim &p : prims[mi]) {
+            if (p.idx.empty()) continue;
+            tris += p.idx.size() / 3;
+            bytes += (p.pos.size() + p.nrm.size() + p.uv.size() + p.idx.size()) * 4;
+            count++;
+        }
+    if (tris > ST_SCENE_MAX_TRIANGLES)
+        return fail(e, "the scene would have %llu triangles, more than the limit of %llu",
+                    (unsigned long long)tris, (unsigned long long)ST_SCENE_MAX_TRIANGLES);
+    if (bytes > ST_SCENE_MAX_MESH_BYTES)
+        return fail(e,
+                    "its %zu node instances would expand to %llu MiB of triangle meshes, more than "
+                    "the limit of %llu MiB",
+                    inst.size(), (unsigned long long)(bytes >> 20),
+                    (unsigned long long)(ST_SCENE_MAX_MESH_BYTES >> 20));
+    if (count >= (uint64_t)std::numeric_limits<int>::max() / 2)
+        return fail(e, "too many mesh instances");
+    r.meshes.v.reserve((size_t)count);
+    for (const auto &[mi, w] : inst)
+        for (const Prim &p : prims[mi])
+            if (!p.idx.empty() && !make_mesh(p, w, r.meshes, e)) return false;
+    return true;
+}
+
 // Walks the node tree of the default scene (or every root node when the file
 // has no scenes), instancing meshes, lights and the first camera.
 bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std::string &e) {
@@ -740,7 +800,7 @@ bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std
     // Converted primitives per mesh, shared by every node that uses it.
     std::vector<std::vector<Prim>> prims(m.meshes.size());
     std::vector<bool> converted(m.meshes.size(), false), seen(nn, false);
-    uint64_t tris = tris_before;
+    std::vector<std::pair<size_t, Mat>> inst; // (mesh, world) per node with a mesh
     // Explicit stack: a deep hierarchy must not overflow the C stack. Pushed
     // in reverse so children are visited in file order.
     std::vector<std::pair<int, Mat>> stack;
@@ -768,16 +828,7 @@ bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std
                     if (!convert_primitive(m, (int)mi, (int)p, prims[mi][p], e)) return false;
                 converted[mi] = true;
             }
-            for (const Prim &p : prims[mi]) {
-                if (p.idx.empty()) continue;
-                tris += p.idx.size() / 3;
-                if (tris > ST_SCENE_MAX_TRIANGLES)
-                    return fail(e, "more than %llu triangles in the scene",
-                                (unsigned long long)ST_SCENE_MAX_TRIANGLES);
-                if (r.meshes.v.size() >= (size_t)std::numeric_limits<int>::max() / 2)
-                    return fail(e, "too many mesh instances");
-                if (!make_mesh(p, w, r.meshes, e)) return false;
-            }
+            inst.emplace_back(mi, w); // expanded below, once the total is known
         }
         if (n.camera >= 0 || n.camera < -1) {
             if ((size_t)n.camera >= m.cameras.size())
@@ -792,7 +843,7 @@ bool walk(const Model &m, bool want_camera, uint64_t tris_before, Result &r, std
         for (size_t i = n.children.size(); i-- > 0;)
             stack.emplace_back(n.children[i], w);
     }
-    return true;
+    return expand(prims, inst, tris_before, r, e);
 }
 
 // Hands the result to the scene; all or nothing.
@@ -856,6 +907,8 @@ bool images_inside(const Model &model, const AssetFs &fs, std::string &e) {
         const std::string &uri = model.images[i].uri;
         if (uri.empty() || tinygltf::IsDataURI(uri)) continue;
         std::string d = tinygltf::dlib::urldecode(uri);
+        if (has_control(d))
+            return fail(e, "images[%zu]: URI contains a NUL or control character", i);
         bool out = d[0] == '/';
         int depth = 0;
         for (size_t p = 0; !out && p < d.size();) {
@@ -925,6 +978,15 @@ bool load(const unsigned char *data, size_t len, const char *name, const char *b
         st_err_prefix(err, "%s: ", name);
         return false;
     }
+    // Image files are never opened, but they are the model's too: no output
+    // may replace them either.
+    for (const tinygltf::Image &im : model.images)
+        if (!im.uri.empty() && !tinygltf::IsDataURI(im.uri)) {
+            std::string d = tinygltf::dlib::urldecode(im.uri);
+            fs.read.push_back(d[0] == '/' ? d : fs.base + "/" + d);
+        }
+    for (const std::string &f : fs.read)
+        if (!st_scene_note_file(scene, f.c_str(), err)) return false;
     return true;
 }
 
@@ -966,7 +1028,8 @@ extern "C" bool st_gltf_load_ex(const char *path, unsigned flags, st_scene *scen
         char dir[1024];
         st_path_dir(dir, sizeof dir, path);
         return st_gltf_load_memory_ex(bytes.data(), bytes.size(), path, dir, flags, scene,
-                                      has_camera, err);
+                                      has_camera, err) &&
+               st_scene_note_file(scene, path, err);
     } catch (const std::bad_alloc &) {
         return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
     } catch (...) {

@@ -516,7 +516,8 @@ bool st_image_read_exr_meta(const char *path, st_exr_meta *meta, st_err *err) {
     if (!exr_open(path, &ctx, &fd, err)) return false;
     int32_t spp = 0, len = 0;
     const char *seeds = NULL;
-    if (exr_attr_get_int(ctx, 0, "spp", &spp) == EXR_ERR_SUCCESS && spp > 0) meta->spp = spp;
+    if (exr_attr_get_int(ctx, 0, "spp", &spp) == EXR_ERR_SUCCESS)
+        meta->spp = spp, meta->has_spp = true;
     if (exr_attr_get_string(ctx, 0, "strahl.seeds", &len, &seeds) == EXR_ERR_SUCCESS && seeds &&
         len > 0)
         snprintf(meta->seeds, sizeof meta->seeds, "%.*s", (int)len, seeds);

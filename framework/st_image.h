@@ -43,6 +43,7 @@ typedef struct st_exr_meta {
     char seeds[4096];
     char config[1024]; // `strahl.config`: what was rendered (scene, size, options)
     char filter[16];   // `strahl.filter`: the pixel filter, "box" or "point"; "" absent
+    bool has_spp;      // read: the file has an spp attribute (spp keeps its value, even <= 0)
 } st_exr_meta;
 bool st_image_write_exr_meta(const char *path, const st_image *img, const char *const *names,
                              const st_exr_meta *meta, st_err *err);

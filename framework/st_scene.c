@@ -179,7 +179,7 @@ static bool parse_height_fog(st_jctx *c, const cJSON *v, st_density_desc *d) {
 // medium.density {"vdb": FILE, "grid": NAME, "transform": {"translate": [x, y, z],
 // "scale": [sx, sy, sz]}}: the file resolves against the scene's folder; the
 // transform (both keys optional) follows the grid's own index-to-world map.
-static bool parse_vdb(st_jctx *c, const cJSON *v, const char *dir, st_density_desc *d) {
+static bool parse_vdb(st_jctx *c, const cJSON *v, st_scene *s) {
     static const char *const keys[] = {"vdb", "grid", "transform", NULL};
     static const char *const tkeys[] = {"translate", "scale", NULL};
     char rel[4096], full[8192], grid[ST_NAME_MAX] = "density";
@@ -200,7 +200,11 @@ static bool parse_vdb(st_jctx *c, const cJSON *v, const char *dir, st_density_de
         if (!ok) return false;
     }
     double td[3] = {t[0], t[1], t[2]}, sd[3] = {sc[0], sc[1], sc[2]};
-    st_path_join(full, sizeof full, dir, rel);
+    // Confined to the scene's folder tree like a glTF's URIs (docs/security.md).
+    if (!st_path_confined(s->dir, rel, c->flags & ST_ASSETS_ANYWHERE, full, sizeof full, c->err)) {
+        st_err_prefix(c->err, "%s: %s.vdb: ", c->file, c->path);
+        return false;
+    }
     st_density_grid *g = calloc(1, sizeof *g);
     if (!g) return st_fail(c->err, ST_ERR_RUNTIME, "%s: out of memory", c->file);
     if (!st_vdb_load(full, grid, td, sd, g, c->err)) {
@@ -208,12 +212,13 @@ static bool parse_vdb(st_jctx *c, const cJSON *v, const char *dir, st_density_de
         st_err_prefix(c->err, "%s: %s.vdb: ", c->file, c->path);
         return false;
     }
-    d->kind = ST_DENSITY_GRID;
-    d->grid = g;
-    return true;
+    s->density.kind = ST_DENSITY_GRID;
+    s->density.grid = g;
+    return st_scene_note_file(s, full, c->err);
 }
 
-static bool parse_density(st_jctx *c, const cJSON *v, const char *dir, st_density_desc *d) {
+static bool parse_density(st_jctx *c, const cJSON *v, st_scene *s) {
+    st_density_desc *d = &s->density;
     static const char *const keys[] = {"height", "vdb", "grid", "transform", NULL};
     if (!st_j_object(c, v, keys)) return false;
     const cJSON *h = st_j_get(v, "height");
@@ -227,7 +232,7 @@ static bool parse_density(st_jctx *c, const cJSON *v, const char *dir, st_densit
         return ok;
     }
     if (!st_j_get(v, "vdb")) return st_j_fail(c, NULL, "expected a \"height\" or a \"vdb\" key");
-    return parse_vdb(c, v, dir, d);
+    return parse_vdb(c, v, s);
 }
 
 static bool parse_medium(st_jctx *c, const cJSON *v, st_scene *s) {
@@ -249,7 +254,7 @@ static bool parse_medium(st_jctx *c, const cJSON *v, st_scene *s) {
     const cJSON *density = st_j_get(v, "density");
     if (density) {
         size_t mark = st_j_push(c, "density");
-        bool ok = parse_density(c, density, s->dir, &s->density);
+        bool ok = parse_density(c, density, s);
         st_j_pop(c, mark);
         if (!ok) return false;
     }
@@ -518,5 +523,9 @@ bool st_scene_load_ex(const char *path, const st_scene_opts *opts, st_scene *out
     if (!text) return false;
     bool ok = st_scene_parse_ex(text, len, path, opts, out, err);
     free(text);
+    if (ok && !st_scene_note_file(out, path, err)) {
+        st_scene_free(out);
+        return false;
+    }
     return ok;
 }

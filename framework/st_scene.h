@@ -17,6 +17,11 @@ extern "C" {
 #ifndef ST_SCENE_MAX_TRIANGLES
 #define ST_SCENE_MAX_TRIANGLES (1ull << 27)
 #endif
+// Upper bound on the bytes one glTF's node instances expand to (positions,
+// normals, UVs and indices copied per instance), summed before any copy.
+#ifndef ST_SCENE_MAX_MESH_BYTES
+#define ST_SCENE_MAX_MESH_BYTES (2ull << 30)
+#endif
 
 typedef struct st_camera_desc {
     float position[3], target[3], up[3];
@@ -168,7 +173,27 @@ typedef struct st_scene {
     // No camera in the file or its glTF files: ST_AUTO_CAMERA framed the
     // geometry's bounds (st_scene_auto_camera).
     bool camera_auto;
+    // Every file of the scene: the scene file, each glTF with its buffers
+    // and image files (never opened, still the model's), a VDB; path as
+    // opened, st_dev/st_ino when loaded. Outputs are checked against them
+    // (st_scene_check_output), so no render overwrites its own input.
+    struct st_scene_file *files;
+    int num_files;
 } st_scene;
+
+typedef struct st_scene_file {
+    char *path;
+    uint64_t dev, ino;
+} st_scene_file;
+// Notes that the scene read `path` (its identity now); false only when out
+// of memory. A path that cannot be stat'ed is skipped.
+bool st_scene_note_file(st_scene *scene, const char *path, st_err *err);
+// The output check that needs the loaded scene (st_check_output runs before
+// it): `path` must not be any file of the scene. `flag` ("-o",
+// "capture") starts the message, which names the asset (ST_ERR_INPUT).
+bool st_scene_check_output(const st_scene *scene, const char *flag, const char *path, st_err *err);
+// Frees the list (st_scene_free calls it).
+void st_scene_files_free(st_scene *scene);
 
 // Parses and validates a scene file. Strict: unknown keys, wrong types,
 // NaN/Inf, out-of-range values and missing files fail with an ST_ERR_INPUT

@@ -112,6 +112,9 @@ bool st_j_number(st_jctx *c, const cJSON *obj, const char *key, double *out, boo
 
 static bool to_float(st_jctx *c, const char *key, double d, float *out) {
     if (fabs(d) > FLT_MAX) return st_j_fail(c, key, "%.9g is out of range for a 32-bit float", d);
+    // A value that would become 0 is reported as written, not as "got 0".
+    if (d != 0 && (float)d == 0)
+        return st_j_fail(c, key, "%.9g is too small for a 32-bit float (it would be 0)", d);
     *out = (float)d;
     return true;
 }
@@ -156,6 +159,11 @@ bool st_j_string(st_jctx *c, const cJSON *obj, const char *key, char *out, size_
     size_t n = strlen(v->valuestring);
     if (n == 0) return st_j_fail(c, key, "empty string");
     if (n >= cap) return st_j_fail(c, key, "string longer than %zu characters", cap - 1);
+    // Strings reach messages (names, paths): no escape sequence for the terminal.
+    for (size_t i = 0; i < n; i++)
+        if ((unsigned char)v->valuestring[i] < 0x20 || v->valuestring[i] == 0x7f)
+            return st_j_fail(c, key, "contains the control character 0x%02x at offset %zu",
+                             (unsigned char)v->valuestring[i], i);
     memcpy(out, v->valuestring, n + 1);
     return true;
 }

@@ -198,5 +198,6 @@ void st_scene_free(st_scene *scene) {
     free(scene->modules);
     st_density_grid_free(scene->density.grid);
     free(scene->density.grid);
+    st_scene_files_free(scene);
     memset(scene, 0, sizeof *scene);
 }

@@ -5,9 +5,12 @@
 // voxel count, finite non-negative values), and the grid is copied into a
 // dense block that C code samples (st_physics.c). No exception leaves this
 // file.
+#include "st_file.h"
 #include "st_scene.h"
+#include "st_vdb_header.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -44,45 +47,101 @@ bool invert_affine(const double m[12], double out[12]) {
     return true;
 }
 
-// Opens `path` (a regular file of a sane size) and reads float grid `name`.
+// `s` with control characters escaped (\xHH): grid names come from the file
+// and reach the terminal in messages.
+static std::string printable(const std::string &s) {
+    std::string out;
+    for (unsigned char c : s) {
+        if (c < 0x20 || c == 0x7f) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\x%02x", c);
+            out += b;
+        } else {
+            out += (char)c;
+        }
+    }
+    return out;
+}
+
+// The voxel cap, checked on the grid's statistics metadata (which OpenVDB
+// writes with every grid) before a single voxel is read.
+static bool declared_bounds(const openvdb::GridBase &meta, const char *path, const char *name,
+                            st_err *err) {
+    const std::string q = printable(name);
+    auto lo = meta.getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MIN);
+    auto hi = meta.getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MAX);
+    if (!lo || !hi)
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: grid '%s' has no file_bbox_min/file_bbox_max metadata (OpenVDB "
+                       "writes them by default), so its size cannot be checked before it is read",
+                       path, q.c_str());
+    unsigned long long total = 1;
+    long long span[3];
+    for (int k = 0; k < 3; k++) {
+        span[k] = (long long)hi->value()[k] - (long long)lo->value()[k] + 1;
+        if (span[k] < 1)
+            return st_fail(err, ST_ERR_INPUT, "%s: grid '%s': file_bbox_max is below file_bbox_min",
+                           path, q.c_str());
+        const unsigned long long n = (unsigned long long)span[k] + 2;
+        total = n > ST_VDB_MAX_VOXELS ? ST_VDB_MAX_VOXELS + 1 : total * n;
+        if (total > ST_VDB_MAX_VOXELS) break;
+    }
+    if (total > ST_VDB_MAX_VOXELS)
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: grid '%s' spans %lld x %lld x %lld voxels, more than the limit of %llu",
+                       path, q.c_str(), span[0], span[1], span[2],
+                       (unsigned long long)ST_VDB_MAX_VOXELS);
+    return true;
+}
+
+// Opens `path` through the checked open (a regular file within the cap, no
+// FIFO or device) and reads float grid `name`, after the voxel cap.
 static openvdb::FloatGrid::Ptr read_grid(const char *path, const char *name, st_err *err) {
-    // OpenVDB opens the file itself: refuse what is not a regular file of a
-    // sane size before it does.
+    const int fd = st_open_input(path, ST_VDB_MAX_FILE_BYTES, "VDB file", nullptr, err);
+    if (fd < 0) return nullptr;
+    // OpenVDB opens by name: it gets the descriptor that was checked, so
+    // the file read is the one checked (no swap between check and open).
+    char proc[64];
+    std::snprintf(proc, sizeof proc, "/proc/self/fd/%d", fd);
+    struct FdCloser {
+        int fd;
+        ~FdCloser() { close(fd); }
+    } closer{fd};
     struct stat st;
-    if (stat(path, &st) != 0)
-        return st_fail(err, ST_ERR_INPUT, "%s: cannot open: %s", path, std::strerror(errno)),
-               nullptr;
-    if (!S_ISREG(st.st_mode))
-        return st_fail(err, ST_ERR_INPUT, "%s: not a regular file", path), nullptr;
-    if ((unsigned long long)st.st_size > ST_VDB_MAX_FILE_BYTES)
-        return st_fail(err, ST_ERR_INPUT, "%s: %lld bytes, larger than the limit of %llu", path,
-                       (long long)st.st_size, (unsigned long long)ST_VDB_MAX_FILE_BYTES),
-               nullptr;
+    if (fstat(fd, &st) != 0 || !st_vdb_check_header(fd, (uint64_t)st.st_size, path, err))
+        return nullptr;
     openvdb::initialize();
-    openvdb::io::File file(path);
+    openvdb::io::File file(proc);
     file.open(false); // no delayed loading: the file may change after this call
     std::string names;
     bool found = false;
     for (auto it = file.beginName(); it != file.endName(); ++it) {
-        names += (names.empty() ? "" : ", ") + it.gridName();
+        names += (names.empty() ? "" : ", ") + printable(it.gridName());
         found = found || it.gridName() == name;
     }
+    const std::string q = printable(name);
     if (!found) {
         file.close();
-        return st_fail(err, ST_ERR_INPUT, "%s: no grid named '%s' (the file has: %s)", path, name,
-                       names.empty() ? "no grids" : names.c_str()),
+        return st_fail(err, ST_ERR_INPUT, "%s: no grid named '%s' (the file has: %s)", path,
+                       q.c_str(), names.empty() ? "no grids" : names.c_str()),
                nullptr;
     }
     openvdb::GridBase::Ptr base = file.readGridMetadata(name);
     if (!base->isType<openvdb::FloatGrid>()) {
         file.close();
         return st_fail(err, ST_ERR_INPUT, "%s: grid '%s' holds %s values, expected float", path,
-                       name, base->valueType().c_str()),
+                       q.c_str(), printable(base->valueType()).c_str()),
                nullptr;
     }
+    if (!declared_bounds(*base, path, name, err)) {
+        file.close();
+        return nullptr;
+    }
+    // The whole grid: a clipped read would skip leaves through OpenVDB's
+    // delayed-load mask, which asserts on a corrupt file (found by fuzz_vdb).
     openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
     file.close();
-    if (!grid) st_fail(err, ST_ERR_INPUT, "%s: grid '%s' could not be read", path, name);
+    if (!grid) st_fail(err, ST_ERR_INPUT, "%s: grid '%s' could not be read", path, q.c_str());
     return grid;
 }
 
@@ -192,15 +251,16 @@ bool load(const char *path, const char *name, const double translate[3], const d
     if (!grid) return false;
     openvdb::Coord lo;
     unsigned long long n[3], total;
-    if (!grid_block(*grid, path, name, &lo, n, &total, err)) return false;
+    const std::string q = printable(name); // for messages
+    if (!grid_block(*grid, path, q.c_str(), &lo, n, &total, err)) return false;
     st_density_grid g;
     std::memset(&g, 0, sizeof g);
     for (int k = 0; k < 3; k++) {
         g.n[k] = (int)n[k];
         g.lo[k] = lo[k] - 1;
     }
-    if (!grid_map(grid->transform(), translate, scale, path, name, g, err) ||
-        !grid_values(*grid, total, path, name, g, err))
+    if (!grid_map(grid->transform(), translate, scale, path, q.c_str(), g, err) ||
+        !grid_values(*grid, total, path, q.c_str(), g, err))
         return false;
     *out = g;
     return true;
@@ -214,9 +274,15 @@ extern "C" bool st_vdb_load(const char *path, const char *grid, const double tra
     try {
         return load(path, grid, translate, scale, out, err);
     } catch (const std::bad_alloc &) {
-        return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
+        // The voxel cap bounds what a valid file needs (its own allocation
+        // reports itself): this is a size field read from a corrupt file.
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: not a readable OpenVDB file (corrupt or truncated: it asks for more "
+                       "memory than is available)",
+                       path);
     } catch (const std::exception &x) {
-        return st_fail(err, ST_ERR_INPUT, "%s: not a readable OpenVDB file: %s", path, x.what());
+        return st_fail(err, ST_ERR_INPUT, "%s: not a readable OpenVDB file: %s", path,
+                       printable(x.what()).c_str());
     } catch (...) {
         return st_fail(err, ST_ERR_INPUT, "%s: not a readable OpenVDB file", path);
     }

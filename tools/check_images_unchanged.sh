@@ -75,7 +75,8 @@ same=0
 skipped=0
 for scene in "$out"/scenes/*.json; do
     name=$(basename "$scene" .json)
-    args="render $scene --size $size --frames $frames"
+    # The copies name their assets by absolute path (outside their folder).
+    args="render $scene --size $size --frames $frames --allow-outside-assets"
     if [ "${ST_CHECK_REUSE:-0}" = 1 ] && [ -f "$out/before/$name.rc" ]; then
         rb=$(cat "$out/before/$name.rc")
     else

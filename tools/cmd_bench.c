@@ -74,7 +74,7 @@ static const char help_text[] =
     "  --size WxH                 render size (default: the scene's; must match REF)\n"
     "  --filter box|point         pixel filter (default: REF's strahl.filter header attribute,\n"
     "                             point without one); a different one is used with a warning\n"
-    "  --allow-outside-assets     let glTF buffer/image URIs leave the glTF file's folder\n"
+    "  --allow-outside-assets     let glTF buffer/image URIs and VDB files leave their folder\n"
     "                             (default: refused)\n" ST_CMD_SCENE_HELP
     "  --shard I/N                run only settings I-1, I-1+N, I-1+2N, ... of the sweep\n"
     "                             (default 1/1: all); only shard 1 writes the CSV header,\n"
@@ -459,7 +459,11 @@ static bool run_settings(const bench_args *b, const st_image *ref, const st_imag
             break;
         }
         scene.filter = filter;
-        if (scene.width != ref->width || scene.height != ref->height)
+        // Only the loaded scene knows its glTF, buffer and VDB files.
+        if (!st_scene_check_output(&scene, "--csv", b->csv, err) ||
+            (b->plot && !st_scene_check_output(&scene, "--plot", b->plot, err)))
+            ok = false;
+        else if (scene.width != ref->width || scene.height != ref->height)
             ok = st_fail(err, ST_ERR_INPUT, "%s is %dx%d, the render is %dx%d (use --size)",
                          b->ref_path, ref->width, ref->height, scene.width, scene.height);
         else if (!ctx && !(ctx = st_context_create_headless(err)))

@@ -109,6 +109,19 @@ bool st_load_scene_with(const char *path, char **sets, int num_sets, int width, 
     return true;
 }
 
+const char *st_printable(const char *s, char *buf, size_t n) {
+    size_t l = 0;
+    for (; s && *s && l + 5 < n; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c < 0x20 || c == 0x7f)
+            l += (size_t)snprintf(buf + l, n - l, "\\x%02x", c);
+        else
+            buf[l++] = (char)c;
+    }
+    if (n) buf[l < n ? l : n - 1] = 0;
+    return buf;
+}
+
 int st_report(const char *cmd, const st_err *err) {
     fprintf(stderr, "strahl %s: %s\n", cmd, err->msg);
     return st_err_exit_code(err);
@@ -181,7 +194,9 @@ const char *st_exr_filter(const st_exr_meta *meta) {
 
 bool st_warn_filter_mismatch(const char *cmd, const char *a_path, const st_exr_meta *a,
                              const char *b_path, const st_exr_meta *b) {
-    const char *fa = st_exr_filter(a), *fb = st_exr_filter(b);
+    char pa[64], pb[64]; // attributes are file content: escaped
+    const char *fa = st_printable(st_exr_filter(a), pa, sizeof pa),
+               *fb = st_printable(st_exr_filter(b), pb, sizeof pb);
     if (!strcmp(fa, fb)) return false;
     fprintf(stderr,
             "strahl %s: warning: %s has pixel filter '%s'%s, %s has '%s'%s: edges differ by "

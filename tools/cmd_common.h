@@ -83,6 +83,9 @@ bool st_plot_csv(const char *const *csvs, int n, const char *out, const char *me
 // a title has no control characters (each string goes into a gnuplot script).
 bool st_plot_check_baseline(const char *baseline, st_err *err);
 bool st_plot_check_title(const char *title, st_err *err);
+// s with every control character written as \xHH (at most n - 1 bytes into
+// buf): text read from a file (an EXR attribute) goes into messages.
+const char *st_printable(const char *s, char *buf, size_t n);
 // Prints "strahl CMD: message" and returns the exit code for err.
 int st_report(const char *cmd, const st_err *err);
 

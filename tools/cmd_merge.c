@@ -51,10 +51,14 @@ static bool parse_seeds(const char *shard, const char *text, unsigned long long 
         bool digits = len > 0 && len < sizeof tok;
         for (size_t i = 0; digits && i < len; i++)
             digits = p[i] >= '0' && p[i] <= '9';
-        if (!digits)
-            return st_fail(err, ST_ERR_INPUT,
-                           "%s: strahl.seeds '%.200s': '%.*s' is not a decimal seed", shard, text,
-                           (int)(len < 40 ? len : 40), p);
+        if (!digits) {
+            char all[1024], one[256], cut[48];
+            snprintf(cut, sizeof cut, "%.*s", (int)(len < 40 ? len : 40), p);
+            snprintf(all, sizeof all, "%.200s", text);
+            return st_fail(err, ST_ERR_INPUT, "%s: strahl.seeds '%s': '%s' is not a decimal seed",
+                           shard, st_printable(all, one, sizeof one),
+                           st_printable(cut, all, sizeof all));
+        }
         memcpy(tok, p, len);
         tok[len] = 0;
         errno = 0;
@@ -121,10 +125,12 @@ static bool add_shard(merge *g, int k, const char *path, const char *first, st_e
     if (ok && !se.data)
         ok = st_fail(err, ST_ERR_INPUT,
                      "%s: no stderr.R/G/B channels (not written by strahl reference)", path);
-    if (ok && (m->spp <= 0 || !m->seeds[0]))
+    if (ok && (!m->has_spp || !m->seeds[0]))
         ok = st_fail(err, ST_ERR_INPUT,
                      "%s: no spp/strahl.seeds header attributes (not written by strahl reference)",
                      path);
+    if (ok && m->spp <= 0)
+        ok = st_fail(err, ST_ERR_INPUT, "%s: spp is %d, expected at least 1", path, m->spp);
     ok = ok && check_shard(path, &img, &se, err) &&
          parse_seeds(path, m->seeds, g->seeds, &g->nseeds, g->nseeds, err);
     const size_t count = (size_t)img.width * img.height * 3;
@@ -137,9 +143,18 @@ static bool add_shard(merge *g, int k, const char *path, const char *first, st_e
         ok = st_fail(err, ST_ERR_INPUT, "%s is %dx%d, %s is %dx%d", path, img.width, img.height,
                      first, g->sum.width, g->sum.height);
     } else if (ok && strcmp(m->config, g->all->config)) {
+        char a[1100], b[1100]; // the attributes are file content: escaped
         ok = st_fail(err, ST_ERR_INPUT,
                      "%s was rendered as '%s', %s as '%s': not shards of one render", path,
-                     m->config, first, g->all->config);
+                     st_printable(m->config, a, sizeof a), first,
+                     st_printable(g->all->config, b, sizeof b));
+    } else if (ok && strcmp(st_exr_filter(m), st_exr_filter(g->all))) {
+        char a[64], b[64];
+        ok = st_fail(err, ST_ERR_INPUT,
+                     "%s was rendered with the %s pixel filter, %s with %s: not shards of one "
+                     "render",
+                     path, st_printable(st_exr_filter(m), a, sizeof a), first,
+                     st_printable(st_exr_filter(g->all), b, sizeof b));
     }
     if (ok) g->total += m->spp;
     if (ok && g->total > 2147483647LL)

@@ -43,7 +43,7 @@ static const char usage_text[] =
     "                            recorded in the header as strahl.filter\n"
     "  --threads N               worker threads, 1..256 (default: all online cores)\n"
     "  --set MODULE.PARAM=VALUE  checked against the scene's modules like render (repeatable)\n"
-    "  --allow-outside-assets    let glTF buffer/image URIs leave the glTF file's folder\n"
+    "  --allow-outside-assets    let glTF buffer/image URIs and VDB files leave their folder\n"
     "                            (default: refused)\n" ST_CMD_SCENE_HELP
     "  -h, --help                this text\n"
     "Progress with an ETA is shown on a terminal (stderr), one summary line otherwise.\n"
@@ -229,6 +229,13 @@ int st_cmd_reference(int argc, char **argv) {
     // same command line serves both; the reference itself reads no module.
     if (!st_load_scene_with(r.scene_path, r.sets, r.num_sets, r.width, r.height, &scene, &err))
         return st_report("reference", &err);
+    // Only the loaded scene knows its glTF, buffer and VDB files; a medium
+    // too dense to track is refused before the render starts.
+    if (!st_scene_check_output(&scene, "-o", r.out_path, &err) ||
+        !st_ref_medium_check(&scene, &err)) {
+        st_scene_free(&scene);
+        return st_report("reference", &err);
+    }
     r.o.filter = r.filter >= 0 ? (st_pixel_filter)r.filter : scene.filter;
     st_image img;
     const int w0 = scene.width, h0 = scene.height;

@@ -42,7 +42,7 @@ static const char help_text[] =
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
-    "  --allow-outside-assets   let glTF buffer/image URIs leave the glTF file's folder\n"
+    "  --allow-outside-assets   let glTF buffer/image URIs and VDB files leave their folder\n"
     "                           (default: refused)\n" ST_CMD_SCENE_HELP
     "  -h, --help               this text\n"
     "example:\n"
@@ -295,6 +295,12 @@ int st_cmd_render(int argc, char **argv) {
     st_scene scene = {0};
     if (!st_load_scene_with(r.scene_path, r.sets, r.num_sets, r.width, r.height, &scene, &err))
         return st_report("render", &err);
+    // Only the loaded scene knows its glTF, buffer and VDB files.
+    for (int i = 0; i < r.num_outs; i++)
+        if (!st_scene_check_output(&scene, "-o", r.outs[i], &err)) {
+            st_scene_free(&scene);
+            return st_report("render", &err);
+        }
     if (r.filter_arg) st_filter_parse(r.filter_arg, &scene.filter);
     st_context *ctx = st_context_create_headless(&err);
     st_world *w = NULL;

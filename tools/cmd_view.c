@@ -169,6 +169,8 @@ static bool open_view(view *v, const view_args *o, st_scene *scene, st_err *err)
                           .timing = true,
                           .filter = o->filter_given ? o->filter : scene->filter};
     v->scene = scene;
+    v->scene_path = o->scene_path;
+    v->script_path = o->script;
     v->world = st_world_create(scene, &opts, err);
     if (!v->world) return false;
     v->gl.scale = (float)o->ui_scale;

@@ -137,6 +137,12 @@ void st_ref_indirect(const st_ref_geometry *g, const st_ref_options *o, const st
 // Transmittance along o + t w (w unit) for t in [t0, t1] (ref_medium.c):
 // e^(-sigma_t (t1 - t0)) in a homogeneous medium (1 without one), a ratio
 // tracking estimate when the density varies (rng then must not be NULL).
+// Refuses (ST_ERR_INPUT) a medium whose ratio tracking would need more than
+// ST_REF_MAX_COLLISIONS tentative collisions on one ray (a VDB grid with a
+// huge sigma_t: the tracking would never finish). Height fog needs no
+// check: its pieces keep the collisions per ray bounded (ref_medium.c).
+#define ST_REF_MAX_COLLISIONS 1e6
+bool st_ref_medium_check(const st_scene *scene, st_err *err);
 void st_ref_transmittance(const st_ref_geometry *g, const double o[3], const double w[3], double t0,
                           double t1, st_ref_rng *rng, double out[3]);
 

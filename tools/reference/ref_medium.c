@@ -84,6 +84,37 @@ static bool ratio_track(const st_ref_geometry *g, const double o[3], const doubl
     }
 }
 
+// Height fog over more than 64 e-folds of density along the segment (a
+// steep falloff: 64 equal pieces would leave majorants e^100 above the
+// density and billions of collisions). Pieces are chosen along the ray so
+// that each costs a bounded number of tentative collisions: where the
+// density is high a piece spans one e-fold (a tight majorant; the
+// transmittance falls fast and the roulette ends the walk), where it is low
+// a piece runs on while RATE_OVER sigma_t maj len stays below PIECE_BUDGET.
+// So the pieces per segment grow with log(falloff), not with falloff.
+// Log-densities: d = e^(-k (y - y0)) under- and overflows.
+#define PIECE_BUDGET 4.0
+static void track_steep(const st_ref_geometry *g, const double o[3], const double w[3], double t0,
+                        double t1, st_ref_rng *rng, double out[3]) {
+    const st_density_desc *dd = &g->desc->density;
+    const double st = fmax(g->sigma_t[0], fmax(g->sigma_t[1], g->sigma_t[2]));
+    const double slope = -dd->falloff * w[1], len_e = 1.0 / fabs(slope); // d(ln d)/dt
+    for (double a = t0; a < t1;) {
+        const double ln_da = -dd->falloff * (o[1] + a * w[1] - dd->base);
+        double len;
+        if (slope < 0) { // falling along the ray: the majorant is d(a)
+            len = fmax(len_e, PIECE_BUDGET / (RATE_OVER * st * exp(ln_da)));
+        } else { // rising: on to where a piece to t1 would cost PIECE_BUDGET
+            double ln_dstar = log(PIECE_BUDGET / (RATE_OVER * st * (t1 - a)));
+            len = fmax(len_e, (ln_dstar - ln_da) / slope);
+        }
+        const double b = a + len < t1 ? a + len : t1;
+        double maj = st_density_majorant(dd, o, w, a, b);
+        if (!ratio_track(g, o, w, a, b, maj, RATE_MIN / (t1 - t0), rng, out)) return;
+        a = b;
+    }
+}
+
 void st_ref_transmittance(const st_ref_geometry *g, const double o[3], const double w[3], double t0,
                           double t1, st_ref_rng *rng, double out[3]) {
     const st_density_desc *dd = &g->desc->density;
@@ -97,8 +128,14 @@ void st_ref_transmittance(const st_ref_geometry *g, const double o[3], const dou
     // e (k |dy| length <= 1), at most 64, each with its own majorant (the
     // density at its lower end), so the majorant is tight. A grid: one piece.
     int pieces = 1;
-    if (dd->kind == ST_DENSITY_HEIGHT)
-        pieces = (int)fmin(64.0, ceil(dd->falloff * fabs(w[1]) * (t1 - t0)));
+    if (dd->kind == ST_DENSITY_HEIGHT) {
+        double e_folds = dd->falloff * fabs(w[1]) * (t1 - t0);
+        if (e_folds > 64.0) {
+            track_steep(g, o, w, t0, t1, rng, out);
+            return;
+        }
+        pieces = (int)ceil(e_folds);
+    }
     if (pieces < 1) pieces = 1;
     const double len = (t1 - t0) / pieces;
     for (int k = 0; k < pieces; k++) {
@@ -262,4 +299,28 @@ void st_ref_inscatter(const st_ref_geometry *g, const st_ref_options *o, const d
             }
         }
     }
+}
+
+bool st_ref_medium_check(const st_scene *scene, st_err *err) {
+    const st_medium_desc *m = &scene->medium;
+    const st_density_grid *grid = scene->density.grid;
+    if (!m->present || scene->density.kind != ST_DENSITY_GRID || !grid) return true;
+    double st = 0.0, diag2 = 0.0;
+    for (int c = 0; c < 3; c++) {
+        st = fmax(st, (double)m->sigma_s[c] + (double)m->sigma_a[c]);
+        diag2 += (grid->bmax[c] - grid->bmin[c]) * (grid->bmax[c] - grid->bmin[c]);
+    }
+    // A ray crossing the grid's block meets RATE_OVER sigma_t max_d per metre
+    // tentative collisions wherever the density is below its maximum (empty
+    // space included), and RATE_MIN at least.
+    double n = RATE_OVER * st * grid->max_value * sqrt(diag2) + RATE_MIN;
+    if (!(n <= ST_REF_MAX_COLLISIONS))
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: medium: sigma_s + sigma_a = %g times the VDB grid's largest density "
+                       "%g over its %.3g m diagonal needs up to %.3g tentative collisions per ray "
+                       "in the reference's ratio tracking, more than the limit of %.0f; lower "
+                       "medium.sigma_s/sigma_a or the grid's values",
+                       scene->path, st, grid->max_value, sqrt(diag2), n,
+                       (double)ST_REF_MAX_COLLISIONS);
+    return true;
 }

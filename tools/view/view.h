@@ -166,6 +166,9 @@ typedef struct view {
     bool want_capture;
     char capture_path[1024];
     char shot_dir[1024];
+    // The scene file and the running script (NULL: none): the viewer never
+    // writes over them (view_check_output).
+    const char *scene_path, *script_path;
     int shot_counter;
 } view;
 
@@ -196,6 +199,12 @@ bool view_reload(view *v);
 // Linear HDR EXR and sRGB PNG of the world's final image (not the window).
 // `base` may end in .exr or .png or have no extension.
 bool view_screenshot(view *v, const char *base, st_err *err);
+// The checks of a command's -o for every file the viewer writes (`what`
+// starts the message): an allowed extension (exts), a folder that takes a
+// new file, and not the scene file, a file the scene was read from (glTF,
+// buffers, VDB) or the running script (ST_ERR_INPUT).
+bool view_check_output(const view *v, const char *what, const char *path, const char *const *exts,
+                       st_err *err);
 bool view_write_stats(view *v, const char *path, st_err *err);
 void view_set_camera(view *v, const float pos[3], const float target[3]);
 // A key press (GLFW key code and modifier bits), from GLFW or a script.

@@ -305,6 +305,13 @@ bool view_reload(view *v) {
     return true;
 }
 
+bool view_check_output(const view *v, const char *what, const char *path, const char *const *exts,
+                       st_err *err) {
+    const char *inputs[] = {v->scene_path, v->script_path, NULL};
+    return st_check_output(what, path, exts, inputs, err) &&
+           st_scene_check_output(v->scene, what, path, err);
+}
+
 bool view_screenshot(view *v, const char *base, st_err *err) {
     char stem[1024];
     snprintf(stem, sizeof stem, "%s", base);
@@ -315,6 +322,12 @@ bool view_screenshot(view *v, const char *base, st_err *err) {
     char exr[1100], png[1100];
     snprintf(exr, sizeof exr, "%s.exr", stem);
     snprintf(png, sizeof png, "%s.png", stem);
+    static const char *const exr_ext[] = {"exr", NULL}, *const png_ext[] = {"png", NULL};
+    if (!view_check_output(v, "screenshot", exr, exr_ext, err) ||
+        !view_check_output(v, "screenshot", png, png_ext, err)) {
+        st_image_free(&img);
+        return false;
+    }
     bool ok = st_image_write(exr, &img, 0, err) && st_image_write(png, &img, v->exposure, err);
     if (ok) view_message(v, "screenshot %dx%d: %s, %s", img.width, img.height, exr, png);
     st_image_free(&img);
@@ -335,6 +348,8 @@ static void json_str(FILE *f, const char *s) {
 }
 
 bool view_write_stats(view *v, const char *path, st_err *err) {
+    static const char *const exts[] = {"json", NULL};
+    if (!view_check_output(v, "stats", path, exts, err)) return false;
     st_outfile o;
     FILE *f = st_out_begin(&o, path, err) ? st_out_stream(&o, err) : NULL;
     if (!f) {
@@ -588,6 +603,8 @@ bool view_key(view *v, int key, int mods, st_err *err) {
         if (!view_screenshot(v, base, err)) return false;
         // The window with the overlay, written after the next frame is drawn.
         snprintf(v->capture_path, sizeof v->capture_path, "%s-window.png", base);
+        static const char *const png_ext[] = {"png", NULL};
+        if (!view_check_output(v, "capture", v->capture_path, png_ext, err)) return false;
         v->want_capture = true;
         return true;
     }

@@ -144,35 +144,70 @@ static bool c_exposure(view *v, line *l, st_err *err) {
     return true;
 }
 
+// The camera a command left: finite, with a view direction, as the scene
+// file requires; otherwise `before` is restored and the line refused.
+static bool camera_ok(view *v, const view_cam *before, const line *l, st_err *err) {
+    const view_cam *c = &v->cam;
+    double dd = 0;
+    bool finite = true;
+    for (int k = 0; k < 3; k++) {
+        double d = (double)c->target[k] - c->pos[k];
+        dd += d * d;
+        finite = finite && isfinite(c->pos[k]) && isfinite(c->target[k]) && isfinite(c->up[k]);
+    }
+    const char *why = !finite     ? "leaves the camera at a non-finite position or target"
+                      : !(dd > 0) ? "puts the target at the position (no view direction)"
+                                  : NULL;
+    if (!why) {
+        v->cam_dirty = true;
+        return true;
+    }
+    v->cam = *before;
+    char words[512] = "";
+    for (int i = 0, n = 0; i < l->n && n < (int)sizeof words; i++)
+        n += snprintf(words + n, sizeof words - (size_t)n, "%s%s", i ? " " : "", l->tok[i]);
+    return st_fail(err, ST_ERR_INPUT, "%s: %s", words, why);
+}
+
+// A number that must survive the conversion to float (the camera's type).
+static bool float_range(const line *l, int n, st_err *err) {
+    for (int i = 0; i < n; i++)
+        if (!(fabs(l->a[i]) <= 3.4e38))
+            return st_fail(err, ST_ERR_INPUT, "%s: '%s' is out of range for a float", l->cmd,
+                           l->tok[i + 1]);
+    return true;
+}
+
 static bool c_camera(view *v, line *l, st_err *err) {
-    if (!nums(l, 6, "PX PY PZ TX TY TZ", err)) return false;
+    if (!nums(l, 6, "PX PY PZ TX TY TZ", err) || !float_range(l, 6, err)) return false;
     const double *a = l->a;
     float p[3] = {(float)a[0], (float)a[1], (float)a[2]},
           t[3] = {(float)a[3], (float)a[4], (float)a[5]};
+    view_cam before = v->cam;
     view_set_camera(v, p, t);
-    return true;
+    return camera_ok(v, &before, l, err);
 }
 
 static bool c_orbit(view *v, line *l, st_err *err) {
-    if (!nums(l, 2, "DYAW DPITCH (degrees)", err)) return false;
+    if (!nums(l, 2, "DYAW DPITCH (degrees)", err) || !float_range(l, 2, err)) return false;
+    view_cam before = v->cam;
     view_cam_rotate(&v->cam, (float)l->a[0], (float)l->a[1]);
-    v->cam_dirty = true;
-    return true;
+    return camera_ok(v, &before, l, err);
 }
 
 static bool c_move(view *v, line *l, st_err *err) {
-    if (!nums(l, 3, "FWD RIGHT UP (metres)", err)) return false;
+    if (!nums(l, 3, "FWD RIGHT UP (metres)", err) || !float_range(l, 3, err)) return false;
+    view_cam before = v->cam;
     view_cam_move(&v->cam, (float)l->a[0], (float)l->a[1], (float)l->a[2]);
-    v->cam_dirty = true;
-    return true;
+    return camera_ok(v, &before, l, err);
 }
 
 static bool c_dolly(view *v, line *l, st_err *err) {
-    if (!nums(l, 1, "FACTOR", err)) return false;
+    if (!nums(l, 1, "FACTOR", err) || !float_range(l, 1, err)) return false;
     if (!(l->a[0] > 0)) return st_fail(err, ST_ERR_INPUT, "dolly: FACTOR must be > 0");
+    view_cam before = v->cam;
     view_cam_dolly(&v->cam, (float)l->a[0]);
-    v->cam_dirty = true;
-    return true;
+    return camera_ok(v, &before, l, err);
 }
 
 static bool c_render_size(view *v, line *l, st_err *err) {
@@ -246,7 +281,10 @@ static bool c_screenshot(view *v, line *l, st_err *err) {
 }
 
 static bool c_capture(view *v, line *l, st_err *err) {
-    if (!need(l, 1, "PATH.png (draws one frame)", err)) return false;
+    static const char *const png_ext[] = {"png", NULL};
+    if (!need(l, 1, "PATH.png (draws one frame)", err) ||
+        !view_check_output(v, "capture", l->tok[1], png_ext, err))
+        return false;
     snprintf(v->capture_path, sizeof v->capture_path, "%s", l->tok[1]);
     v->want_capture = true;
     return view_frame(v, err);
