@@ -36,6 +36,7 @@
 #include "st_gl.h"
 #include "st_physics.h"
 #include "st_world_api.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -80,7 +81,9 @@ static const st_param_def params[P_COUNT] = {
     {"samples", ST_PARAM_INT, 64, 1, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved); on llvmpipe at "
      "most 256 equi-angular steps per ray (samples / M^2): more is refused there, as Mesa's loop "
-     "budget would cut the march short"},
+     "budget would cut the march short; with exact_edges on a scene of more than 2368 triangles "
+     "the limit shrinks with the BVH's depth, 256 x 10.2 / (log2(triangles / 4) + 1) (10^5 "
+     "triangles: 167; the error names it)"},
     {"interleave", ST_PARAM_INT, 1, 1, 8, NULL,
      "M: each pixel of an M x M block marches every M^2-th step, a geometry-aware gather sums them "
      "(1 = off; limited to sqrt(samples))"},
@@ -321,17 +324,55 @@ static int sampling(const toth *t, const st_scene *sc) {
 // 320x240) and 512 (whole shaft edges dark, rmse 1.2e-6 -> 6.5e-5), so a
 // ray may take at most 256 of them there. A GPU driver has no such budget.
 #define TOTH_LLVMPIPE_MAX_STEPS 256
+// Those 256 steps hold on scenes of up to this many triangles (the god-ray
+// scenes, godrays_light_front's 2368 the most; test_toth_scenes marches
+// each at 256). An exact ray (exact_edges) walks shadow_map.refine's BVH
+// (binned SAH, leaves of 4 triangles) in loop iterations that grow with its
+// depth, about log2(n / 4) + 1: on a larger scene a ray may take 256 x
+// depth(ref) / depth(n) steps there (10^5 triangles: 167), as if every
+// iteration of a step were the BVH's. A bound from the tree's shape that
+// errs towards refusing, not a measurement on such a scene.
+#define TOTH_LLVMPIPE_REF_TRIANGLES 2368
+
+static double bvh_depth(double triangles) {
+    return log2(fmax(triangles, 4.0) / 4.0) + 1.0;
+}
+
+// The most steps per ray llvmpipe's loop budget allows on a scene of
+// `triangles` triangles (exact: exact_edges is on).
+static int llvmpipe_max_steps(double triangles, bool exact) {
+    if (!exact || triangles <= TOTH_LLVMPIPE_REF_TRIANGLES) return TOTH_LLVMPIPE_MAX_STEPS;
+    return (int)(TOTH_LLVMPIPE_MAX_STEPS * bvh_depth(TOTH_LLVMPIPE_REF_TRIANGLES) /
+                 bvh_depth(triangles));
+}
+
+static double scene_triangles(const st_scene *sc) {
+    double n = 0;
+    for (int i = 0; i < sc->num_meshes; i++)
+        n += sc->meshes[i].num_triangles;
+    return n;
+}
 
 static bool steps_fit(const toth *t, const st_scene *sc, st_err *err) {
     int m = interleave(t), n = (int)t->p[P_SAMPLES], per_ray = (n + m * m - 1) / (m * m);
-    if (sampling(t, sc) != SAMPLING_EQUIANGULAR || per_ray <= TOTH_LLVMPIPE_MAX_STEPS ||
+    double tris = scene_triangles(sc);
+    int max = llvmpipe_max_steps(tris, t->p[P_EXACT] != 0);
+    if (sampling(t, sc) != SAMPLING_EQUIANGULAR || per_ray <= max ||
         !strstr(st_context_renderer(), "llvmpipe"))
         return true;
+    if (max < TOTH_LLVMPIPE_MAX_STEPS)
+        return st_fail(err, ST_ERR_INPUT,
+                       "toth.samples=%d: %d equi-angular steps per ray with exact rays through "
+                       "the BVH of scene '%s' (%.0f triangles) exceed llvmpipe's loop budget (at "
+                       "most %d per ray on this scene; beyond it Mesa cuts the march short "
+                       "without an error); use toth.samples <= %d, toth.interleave, "
+                       "toth.exact_edges=false, or a GPU driver",
+                       n, per_ray, sc->path, tris, max, max);
     return st_fail(err, ST_ERR_INPUT,
                    "toth.samples=%d: %d equi-angular steps per ray exceed llvmpipe's loop budget "
                    "(at most %d per ray; beyond it Mesa cuts the march short without an error); "
                    "use toth.samples <= %d, toth.interleave, or a GPU driver",
-                   n, per_ray, TOTH_LLVMPIPE_MAX_STEPS, TOTH_LLVMPIPE_MAX_STEPS);
+                   n, per_ray, max, max);
 }
 
 // The first pass's needed(): re-declares the targets when a new image
