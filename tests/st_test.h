@@ -74,6 +74,19 @@ static inline int st_test_capture(char *buf, size_t n, const char *cmd) {
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : 128 + WTERMSIG(rc);
 }
 
+#ifdef ST_TEST_STRAHL
+// "cd DIR && timeout T WRAP'strahl' ARGS" (ARGS from fmt, ap), captured
+// into out like st_test_capture; WRAP: "" or a launcher such as xvfb-run.
+static inline int st_test_strahl_v(char *out, size_t n, const char *dir, int timeout_s,
+                                   const char *wrap, const char *fmt, va_list ap) {
+    char args[4000], cmd[8000];
+    vsnprintf(args, sizeof args, fmt, ap);
+    snprintf(cmd, sizeof cmd, "cd '%s' && timeout %d %s'%s' %s", dir, timeout_s, wrap,
+             ST_TEST_STRAHL, args);
+    return st_test_capture(out, n, cmd);
+}
+#endif
+
 static inline int st_test_exists(const char *path) {
     struct stat st;
     return stat(path, &st) == 0;

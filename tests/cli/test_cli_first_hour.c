@@ -17,16 +17,13 @@ static const char *win = ST_TEST_SOURCE_DIR "/scenes/godrays_window.json";
 
 static int run(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static int run(const char *fmt, ...) {
-    char args[4000], cmd[8000];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
-    va_end(ap);
     // view needs an X server: a virtual one (xvfb-run, which tools/setup.sh installs).
-    snprintf(cmd, sizeof cmd, "cd '%s' && timeout 120 %s'%s' %s", ST_TEST_SCRATCH,
-             strncmp(args, "view ", 5) ? "" : "xvfb-run -a -s '-screen 0 320x240x24' ",
-             ST_TEST_STRAHL, args);
-    return st_test_capture(out, sizeof out, cmd);
+    const char *wrap = strncmp(fmt, "view ", 5) ? "" : "xvfb-run -a -s '-screen 0 320x240x24' ";
+    int rc = st_test_strahl_v(out, sizeof out, ST_TEST_SCRATCH, 120, wrap, fmt, ap);
+    va_end(ap);
+    return rc;
 }
 
 static bool has(const char *s) {

@@ -15,13 +15,11 @@ static char out[8192];
 // Runs "cd DIR && timeout 60 strahl ARGS"; its stdout+stderr land in `out`.
 static int run(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static int run(const char *fmt, ...) {
-    char args[4000], cmd[8000];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(args, sizeof args, fmt, ap);
+    int rc = st_test_strahl_v(out, sizeof out, dir, 60, "", fmt, ap);
     va_end(ap);
-    snprintf(cmd, sizeof cmd, "cd '%s' && timeout 60 '%s' %s", dir, ST_TEST_STRAHL, args);
-    return st_test_capture(out, sizeof out, cmd);
+    return rc;
 }
 
 static void put(const char *name, const char *text) {
