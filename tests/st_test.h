@@ -87,6 +87,14 @@ static inline int st_test_strahl_v(char *out, size_t n, const char *dir, int tim
 }
 #endif
 
+// Writes text to DIR/NAME (a test's input file).
+static inline void st_test_write_text(const char *dir, const char *name, const char *text) {
+    char p[4200];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    FILE *f = fopen(p, "w");
+    if (f) fputs(text, f), fclose(f);
+}
+
 static inline int st_test_exists(const char *path) {
     struct stat st;
     return stat(path, &st) == 0;

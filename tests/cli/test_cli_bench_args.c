@@ -16,11 +16,7 @@ static int bench(char *out, size_t n, const char *args) {
 }
 
 static void write_text(const char *name, const char *text) {
-    char path[4200];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    fputs(text, f);
-    fclose(f);
+    st_test_write_text(dir, name, text);
 }
 
 static char *read_text(const char *name) {

@@ -23,11 +23,7 @@ static int run(const char *fmt, ...) {
 }
 
 static void put(const char *name, const char *text) {
-    char p[4200];
-    snprintf(p, sizeof p, "%s/%s", dir, name);
-    FILE *f = fopen(p, "w");
-    fputs(text, f);
-    fclose(f);
+    st_test_write_text(dir, name, text);
 }
 
 static bool exists(const char *name) {
