@@ -54,6 +54,7 @@ enum {
     T_INDIRECT,
     T_COMBINED,
     T_STATS,
+    T_NEAR, // 1 where a texel or one of its 8 neighbours has area (the resolve writes there)
     T_COUNT
 };
 
@@ -63,6 +64,10 @@ enum {
     PR_GBUFFER_SHADOW, // with shadow_map's visibility
     PR_GBUFFER_POINTS, // one point per texel the rasterizer misses
     PR_GBUFFER_POINTS_SHADOW,
+    PR_GBUFFER_L0, // the same four writing L0 alone, at the transfer's texels
+    PR_GBUFFER_L0_SHADOW,
+    PR_GBUFFER_L0_POINTS,
+    PR_GBUFFER_L0_POINTS_SHADOW,
     PR_GATHER,
     PR_GATHER_VIS, // visibility=true: a BVH ray per sample
     PR_RESOLVE,
@@ -90,7 +95,7 @@ typedef struct agi {
     int num_models;
     int W, H, stats_top;
     GLuint tex[T_COUNT];
-    GLuint fbo_gb, fbo_gather[2], fbo_resolve;
+    GLuint fbo_gb, fbo_l0, fbo_gather[2], fbo_resolve;
     GLuint ham_tex;
     int ham_n;
     float *ham; // the Hammersley points on the CPU (power sampling)
@@ -118,6 +123,7 @@ typedef struct agi {
     double prof_t[2];
     double prof_gb[2][AG_PROF_STEPS]; // the G-buffer pass of this relight (step 0)
     bool shadow;                      // the G-buffer was drawn with shadow_map's visibility
+    bool l0_partial; // the last G-buffer pass wrote L0 at the transfer's texels only
     bool atlas_dirty, gb_dirty, restart;
     int frames;
     bool converged;

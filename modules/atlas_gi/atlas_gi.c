@@ -88,6 +88,17 @@ static const st_program_decl programs[PR_COUNT] = {
     [PR_GBUFFER_POINTS_SHADOW] = {"gbuffer_points_shadow", "atlas_gi/gbuffer_points.vert",
                                   "atlas_gi/gbuffer.frag", .defines = "AG_SHADOW 1\nAG_POINTS 1",
                                   .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_L0] = {"gbuffer_l0", "atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag",
+                       .defines = "AG_L0_ONLY 1", .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_L0_SHADOW] = {"gbuffer_l0_shadow", "atlas_gi/gbuffer.vert", "atlas_gi/gbuffer.frag",
+                              .defines = "AG_L0_ONLY 1\nAG_SHADOW 1", .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_L0_POINTS] = {"gbuffer_l0_points", "atlas_gi/gbuffer_points.vert",
+                              "atlas_gi/gbuffer.frag", .defines = "AG_L0_ONLY 1\nAG_POINTS 1",
+                              .flags = ST_PROGRAM_LIGHTS},
+    [PR_GBUFFER_L0_POINTS_SHADOW] = {"gbuffer_l0_points_shadow", "atlas_gi/gbuffer_points.vert",
+                                     "atlas_gi/gbuffer.frag",
+                                     .defines = "AG_L0_ONLY 1\nAG_SHADOW 1\nAG_POINTS 1",
+                                     .flags = ST_PROGRAM_LIGHTS},
     [PR_GATHER] = {"gather", .frag = "atlas_gi/gather.frag"},
     [PR_GATHER_VIS] = {"gather_visibility", .frag = "atlas_gi/gather.frag",
                        .defines = "AG_VISIBILITY 1"},
@@ -160,6 +171,8 @@ static bool needed(void *self, int pass, const st_frame *f) {
     agi *g = self;
     if (pass == 0) {
         if (st_world_has_module(g->w, "shadow_map") != g->shadow) g->gb_dirty = true;
+        // The gather and the atlas display read every texel's L0.
+        if (g->l0_partial && (ip(g, P_MODE) != 0 || ip(g, P_DISPLAY) == 3)) g->gb_dirty = true;
         return g->atlas_dirty || g->gb_dirty ||
                (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
                               ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM | ST_CHANGE_PROGRAMS));

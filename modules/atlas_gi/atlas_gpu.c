@@ -11,10 +11,10 @@
 static const char *const tex_name[T_COUNT] = {
     "atlas_gi.position", "atlas_gi.normal",   "atlas_gi.albedo",  "atlas_gi.direct",
     "atlas_gi.area",     "atlas_gi.bounce0",  "atlas_gi.bounce1", "atlas_gi.accum",
-    "atlas_gi.indirect", "atlas_gi.combined", "atlas_gi.stats"};
+    "atlas_gi.indirect", "atlas_gi.combined", "atlas_gi.stats",   "atlas_gi.near"};
 static const GLenum tex_format[T_COUNT] = {GL_RGBA32F, GL_RGBA32F, GL_RGBA16F, GL_RGBA32F,
                                            GL_R32F,    GL_RGBA32F, GL_RGBA32F, GL_RGBA32F,
-                                           GL_RGBA32F, GL_RGBA32F, GL_RGBA32F};
+                                           GL_RGBA32F, GL_RGBA32F, GL_RGBA32F, GL_R8};
 // Its buffers: the world's (st_world_buffer, _texture; 0, 3 to 6), the model
 // type's (1, 2) and the BVH's (7, 8), tracked by the world for --stats.
 const char *const agi_buffer_names[] = {
@@ -29,9 +29,10 @@ void agi_release_atlas_gpu(agi *g) {
     memset(g->tex, 0, sizeof g->tex);
     for (size_t i = 0; i < NUM_BUFFERS; i++) // deletes the world's own
         st_world_untrack(g->w, agi_buffer_names[i]);
-    GLuint fbos[4] = {g->fbo_gb, g->fbo_gather[0], g->fbo_gather[1], g->fbo_resolve};
-    glDeleteFramebuffers(4, fbos);
-    g->fbo_gb = g->fbo_gather[0] = g->fbo_gather[1] = g->fbo_resolve = 0;
+    GLuint fbos[5] = {g->fbo_gb, g->fbo_l0, g->fbo_gather[0], g->fbo_gather[1], g->fbo_resolve};
+    glDeleteFramebuffers(5, fbos);
+    g->fbo_gb = g->fbo_l0 = g->fbo_gather[0] = g->fbo_gather[1] = g->fbo_resolve = 0;
+    g->l0_partial = false;
     if (g->pts_vao) glDeleteVertexArrays(1, &g->pts_vao);
     g->pts_vao = 0;
     st_bvh_gpu_free(&g->B_gpu);
@@ -108,6 +109,25 @@ static bool build_model_type(agi *g, st_err *err) {
                                err);
 }
 
+// The resolve's mask: the texels where it can write anything but 0 (a
+// texel with area, or a gutter texel next to one); the rest of the atlas,
+// often most of it, is discarded there (whole blocks skip the shader).
+static bool upload_near(agi *g, st_err *err) {
+    int W = g->W, H = g->H;
+    uint8_t *m = calloc((size_t)W * H, 1);
+    if (!m) return st_fail(err, ST_ERR_RUNTIME, "out of memory");
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            if (!(g->A.area[(size_t)y * W + x] > 0)) continue;
+            for (int v = y > 0 ? y - 1 : 0; v <= y + 1 && v < H; v++)
+                for (int u = x > 0 ? x - 1 : 0; u <= x + 1 && u < W; u++)
+                    m[(size_t)v * W + u] = 255;
+        }
+    glTextureSubImage2D(g->tex[T_NEAR], 0, 0, 0, W, H, GL_RED, GL_UNSIGNED_BYTE, m);
+    free(m);
+    return true;
+}
+
 // The atlas' textures (declared with the world) and framebuffers.
 static bool alloc_textures(agi *g, st_err *err) {
     int W = g->W, H = g->H;
@@ -126,10 +146,13 @@ static bool alloc_textures(agi *g, st_err *err) {
         g->tex[i] = t->color[0];
     }
     glTextureSubImage2D(g->tex[T_AREA], 0, 0, 0, W, H, GL_RED, GL_FLOAT, g->A.area);
+    if (!upload_near(g, err)) return false;
+    // The resolve never writes where T_NEAR is 0: zero there once.
     const float zero[4] = {0, 0, 0, 0};
-    glClearTexImage(g->tex[T_INDIRECT], 0, GL_RGBA, GL_FLOAT, zero);
-    glClearTexImage(g->tex[T_COMBINED], 0, GL_RGBA, GL_FLOAT, zero);
+    for (int i = T_INDIRECT; i <= T_STATS; i++)
+        glClearTexImage(g->tex[i], 0, GL_RGBA, GL_FLOAT, zero);
     g->fbo_gb = make_fbo(&g->tex[T_POS], 4);
+    g->fbo_l0 = make_fbo(&g->tex[T_L0], 1);
     g->fbo_gather[0] = make_fbo((GLuint[]){g->tex[T_BOUNCE0], g->tex[T_ACCUM]}, 2);
     g->fbo_gather[1] = make_fbo((GLuint[]){g->tex[T_BOUNCE1], g->tex[T_ACCUM]}, 2);
     g->fbo_resolve = make_fbo(&g->tex[T_INDIRECT], 3);
@@ -244,6 +267,7 @@ bool agi_resolve(agi *g, st_err *err) {
     st_shader_texture(sh, "ag_pos", GL_TEXTURE_2D, g->tex[T_POS]);
     st_shader_texture(sh, "ag_l0", GL_TEXTURE_2D, g->tex[T_L0]);
     st_shader_texture(sh, "ag_accum", GL_TEXTURE_2D, g->tex[T_ACCUM]);
+    st_shader_texture(sh, "ag_near", GL_TEXTURE_2D, g->tex[T_NEAR]);
     st_shader_set_float(sh, "ag_frames", (float)g->frames);
     st_draw_fullscreen();
     return true;

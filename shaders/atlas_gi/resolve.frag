@@ -6,6 +6,9 @@ uniform sampler2D ag_pos;   // .w: area (0 in gutters)
 uniform sampler2D ag_l0;
 uniform sampler2D ag_accum; // sum of frame estimates, sum of luminance^2
 uniform float ag_frames;
+// 0 where neither the texel nor a neighbour has area: nothing but 0 to write,
+// and the targets hold 0 there (atlas_gpu.c clears them once).
+uniform sampler2D ag_near;
 layout(location = 0) out vec4 o_indirect;
 layout(location = 1) out vec4 o_combined;
 layout(location = 2) out vec4 o_stats; // mean luminance, variance of the mean, valid
@@ -15,6 +18,7 @@ float lum(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 void main() {
     ivec2 t = ivec2(gl_FragCoord.xy);
     ivec2 size = textureSize(ag_pos, 0);
+    if (texelFetch(ag_near, t, 0).r == 0.0) discard;
     if (texelFetch(ag_pos, t, 0).w > 0.0) {
         vec4 acc = texelFetch(ag_accum, t, 0);
         vec3 mean = acc.rgb / ag_frames;
