@@ -15,7 +15,9 @@
 //     weight-0 links), one invocation per chunk: every invocation runs the
 //     same loop, so llvmpipe needs no per-lane masks in it (per receiver
 //     node the counts range from 1 to thousands); partial sums per chunk,
-//     then one invocation per node adds its chunks.
+//     then one invocation per node adds its chunks. Link j of chunk c is
+//     stored at j num_chunks + c, so the 8 lanes of a vector read 8
+//     neighbouring records at each step of the loop.
 //   - the passes read through buffer textures and write through storage
 //     buffers: llvmpipe turns a texel fetch into one vector gather, but a
 //     storage-buffer load into a loop with a bounds-check branch per lane.

@@ -19,9 +19,9 @@ uniform samplerBuffer ag_flux_tex;      // per node: sum a_j L_j of its texels
 // ancestor with links (a float).
 uniform samplerBuffer ag_gathered_tex;
 uniform usamplerBuffer ag_chunk_off_tex; // per node: its first chunk (num_nodes + 1)
-// Per link (chunk c: links c AG_CHUNK .. + AG_CHUNK): sender node,
+// Per link (link j of chunk c at j num_chunks + c): sender node,
 // w / A_sender (float bits), the gradient factor along the receiver's t1, t2
-// (half2).
+// (floats).
 uniform usamplerBuffer ag_links_tex;
 uniform usamplerBuffer ag_chunk_recv_tex; // per chunk: its receiver node
 uniform usamplerBuffer ag_perm_tex;     // per texel slot: atlas texel y W + x

@@ -9,6 +9,7 @@
 #include "atlas_gi/transfer.glsl"
 #include "common/medium.glsl"
 layout(local_size_x = 64) in;
+uniform int ag_num_chunks; // link j of chunk c is at j ag_num_chunks + c (transfer_gpu.c)
 
 // Two halves (no inf/NaN) to floats with integer and float vector ops: the
 // exponent rebias as one multiply by 2^112 also covers subnormals. llvmpipe
@@ -26,7 +27,7 @@ void main() {
     vec3 cr = texelFetch(ag_nodes_tex, 4 * int(texelFetch(ag_chunk_recv_tex, c).r)).xyz;
 #endif
     for (int j = 0; j < AG_CHUNK; j++) { // the same trip count in every lane
-        uvec4 l = texelFetch(ag_links_tex, c * AG_CHUNK + j);
+        uvec4 l = texelFetch(ag_links_tex, j * ag_num_chunks + c);
         vec3 wl = uintBitsToFloat(l.y) * texelFetch(ag_flux_tex, int(l.x)).rgb;
         vec2 g = uintBitsToFloat(l.zw);
 #ifdef AG_MEDIUM // a variant: llvmpipe runs both sides of a branch in a loop
