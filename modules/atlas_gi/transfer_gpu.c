@@ -106,12 +106,9 @@ static void linked_ancestors(const transfer *t, int32_t *up, int32_t *first) {
 }
 
 // Per node its 16 floats (centroid, area; child, slots, linked ancestor;
-// tangents) and first chunk; per chunk its links and receiver. Link j of
-// chunk c is stored at j nch + c (nch chunks): the link pass' lanes, one
-// chunk each, read neighbouring records at every step of their loop (one
-// or two cache lines per vector gather instead of one per lane).
-static void pack_nodes(const transfer *t, const int32_t *up, uint64_t nch, float *nodes,
-                       uint32_t *choff, uint32_t *links, uint32_t *recv) {
+// tangents) and first chunk; per chunk its receiver.
+static void pack_nodes(const transfer *t, const int32_t *up, float *nodes, uint32_t *choff,
+                       uint32_t *recv) {
     int nn = t->num_nodes;
     uint64_t c = 0;
     for (int i = 0; i < nn; i++) {
@@ -127,18 +124,38 @@ static void pack_nodes(const transfer *t, const int32_t *up, uint64_t nch, float
             o[8 + j] = (float)t1[j], o[12 + j] = (float)t2[j];
         choff[i] = (uint32_t)c;
         uint32_t b = t->link_off[i], e = t->link_off[i + 1];
-        for (uint32_t k = b; k < e; k++)
-            tr_gpu_pack_link(t, i, k,
-                             links + 4 * ((k - b) % TRG_CHUNK * nch + c + (k - b) / TRG_CHUNK));
         for (uint32_t q = 0; q < (e - b + TRG_CHUNK - 1) / TRG_CHUNK; q++)
             recv[c++] = (uint32_t)i;
     }
     choff[nn] = (uint32_t)c;
 }
 
+// The link records: link j of chunk c at j nch + c (nch chunks), so the link
+// pass' lanes, one chunk each, read neighbouring records at every step of
+// their loop (one or two cache lines per vector gather instead of one per
+// lane). Packed and uploaded one row j at a time: the whole packed copy
+// never sits in memory beside the GPU's (on llvmpipe both are host memory).
+static bool upload_links(const tr_gpu *g, const transfer *t, const uint32_t *choff, uint64_t nch,
+                         st_err *err) {
+    uint32_t *row = malloc((size_t)(nch ? nch : 1) * 4 * sizeof *row);
+    if (!row) return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    for (uint64_t j = 0; j < TRG_CHUNK && nch; j++) {
+        memset(row, 0, (size_t)nch * 4 * sizeof *row); // padding: weight-0 links
+        for (int i = 0; i < t->num_nodes; i++) {
+            uint32_t c = choff[i];
+            for (uint64_t k = t->link_off[i] + j; k < t->link_off[i + 1]; k += TRG_CHUNK, c++)
+                tr_gpu_pack_link(t, i, k, row + 4 * (size_t)c);
+        }
+        glNamedBufferSubData(g->buf[TRG_LINKS], (GLintptr)(j * nch * 4 * sizeof *row),
+                             (GLsizeiptr)(nch * 4 * sizeof *row), row);
+    }
+    free(row);
+    return true;
+}
+
 // The buffers and their buffer-texture views.
 static bool create_buffers(tr_gpu *g, const transfer *t, const float *nodes, const uint32_t *choff,
-                           const uint32_t *links, const uint32_t *recv, uint64_t nch, st_err *err) {
+                           const uint32_t *recv, uint64_t nch, st_err *err) {
     int nn = t->num_nodes;
     uint64_t nslots = nch * TRG_CHUNK;
     uint32_t nperm = nn ? t->nodes[0].end : 0;
@@ -147,7 +164,8 @@ static bool create_buffers(tr_gpu *g, const transfer *t, const float *nodes, con
         !buffer(g, TRG_FLUX, (size_t)nn * 4 * sizeof(float), NULL, &m[TRG_MEM_NODES], err) ||
         !buffer(g, TRG_GATHER, (size_t)nn * 16 * sizeof(float), NULL, &m[TRG_MEM_GATHERED], err) ||
         !buffer(g, TRG_CHOFF, ((size_t)nn + 1) * sizeof(uint32_t), choff, &m[TRG_MEM_LINKS], err) ||
-        !buffer(g, TRG_LINKS, nslots * 4 * sizeof(uint32_t), links, &m[TRG_MEM_LINKS], err) ||
+        !buffer(g, TRG_LINKS, nslots * 4 * sizeof(uint32_t), NULL, &m[TRG_MEM_LINKS], err) ||
+        !upload_links(g, t, choff, nch, err) ||
         !buffer(g, TRG_CHRECV, nch * sizeof(uint32_t), recv, &m[TRG_MEM_LINKS], err) ||
         !buffer(g, TRG_PERM, nperm * sizeof(uint32_t), t->perm, &m[TRG_MEM_PERM], err) ||
         !buffer(g, TRG_PARTIAL, nch * 12 * sizeof(float), NULL, &m[TRG_MEM_GATHERED], err))
@@ -189,15 +207,14 @@ bool tr_gpu_upload(tr_gpu *g, const transfer *t, st_err *err) {
     if (up && first) linked_ancestors(t, up, first);
     float *nodes = calloc((size_t)(nn ? nn : 1) * 16, sizeof *nodes);
     uint32_t *choff = malloc(((size_t)nn + 1) * sizeof *choff);
-    uint32_t *links = calloc((size_t)(nslots ? nslots : 1) * 4, sizeof *links);
     uint32_t *recv = calloc((size_t)(nch ? nch : 1), sizeof *recv);
-    if (!up || !first || !nodes || !choff || !links || !recv) {
-        free(up), free(first), free(nodes), free(choff), free(links), free(recv);
+    if (!up || !first || !nodes || !choff || !recv) {
+        free(up), free(first), free(nodes), free(choff), free(recv);
         return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
     }
-    pack_nodes(t, up, nch, nodes, choff, links, recv);
-    bool ok = create_buffers(g, t, nodes, choff, links, recv, nch, err);
-    free(nodes), free(choff), free(links), free(recv);
+    pack_nodes(t, up, nodes, choff, recv);
+    bool ok = create_buffers(g, t, nodes, choff, recv, nch, err);
+    free(nodes), free(choff), free(recv);
     const st_target_desc leaf = {GL_R32I, .width = t->W, .height = t->H, .filter = GL_NEAREST};
     const st_target *lt = ok ? st_world_alloc_target(g->w, "atlas_gi.leaf", &leaf, err) : NULL;
     if (lt) {
