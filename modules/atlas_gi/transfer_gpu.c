@@ -23,7 +23,10 @@ void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]) {
     t2[2] = z[0] * t1[1] - z[1] * t1[0];
 }
 
-void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]) {
+// A link's record, given its receiver's tangents (the upload computes them
+// once per node, not once per link).
+static void pack_link(const transfer *t, int receiver, uint64_t k, const double t1[3],
+                      const double t2[3], uint32_t out[4]) {
     const tr_node *r = &t->nodes[receiver], *s = &t->nodes[t->link_node[k]];
     float w = s->area > 0 ? t->link_w[k] / s->area : 0.0f;
     // grad_x ln(cos_x cos_j / d^2) at the centroids, d = y - x: terms whose
@@ -32,7 +35,7 @@ void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[
     // the gradient is stored along the plane's tangents.
     double d[3] = {s->c[0] - r->c[0], s->c[1] - r->c[1], s->c[2] - r->c[2]};
     double d2 = fmax(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1e-12), dl = sqrt(d2);
-    double g[3] = {0, 0, 0}, t1[3], t2[3];
+    double g[3] = {0, 0, 0};
     if (cos(r->cone) > 0.9) {
         double cr = r->n[0] * d[0] + r->n[1] * d[1] + r->n[2] * d[2];
         double cs = -(s->n[0] * d[0] + s->n[1] * d[1] + s->n[2] * d[2]);
@@ -42,12 +45,17 @@ void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[
             if (cos(s->cone) > 0.9 && cs > 0.2 * dl) g[i] += s->n[i] / cs;
         }
     }
-    tr_gpu_tangents(r, t1, t2);
     out[0] = t->link_node[k];
     memcpy(&out[1], &w, 4);
     float gt[2] = {(float)(g[0] * t1[0] + g[1] * t1[1] + g[2] * t1[2]),
                    (float)(g[0] * t2[0] + g[1] * t2[1] + g[2] * t2[2])};
     memcpy(&out[2], gt, sizeof gt);
+}
+
+void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]) {
+    double t1[3], t2[3];
+    tr_gpu_tangents(&t->nodes[receiver], t1, t2);
+    pack_link(t, receiver, k, t1, t2, out);
 }
 
 // World names of the buffers and their buffer-texture views (--stats, debuggers).
@@ -138,18 +146,26 @@ static void pack_nodes(const transfer *t, const int32_t *up, float *nodes, uint3
 static bool upload_links(const tr_gpu *g, const transfer *t, const uint32_t *choff, uint64_t nch,
                          st_err *err) {
     uint32_t *row = malloc((size_t)(nch ? nch : 1) * 4 * sizeof *row);
-    if (!row) return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    double *tan = malloc((size_t)(t->num_nodes ? t->num_nodes : 1) * 6 * sizeof *tan);
+    if (!row || !tan) {
+        free(row), free(tan);
+        return st_fail(err, ST_ERR_RUNTIME, "out of memory for the transfer's GPU copy");
+    }
+    for (int i = 0; i < t->num_nodes; i++)
+        tr_gpu_tangents(&t->nodes[i], tan + 6 * (size_t)i, tan + 6 * (size_t)i + 3);
     for (uint64_t j = 0; j < TRG_CHUNK && nch; j++) {
         memset(row, 0, (size_t)nch * 4 * sizeof *row); // padding: weight-0 links
         for (int i = 0; i < t->num_nodes; i++) {
             uint32_t c = choff[i];
             for (uint64_t k = t->link_off[i] + j; k < t->link_off[i + 1]; k += TRG_CHUNK, c++)
-                tr_gpu_pack_link(t, i, k, row + 4 * (size_t)c);
+                pack_link(t, i, k, tan + 6 * (size_t)i, tan + 6 * (size_t)i + 3,
+                          row + 4 * (size_t)c);
         }
         glNamedBufferSubData(g->buf[TRG_LINKS], (GLintptr)(j * nch * 4 * sizeof *row),
                              (GLsizeiptr)(nch * 4 * sizeof *row), row);
     }
     free(row);
+    free(tan);
     return true;
 }
 
