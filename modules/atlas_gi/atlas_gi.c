@@ -171,8 +171,10 @@ static bool needed(void *self, int pass, const st_frame *f) {
     agi *g = self;
     if (pass == 0) {
         if (st_world_has_module(g->w, "shadow_map") != g->shadow) g->gb_dirty = true;
-        // The gather and the atlas display read every texel's L0.
-        if (g->l0_partial && (ip(g, P_MODE) != 0 || ip(g, P_DISPLAY) == 3)) g->gb_dirty = true;
+        // The gather and the atlas display read every texel's L0, and a new
+        // transfer may take in texels the last relights did not light.
+        if (g->l0_partial && (ip(g, P_MODE) != 0 || ip(g, P_DISPLAY) == 3 || !g->have_transfer))
+            g->gb_dirty = true;
         return g->atlas_dirty || g->gb_dirty ||
                (f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
                               ST_CHANGE_INPUTS | ST_CHANGE_MEDIUM | ST_CHANGE_PROGRAMS));

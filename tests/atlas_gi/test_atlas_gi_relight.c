@@ -1,10 +1,11 @@
 // A relight equals a fresh render: atlas_gi (mode=transfer) with the light
 // moved twice after its first frame gives the same image, bit for bit, as a
-// world whose first frame has the light where it ended, with display
-// combined and then display atlas (which reads the combined atlas at every
-// texel). A relight redraws only what the light changes (gbuffer.c: L0, at
-// the transfer's texels), so this is what keeps it from reading anything
-// stale. The closed boxes stand on the floor: buried and sealed texels.
+// world whose first frame has the light where it ended: with display
+// combined, then with visibility=false (a new transfer, which also takes in
+// the texels the buried test had sealed), then with display atlas (which
+// reads the combined atlas at every texel). A relight redraws only what the light changes
+// (gbuffer.c: L0, at the transfer's texels), so this is what keeps it from reading anything stale.
+// The closed boxes stand on the floor: buried and sealed texels.
 #include "gi_world.h"
 
 static const char *scene_json =
@@ -34,10 +35,10 @@ static const char *scene_json =
 static const float MOVES[2][3] = {{0.4f, 1.7f, 0.3f}, {-0.3f, 1.8f, 0.2f}};
 static const float INTENSITY[3] = {3, 3, 3};
 
-// The image at display combined and then at display atlas; `moves` light
+// The images at display combined, with visibility off, at display atlas; `moves` light
 // positions before the first read (the first frame at the scene's light
 // when moves > 0, else at the last move's position).
-static int render(int moves, st_image img[2]) {
+static int render(int moves, st_image img[3]) {
     gi_world g;
     st_err err = {0};
     if (!gi_world_open(&g, scene_json)) return 0;
@@ -47,8 +48,10 @@ static int render(int moves, st_image img[2]) {
     for (int m = 0; m < moves && ok; m++)
         ok = st_world_set_light(g.w, 0, MOVES[m], INTENSITY, &err) && gi_frame(&g);
     ok = ok && gi_read(&g, &img[0]);
-    ok = ok && st_world_set_param(g.w, "atlas_gi", "display", 3, &err) && gi_frame(&g) &&
+    ok = ok && st_world_set_param(g.w, "atlas_gi", "visibility", 0, &err) && gi_frame(&g) &&
          gi_read(&g, &img[1]);
+    ok = ok && st_world_set_param(g.w, "atlas_gi", "display", 3, &err) && gi_frame(&g) &&
+         gi_read(&g, &img[2]);
     CHECK(ok, "render after %d moves: %s", moves, err.msg);
     gi_world_close(&g);
     return ok;
@@ -61,10 +64,10 @@ int main(void) {
         CHECK(0, "context: %s", err.msg);
         return st_test_summary("test_atlas_gi_relight");
     }
-    st_image moved[2] = {{0}}, fresh[2] = {{0}};
+    st_image moved[3] = {{0}}, fresh[3] = {{0}};
     if (render(2, moved) && render(0, fresh)) {
-        static const char *const names[2] = {"combined", "atlas"};
-        for (int d = 0; d < 2; d++) {
+        static const char *const names[3] = {"combined", "combined, visibility off", "atlas"};
+        for (int d = 0; d < 3; d++) {
             size_t n = (size_t)moved[d].width * moved[d].height * moved[d].channels, diff = 0;
             double worst = 0, sum = 0;
             for (size_t i = 0; i < n; i++) {
@@ -80,7 +83,7 @@ int main(void) {
                   names[d], diff, worst);
         }
     }
-    for (int d = 0; d < 2; d++)
+    for (int d = 0; d < 3; d++)
         st_image_free(&moved[d]), st_image_free(&fresh[d]);
     st_context_destroy(ctx);
     return st_test_summary("test_atlas_gi_relight");
