@@ -123,7 +123,9 @@ static bool upload_near(agi *g, st_err *err) {
                 for (int u = x > 0 ? x - 1 : 0; u <= x + 1 && u < W; u++)
                     m[(size_t)v * W + u] = 255;
         }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // rows of W bytes (atlas_size may be odd)
     glTextureSubImage2D(g->tex[T_NEAR], 0, 0, 0, W, H, GL_RED, GL_UNSIGNED_BYTE, m);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     free(m);
     return true;
 }
