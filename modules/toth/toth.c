@@ -70,14 +70,17 @@ enum { COMPOSE_TABLE, COMPOSE_QUADRATURE };
 // visible fraction marched at a third of the resolution (at least 48 rows)
 // in 32 steps with 3 probes each and exact rays where the map is undecided,
 // pixels whose upsampling taps disagree by more than 0.2 (or show another
-// surface) marched at full resolution, no kink blocks (refine_kink 0), the
+// surface) or whose block bends by more than 0.05 (refine_kink; 0.01
+// before) marched at full resolution, the
 // unshadowed integral per full-resolution pixel from the airlight table.
 // The cheapest setting measured at no more than half the 1024-step
 // full-resolution march's rmse on godrays_window and godrays_hidden_hole
 // (320x240): the former defaults (half resolution, 64 steps, refine_kink
 // 0.01) had a sixth to a fifth of it in 2.3-3.2x the frame; a third with 24
 // or 28 steps just misses it on hidden_hole, quarter resolution needs
-// refine_kink's full-resolution blocks to reach it and costs more.
+// refine_kink's full-resolution blocks to reach it and costs more. Without
+// kink blocks godrays_colonnade's thin shafts miss it (0.53x); 0.05 takes
+// it to 0.29x for ~1.1x the frame, 0.01 to 0.14x for 1.3-1.7x.
 static const st_param_def params[P_COUNT] = {
     {"samples", ST_PARAM_INT, 0, 0, 1024, NULL,
      "march steps per view ray (split over the M x M block when interleaved; 0 = 32 equi-angular, "
@@ -146,7 +149,7 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
      "splits the step there (finds lit slivers and thin occluders between the ends); a step "
      "whose ends disagree is split there too where they see a second boundary"},
-    {"refine_kink", ST_PARAM_FLOAT, 0, 0, 1, NULL,
+    {"refine_kink", ST_PARAM_FLOAT, 0.05, 0, 1, NULL,
      "equiangular below full resolution: a block whose march texel's visible fraction has a "
      "second difference (along its row or column) above this marches its pixels' own rays (0 = "
      "off)"},
