@@ -187,7 +187,7 @@ fi
 # of TRUTH_ERR, bench removes what remains and flags rows it cannot resolve):
 #   the brute force: the uniform full-resolution march (no interleave) at
 #     TRUTH_MARCH steps (128..1024; 1024 is toth.samples' maximum);
-#   the defaults (samples=64; 32 and 128 beside them) and the map's own
+#   the defaults (samples=32 since issue 35; 64 and 128 beside them) and the map's own
 #     lookups (exact_edges and probes off);
 #   the cheap sweep, TRUTH_CHEAP (toth parameters, up to 4; 0 skips it):
 #     samples 12..24 x resolution quarter x probes 1,3 x refine_kink 0.01,0
@@ -262,7 +262,7 @@ for run in $runs; do
     done
     [ "$TRUTH_ALT" -gt 0 ] && echo "alt $(cut -d' ' -f1 /proc/loadavg) $(date -u +%H:%M)" >> "${csv%.csv}.load"
 done
-# The defaults: samples=64 at the equi-angular sampling, nothing else set.
+# The defaults: samples=32 (issue 35) at the equi-angular sampling, nothing else set.
 truth_tables() {
     echo "(1) At the defaults' error: the 1024-step full-resolution uniform march's curve (frame ms, rmse per step count) against the defaults."
     echo
@@ -273,7 +273,7 @@ truth_tables() {
                 noise = $20
                 if ($2 ~ /sampling=uniform/) { split($2, q, "[= ]"); m++; ms[m] = $6; me[m] = $9; mst[m] = q[2]
                     if (q[2] == 1024) { t1 = $6; g1 = $7; e1 = $9 } }
-                if ($2 == "toth.samples=64 toth.sampling=equiangular") { dt = $6; dg = $7; de = $9; dw = $21 } }
+                if ($2 == "toth.samples=32 toth.sampling=equiangular") { dt = $6; dg = $7; de = $9; dw = $21 } }
             END { z = f; sub(/.*_/, "", z); sub(/\.csv$/, "", z)
                 curve = ""; best = 0; low = 0
                 for (i = 1; i <= m; i++) {
@@ -298,7 +298,7 @@ truth_tables() {
         awk -F, -v f="$c" -v ld="$ld" 'NR > 1 && $1 != "scene" { n = split($1, p, "/"); sc = p[n]; sub(/\.json$/, "", sc)
                 if ($2 ~ /sampling=uniform/) { if ($2 ~ /samples=1024( |$)/) { t1 = $6; g1 = $7; e1 = $9 } next }
                 k++; t[k] = $6; g[k] = $7; e[k] = $9; st[k] = $2; w[k] = $21
-                if ($2 == "toth.samples=64 toth.sampling=equiangular") { dt = $6; dg = $7 } }
+                if ($2 == "toth.samples=32 toth.sampling=equiangular") { dt = $6; dg = $7 } }
             END { z = f; sub(/.*_/, "", z); sub(/\.csv$/, "", z)
                 best = 0
                 for (i = 1; i <= k; i++) if (e[i] <= e1 && (!best || t[i] < t[best])) best = i
@@ -387,13 +387,13 @@ for s in $FROXEL_SCENES; do
     rm -f "$OUT/froxel_tmp.exr"
 done
 # rmse at the defaults from the CSVs ($9; froxel: slices=128 without tile,
-# toth: samples=64), frame medians from the renders above.
+# toth: samples=32, the defaults since issue 35), frame medians from the renders above.
 {
     echo "| scene | toth defaults: frame ms, rmse | froxel defaults: frame ms, rmse | frame time froxel / toth |"
     echo "|---|---|---|---:|"
     while read -r s m ms; do
         if [ "$m" = froxel ]; then tf=$ms; continue; fi
-        e=$(awk -F, '$2 == "froxel.slices=128" { f = $9 } $2 ~ /^toth.samples=64( |$)/ { t = $9 } END { print f, t }' "$OUT/froxel_$s.csv")
+        e=$(awk -F, '$2 == "froxel.slices=128" { f = $9 } $2 ~ /^toth.samples=32( |$)/ { t = $9 } END { print f, t }' "$OUT/froxel_$s.csv")
         awk -v s="$s" -v tf="$tf" -v tt="$ms" -v e="$e" 'BEGIN { split(e, x, " ")
             printf "| %s | %.0f, %.3g | %.0f, %.3g | %.2f |\n", s, tt, x[2], tf, x[1], tf / tt }'
     done < "$OUT/froxel_times.txt.tmp"

@@ -66,20 +66,25 @@ enum { SAMPLING_UNIFORM, SAMPLING_EQUIANGULAR };
 enum { COMPOSE_TABLE, COMPOSE_QUADRATURE };
 
 // Defaults (the Pareto front against the CPU reference, docs/benchmarks.md,
-// tools/bench_all.sh ONLY=truth): equi-angular sampling, the visible
-// fraction marched at half resolution (at least 48 rows) in 64 steps with
-// 4 halvings per shadow boundary, pixels whose upsampling taps disagree by
-// more than 0.2 (or show another surface) marched at full resolution, the
+// "toth's defaults near real time (issue 35)"): equi-angular sampling, the
+// visible fraction marched at a third of the resolution (at least 48 rows)
+// in 32 steps with 3 probes each and exact rays where the map is undecided,
+// pixels whose upsampling taps disagree by more than 0.2 (or show another
+// surface) or whose block bends by more than 0.05 (refine_kink; 0.01
+// before) marched at full resolution, the
 // unshadowed integral per full-resolution pixel from the airlight table.
-// Half resolution, not quarter: a shaft crossed at a grazing angle leaves
-// lit slivers and kinks in the visible fraction that quarter-resolution
-// upsampling smears (256x192 against the reference, rmse: godrays_window
-// quarter 1.35e-4, half 7.8e-5, the 1024-step full-resolution march 9.5e-5;
-// godrays_hidden_hole 2.04e-4, 1.14e-4, 8.2e-5). 128 steps take window and
-// hidden_hole to 6.3e-5 and 9.0e-5 for twice the march's time.
+// The cheapest setting measured at no more than half the 1024-step
+// full-resolution march's rmse on godrays_window and godrays_hidden_hole
+// (320x240): the former defaults (half resolution, 64 steps, refine_kink
+// 0.01) had a sixth to a fifth of it in 2.3-3.2x the frame; a third with 24
+// or 28 steps just misses it on hidden_hole, quarter resolution needs
+// refine_kink's full-resolution blocks to reach it and costs more. Without
+// kink blocks godrays_colonnade's thin shafts miss it (0.53x); 0.05 takes
+// it to 0.29x for ~1.1x the frame, 0.01 to 0.14x for 1.3-1.7x.
 static const st_param_def params[P_COUNT] = {
-    {"samples", ST_PARAM_INT, 64, 1, 1024, NULL,
-     "march steps per view ray (split over the M x M block when interleaved); on llvmpipe at "
+    {"samples", ST_PARAM_INT, 0, 0, 1024, NULL,
+     "march steps per view ray (split over the M x M block when interleaved; 0 = 32 equi-angular, "
+     "64 uniform, which a varying density always marches); on llvmpipe at "
      "most 256 equi-angular steps per ray (samples / M^2): more is refused there, as Mesa's loop "
      "budget would cut the march short; with exact_edges on a scene of more than 2368 triangles "
      "the limit shrinks with the BVH's depth, 256 x 10.2 / (log2(triangles / 4) + 1) (10^5 "
@@ -89,9 +94,9 @@ static const st_param_def params[P_COUNT] = {
      "(1 = off; limited to sqrt(samples))"},
     {"jitter", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "per-pixel offset of the samples within their steps (banding -> noise)"},
-    {"resolution", ST_PARAM_ENUM, 1, 0, 0, "full|half|quarter",
-     "march resolution (raised where the march would have fewer than min_rows rows); below full, "
-     "the in-scattered light is upsampled depth-aware"},
+    {"resolution", ST_PARAM_ENUM, 3, 0, 0, "full|half|quarter|third",
+     "march resolution: every 1st, 2nd, 4th or 3rd pixel in x and y (raised where the march would "
+     "have fewer than min_rows rows); below full, the in-scattered light is upsampled depth-aware"},
     {"integrator", ST_PARAM_ENUM, 0, 0, 0, "energy|thesis|thesis_far",
      "energy: Hillaire's step, exact for a constant source; thesis: the thesis' Riemann sum "
      "(source at the near end of each step); thesis_far: at the far end"},
@@ -102,7 +107,13 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: steps equal in the angle seen from the light, the march finds each light's "
      "visible "
      "fraction and the unshadowed integral is evaluated per full-resolution pixel"},
-    {"nodes", ST_PARAM_INT, 16, 4, 64, NULL,
+    // 64, not 16 (issue 35): a spot in view puts its cone's edges, kinks of
+    // the integrand, close together near the apex, where 16 nodes left
+    // spot_fog's pixels there 1-2% off (320x240 rmse 3.4e-4 against the CPU
+    // reference, the 1024-step march 1.5e-4; 32 nodes 7.7e-5, 64 4.0e-5)
+    // for 1.9x compose's time there (+25% of the frame); points use the
+    // airlight table.
+    {"nodes", ST_PARAM_INT, 64, 4, 64, NULL,
      "equiangular: Gauss-Legendre nodes of the per-pixel unshadowed integral (rounded up to a "
      "multiple of 4)"},
     {"refine", ST_PARAM_FLOAT, 0.2, 0, 1, NULL,
@@ -119,7 +130,8 @@ static const st_param_def params[P_COUNT] = {
      "unless its four taps (at the border mirrored inward) see exactly the same fraction (4: every "
      "silhouette and crease pixel; 2: only where at most one tap is usable)"},
     {"min_rows", ST_PARAM_INT, 48, 0, 4096, NULL,
-     "the march resolution is raised (quarter -> half -> full) until the march has at least this "
+     "the march resolution is raised (quarter or third -> half -> full) until the march has at "
+     "least this "
      "many rows (0 = resolution as set)"},
     {"exact_edges", ST_PARAM_BOOL, 1, 0, 1, NULL,
      "equiangular: lookups the shadow map cannot decide (shadow_map.refine's rule) take an exact "
@@ -137,7 +149,7 @@ static const st_param_def params[P_COUNT] = {
      "equiangular: shadow-map lookups inside a step whose two ends agree; one that disagrees "
      "splits the step there (finds lit slivers and thin occluders between the ends); a step "
      "whose ends disagree is split there too where they see a second boundary"},
-    {"refine_kink", ST_PARAM_FLOAT, 0.01, 0, 1, NULL,
+    {"refine_kink", ST_PARAM_FLOAT, 0.05, 0, 1, NULL,
      "equiangular below full resolution: a block whose march texel's visible fraction has a "
      "second difference (along its row or column) above this marches its pixels' own rays (0 = "
      "off)"},
@@ -238,9 +250,24 @@ typedef struct toth {
     float first_vp[16];
 } toth;
 
+// The steps per view ray: `samples`, or where it is 0 (the default) the
+// defaults' 32 equi-angular steps (issue 35) and the uniform march's 64, as
+// before: a varying density is marched uniformly, and its cross-checks
+// against Cycles (vdb_cloud 0.042 against a bound of 0.05) have no margin
+// for twice the step (their images moved by 2.5-3.2% of the mean at 32).
+#define TOTH_AUTO_EQUIANGULAR_STEPS 32
+#define TOTH_AUTO_UNIFORM_STEPS 64
+static int sampling(const toth *t, const st_scene *sc);
+static int steps(const toth *t) {
+    int n = (int)t->p[P_SAMPLES];
+    if (n > 0) return n;
+    return sampling(t, st_world_scene(t->w)) == SAMPLING_EQUIANGULAR ? TOTH_AUTO_EQUIANGULAR_STEPS
+                                                                     : TOTH_AUTO_UNIFORM_STEPS;
+}
+
 // Steps cannot be shared by more pixels than there are steps.
 static int interleave(const toth *t) {
-    int m = (int)t->p[P_INTERLEAVE], n = (int)t->p[P_SAMPLES];
+    int m = (int)t->p[P_INTERLEAVE], n = steps(t);
     while (m > 1 && m * m > n)
         m--;
     return m;
@@ -252,10 +279,14 @@ static int interleave(const toth *t) {
 // resolution, which costs more than a finer march (96x96 window_hg of the
 // cross-check: half resolution faster than quarter and closer to Cycles), so
 // the divisor halves until the march has that many rows.
+// `third` (appended to keep the enum's values) marches the centre pixel of
+// each 3 x 3 block: 2.25x fewer rays than half, and the block's centre is a
+// pixel (an even divisor's is not), so the upsampling's taps sit symmetric.
 static int scale(const toth *t, int height) {
-    int s = 1 << (int)t->p[P_RESOLUTION];
+    static const int divisor[] = {1, 2, 4, 3};
+    int s = divisor[(int)t->p[P_RESOLUTION]];
     while (s > 1 && height / s < (int)t->p[P_MIN_ROWS])
-        s /= 2;
+        s = s == 3 ? 2 : s / 2;
     return s;
 }
 
@@ -354,7 +385,7 @@ static double scene_triangles(const st_scene *sc) {
 }
 
 static bool steps_fit(const toth *t, const st_scene *sc, st_err *err) {
-    int m = interleave(t), n = (int)t->p[P_SAMPLES], per_ray = (n + m * m - 1) / (m * m);
+    int m = interleave(t), n = steps(t), per_ray = (n + m * m - 1) / (m * m);
     double tris = scene_triangles(sc);
     int max = llvmpipe_max_steps(tris, t->p[P_EXACT] != 0);
     if (sampling(t, sc) != SAMPLING_EQUIANGULAR || per_ray <= max ||
@@ -459,8 +490,10 @@ static GLuint airlight_table(toth *t, const st_medium_desc *m, st_err *err) {
 
 // What the parameters do not say as uniforms of their own name (the world
 // sets toth_<param> on every program, param_uniforms): the march divisor,
-// the interleave as limited by the samples, the names that differ.
+// the steps (samples=0: see steps()), the interleave as limited by them,
+// the names that differ.
 static void set_common(toth *t, st_shader *sh) {
+    st_shader_set_int(sh, "toth_samples", steps(t));
     st_shader_set_int(sh, "toth_scale", t->decl_scale);
     st_shader_set_float(sh, "toth_tolerance", (float)t->p[P_TOLERANCE]);
     st_shader_set_int(sh, "toth_interleave", interleave(t));

@@ -162,11 +162,12 @@ int main(void) {
         {"\"samples\": 16, \"bisect\": 6, \"jitter\": false, \"resolution\": \"full\", "
          "\"exact_edges\": true, \"probes\": 3",
          0.5, 0.01, 0.1, 0, 0.01},
-        // The defaults at half resolution (a 32 x 32 march: min_rows off),
-        // with and without refine_kink: blocks whose fraction bends are
-        // marched at full resolution instead of interpolated.
-        {"\"min_rows\": 0", 4.0, 0.07, 0.25, 0, 0.01},
-        {"\"min_rows\": 0, \"refine_kink\": 0", 4.0, 0.07, 0.25, 0, 0.01},
+        // Half resolution (a 32 x 32 march: min_rows off), with and without
+        // refine_kink: blocks whose fraction bends are marched at full
+        // resolution instead of interpolated (the defaults before issue 35).
+        {"\"min_rows\": 0, \"resolution\": \"half\", \"refine_kink\": 0.01", 4.0, 0.07, 0.25, 0,
+         0.01},
+        {"\"min_rows\": 0, \"resolution\": \"half\", \"refine_kink\": 0", 4.0, 0.07, 0.25, 0, 0.01},
     };
     enum { SETTINGS = sizeof settings / sizeof settings[0] };
     double mean_rel_of[SETTINGS] = {0};
