@@ -222,7 +222,7 @@ static double worst_share(const st_image *a, const st_image *b) {
 // silhouettes does not hide the method's own error, against Cycles: the worst
 // 1 % of the pixels hold at most 20 % of the squared error. main b451512
 // (the first-order term overshooting at creases: the back wall's top row
-// under the light 50-70 % too bright) gave 0.29 (side) and 0.39 (front).
+// under the light 50-70 % too bright) gave 0.31 (side) and 0.39 (front).
 static void share_check(const char *name, const char *scene, const char *filter,
                         const st_image *cyc) {
     char path[1024];
