@@ -48,6 +48,9 @@
 //    against what Cycles converges to; the raw NRMSE is printed beside it.
 //    Medium and fog cases also render froxel in toth's place, at its
 //    defaults on the case's filter: NRMSE debiased <= 0.10 (issue 24).
+// 3. The Blender-made double-sided bounce cases (ds_*): atlas_gi's still of
+//    64 frames, the worst 1 % of the pixels hold <= 20 % of the squared
+//    error against Cycles (issue 34; share_check below).
 // A "crosscheck CASE METHOD ..." line per comparison goes to stdout.
 #include "st_test.h"
 #include "st_image.h"
@@ -185,6 +188,57 @@ static bool nrmse_debiased(const st_image *x, const st_image *cyc, const st_imag
     *nrmse = m.rmse_debiased[3] / m.mean_b[3];
     *noise = m.ref_noise_rms[3] / m.mean_b[3];
     return true;
+}
+
+static int desc(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x < y) - (x > y);
+}
+
+// The share of the squared error (per pixel summed over R, G, B) that the
+// worst 1 % of the pixels hold: where the error is concentrated (creases,
+// contacts) rather than spread, it is large (issue 34's bound: 0.20).
+static double worst_share(const st_image *a, const st_image *b) {
+    size_t n = (size_t)a->width * a->height, k = (n + 50) / 100;
+    double *e = malloc(n * sizeof *e), all = 0, top = 0;
+    if (!e) return INFINITY;
+    for (size_t p = 0; p < n; p++) {
+        e[p] = 0;
+        for (int c = 0; c < 3; c++) {
+            double d = a->data[a->channels * p + c] - b->data[b->channels * p + c];
+            e[p] += d * d;
+        }
+        all += e[p];
+    }
+    qsort(e, n, sizeof *e, desc);
+    for (size_t p = 0; p < (k ? k : 1); p++)
+        top += e[p];
+    free(e);
+    return all > 0 ? top / all : 0;
+}
+
+// Issue 34, per pixel: atlas_gi's still of a Blender-made double-sided case
+// (ds_*) with 64 jittered frames, so that the box filter's noise at the
+// silhouettes does not hide the method's own error, against Cycles: the worst
+// 1 % of the pixels hold at most 20 % of the squared error. main b451512
+// (the first-order term overshooting at creases: the back wall's top row
+// under the light 50-70 % too bright) gave 0.31 (side) and 0.39 (front).
+static void share_check(const char *name, const char *scene, const char *filter,
+                        const st_image *cyc) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s.share.exr", ST_TEST_SCRATCH, name);
+    CHECK(st_test_sh("%s render %s -o %s --filter %s --frames 64", ST_TEST_STRAHL, scene, path,
+                     filter) == 0,
+          "strahl render --frames 64 exits 0");
+    st_image img = {0};
+    if (!read_rgb(path, &img)) {
+        CHECK(false, "no image %s", path);
+        return;
+    }
+    double share = worst_share(&img, cyc);
+    printf("crosscheck %s atlas_gi: worst-1%%-share %.4f (64 frames)\n", name, share);
+    check_le(name, "atlas_gi", "worst-1%-share", share, 0.20);
+    st_image_free(&img);
 }
 
 // froxel in place of toth on the medium and fog cases (issue 24: froxel at its
@@ -342,6 +396,7 @@ int main(int argc, char **argv) {
         CHECK(false, "no GPU image %s", gpu_path);
     }
     if (medium || fog) froxel_check(name, scene, filter, &cyc, &se);
+    if (bounce && box && !strncmp(name, "ds_", 3)) share_check(name, scene, filter, &cyc);
     st_image_free(&cyc), st_image_free(&se), st_image_free(&ref), st_image_free(&ref_rgb),
         st_image_free(&gpu);
     return st_test_summary(name);
