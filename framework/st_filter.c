@@ -137,6 +137,24 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     return true;
 }
 
+bool st_world_read_error(st_world *w, st_image *out, st_err *err) {
+    if (w->opts.filter != ST_FILTER_BOX || w->acc_n < 2)
+        return st_fail(err, ST_ERR_INPUT,
+                       "an error map needs a box still of at least 2 frames (%u accumulated)",
+                       w->opts.filter == ST_FILTER_BOX ? w->acc_n : 0);
+    int W_ = w->cam.width, H = w->cam.height;
+    float *rgba = malloc((size_t)W_ * H * 4 * sizeof(float));
+    if (!rgba) return st_fail(err, ST_ERR_RUNTIME, "out of memory reading %dx%d", W_, H);
+    // The halves' summed difference D: (A - B) / 2 = D / n at an even n.
+    bool ok = st_target_read(&w->cam.accum[w->acc_cur], 2, rgba, err) &&
+              st_image_alloc(out, W_, H, 3, err);
+    for (size_t k = 0; ok && k < (size_t)W_ * H; k++)
+        for (int c = 0; c < 3; c++)
+            out->data[3 * k + c] = fabsf(rgba[4 * k + c]) / (float)w->acc_n;
+    free(rgba);
+    return ok;
+}
+
 st_pixel_filter st_world_filter(const st_world *w) {
     return w->opts.filter;
 }
