@@ -75,7 +75,8 @@ static const st_pass_decl passes[] = {
      .count = ST_PER_LIGHT,
      .target = {GL_RGBA32F, 1, true, true},
      .scale_param = "resolution"},
-    {{"blur", ST_STAGE_POST, "hdr,mitchell.occlusion%d", "hdr", ST_PASS_FULLSCREEN},
+    {{"blur", ST_STAGE_POST, "hdr,mitchell.occlusion%d", "hdr",
+      ST_PASS_FULLSCREEN | ST_PASS_PIXEL_LOCAL},
      .frag = "mitchell/blur.frag",
      .count = ST_PER_LIGHT},
 };
