@@ -151,7 +151,7 @@ st_pass_stats *st_stats_entry(st_world *w, const char *module, const char *pass)
 bool st_filter_begin(st_world *w);
 bool st_filter_accumulate(st_world *w, st_err *err);
 // st_filter_mask.c
-#define ST_FILTER_MASK_START 16 // frames before any pixel may stop
+#define ST_FILTER_MASK_START 16   // frames before any pixel may stop
 #define ST_FILTER_MASK_SHARE 0.25 // a pixel stops at this share of the tolerance
 bool st_filter_mask_init(st_world *w, st_err *err);
 void st_filter_mask_free(st_world *w);
