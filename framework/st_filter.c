@@ -69,22 +69,39 @@ static bool modules_settled(const st_world *w) {
 // image's mean estimates the NRMSE of the image against the converged one:
 // the error the cross-check reports, dominated as it is by whatever pixels
 // (a window, a lit silhouette) carry the most of it. E = sqrt(mean(D^2)) /
-// mean(S) with D the halves' summed difference and S the summed image (n
-// cancels). The difference also sees the sequences' quasi-random
-// convergence, which an iid variance estimate overstates.
-static bool accum_error(st_world *w, const st_target *t, st_err *err) {
-    size_t px = (size_t)t->width * t->height, bytes = px * 3 * sizeof(float);
-    if (!w->acc_read && !(w->acc_read = malloc(2 * bytes)))
+// mean(S) with D the halves' summed difference and S the summed image, each
+// over the pixel's own frame count n_p (its sums' alpha: pixels frozen by
+// the adaptive mask keep theirs). The difference also sees the sequences'
+// quasi-random convergence, which an iid variance estimate overstates.
+static bool accum_error(st_world *w, const st_target *t, double tol, st_err *err) {
+    size_t px = (size_t)t->width * t->height, bytes = px * 4 * sizeof(float);
+    if (!w->acc_read && !(w->acc_read = malloc(2 * bytes + 2 * px * sizeof(double))))
         return st_fail(err, ST_ERR_RUNTIME, "out of memory reading back %dx%d", t->width,
                        t->height);
-    float *sum = w->acc_read, *diff = w->acc_read + px * 3; // rows of 12 w bytes: aligned
-    glGetTextureImage(t->color[0], 0, GL_RGB, GL_FLOAT, (GLsizei)bytes, sum);
-    glGetTextureImage(t->color[2], 0, GL_RGB, GL_FLOAT, (GLsizei)bytes, diff);
+    float *sum = w->acc_read, *diff = w->acc_read + px * 4;
+    double *e2 = (double *)(w->acc_read + px * 8), *spread = e2 + px; // 32 px bytes in: aligned
+    glGetTextureImage(t->color[0], 0, GL_RGBA, GL_FLOAT, (GLsizei)bytes, sum);
+    glGetTextureImage(t->color[2], 0, GL_RGBA, GL_FLOAT, (GLsizei)bytes, diff);
     double sum_s = 0, sum_d2 = 0;
-    for (size_t k = 0; k < px * 3; k++)
-        sum_s += sum[k], sum_d2 += (double)diff[k] * diff[k];
-    w->acc_err = sum_s > 0 ? sqrt(sum_d2 / (px * 3)) / (sum_s / (px * 3)) : 0;
+    for (size_t p = 0; p < px; p++) {
+        double n = sum[4 * p + 3] > 0 ? sum[4 * p + 3] : 1;
+        e2[p] = 0;
+        for (int c = 0; c < 3; c++)
+            sum_s += sum[4 * p + c] / n,
+                e2[p] += (double)diff[4 * p + c] * diff[4 * p + c] / (n * n);
+        sum_d2 += e2[p];
+        // The frames' own spread over the pixel (iid: var / n), which a
+        // chance agreement of the halves at an edge does not hide.
+        double sq = 0;
+        for (int c = 0; c < 3; c++)
+            sq += (double)sum[4 * p + c] * sum[4 * p + c] / (n * n);
+        double var = diff[4 * p + 3] / n - sq;
+        spread[p] = fmax(e2[p], fmax(var, 0) / n);
+    }
+    double m = sum_s / (px * 3);
+    w->acc_err = sum_s > 0 ? sqrt(sum_d2 / (px * 3)) / m : 0;
     if (!isfinite(w->acc_err)) w->acc_err = INFINITY;
+    if (isfinite(w->acc_err) && sum_s > 0) st_filter_mask_update(w, spread, m, tol);
     return st_gl_check("accumulation read back", err);
 }
 
@@ -101,6 +118,7 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     st_shader_texture(w->accumulate, "st_hdr_in", GL_TEXTURE_2D, c->current);
     st_shader_texture(w->accumulate, "st_acc_prev", GL_TEXTURE_2D, c->accum[w->acc_cur].color[0]);
     st_shader_texture(w->accumulate, "st_acc_pdiff", GL_TEXTURE_2D, c->accum[w->acc_cur].color[2]);
+    st_shader_texture(w->accumulate, "st_acc_mask", GL_TEXTURE_2D, w->acc_mask);
     st_shader_set_float(w->accumulate, "st_acc_sign", w->acc_n & 1 ? -1.0f : 1.0f);
     st_shader_set_int(w->accumulate, "st_acc_first", w->acc_n == 0);
     st_shader_set_float(w->accumulate, "st_acc_n", (float)(w->acc_n + 1));
@@ -112,6 +130,7 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     if (!modules_settled(w)) {
         w->acc_n = 0; // the next frame starts again (at the centre)
         w->acc_err = INFINITY;
+        st_filter_mask_reset(w);
     } else {
         uint32_t cap = w->opts.filter_max_frames > 0 ? (uint32_t)w->opts.filter_max_frames
                                                      : ST_FILTER_MAX_FRAMES;
@@ -119,7 +138,7 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
         if (w->acc_n == 1) w->acc_err = cap == 1 ? 0 : INFINITY, w->acc_below = 0;
         // Even counts only (both halves equal); the last estimate stands between.
         if (w->acc_n % 2 == 0) {
-            if (!accum_error(w, &c->accum[next], err)) return false;
+            if (!accum_error(w, &c->accum[next], tol, err)) return false;
             w->acc_below = w->acc_err <= tol ? w->acc_below + 1 : 0;
         }
         // Two estimates in a row within the tolerance, so that a chance
@@ -137,6 +156,24 @@ bool st_filter_accumulate(st_world *w, st_err *err) {
     return true;
 }
 
+bool st_world_read_error(st_world *w, st_image *out, st_err *err) {
+    if (w->opts.filter != ST_FILTER_BOX || w->acc_n < 2)
+        return st_fail(err, ST_ERR_INPUT,
+                       "an error map needs a box still of at least 2 frames (%u accumulated)",
+                       w->opts.filter == ST_FILTER_BOX ? w->acc_n : 0);
+    int W_ = w->cam.width, H = w->cam.height;
+    float *rgba = malloc((size_t)W_ * H * 4 * sizeof(float));
+    if (!rgba) return st_fail(err, ST_ERR_RUNTIME, "out of memory reading %dx%d", W_, H);
+    // The halves' summed difference D: (A - B) / 2 = D / n at an even n.
+    bool ok = st_target_read(&w->cam.accum[w->acc_cur], 2, rgba, err) &&
+              st_image_alloc(out, W_, H, 3, err);
+    for (size_t k = 0; ok && k < (size_t)W_ * H; k++)
+        for (int c = 0; c < 3; c++)
+            out->data[3 * k + c] = fabsf(rgba[4 * k + c]) / (float)w->acc_n;
+    free(rgba);
+    return ok;
+}
+
 st_pixel_filter st_world_filter(const st_world *w) {
     return w->opts.filter;
 }
@@ -146,6 +183,7 @@ bool st_filter_begin(st_world *w) {
     for (int m = 0; m < w->num_mods; m++)
         if (w->mods[m]->params_dirty) outside |= ST_CHANGE_PARAMS;
     if (outside) w->acc_n = 0, w->acc_done = false, w->acc_err = INFINITY;
+    if (w->acc_n == 0) st_filter_mask_reset(w);
     if (w->acc_done) return false;
     // A new accumulation: no pass may take what is pending for a jitter only.
     if (w->acc_n == 0)

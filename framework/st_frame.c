@@ -41,6 +41,7 @@ static bool regular_pass(st_world *w, st_frame *f, st_err *err) {
     glClearBufferfv(GL_COLOR, 1, nogeo);
     glClearBufferfv(GL_COLOR, 2, zero);
     glClearBufferfv(GL_DEPTH, 0, (const float[]){1.0f});
+    st_filter_mask_prefill(w);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);
@@ -121,6 +122,12 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
     } else {
         glDisable(GL_DEPTH_TEST);
     }
+    // A converging still's frozen pixels: a fullscreen pass onto the image
+    // skips them (st_filter_mask.c).
+    st_target *masked = !fbo && to_hdr && !(s->info.flags & ST_PASS_SCENE) && st_filter_masked(w)
+                            ? &w->cam.post[w->cam.post_out]
+                            : NULL;
+    if (masked) st_filter_mask_post(w, masked, true);
     st_shader *sh = NULL;
     st_passes_frame(mi, s->pass, f);
     if (!st_passes_shader(w, mi, s->pass, f, &sh, err)) {
@@ -150,6 +157,7 @@ static bool run_slot(st_world *w, st_slot *s, st_frame *f, st_err *err) {
         st_draw_fullscreen();
     }
     if (p->after_pass) p->after_pass(mi->self, s->pass, f);
+    if (masked) st_filter_mask_post(w, masked, false);
     glDisable(GL_DEPTH_TEST);
     if (to_hdr) {
         w->cam.current = w->cam.post[w->cam.post_out].color[0];
@@ -236,6 +244,7 @@ bool st_world_frame(st_world *w, st_err *err) {
     st_frame f;
     make_frame(w, &f);
     st_graph_cull(w, &f);
+    if (w->opts.filter == ST_FILTER_BOX) st_filter_mask_gate(w);
     if (!run_passes(w, &f, err)) return false;
     if (w->opts.timing) read_timings(w);
     if (w->opts.filter == ST_FILTER_BOX && !st_filter_accumulate(w, err)) return false;

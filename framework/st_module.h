@@ -105,6 +105,15 @@ enum {
     // one invocation per texel and layer; with ST_PASS_PLANE per texel only
     // (the program loops over the layers itself).
     ST_PASS_PLANE = 1u << 3,
+    // The pass reads the camera's images ("hdr", "gbuffer", "albedo",
+    // "depth") only at the pixel it writes. A box still that runs to
+    // convergence stops accumulating pixels whose error is far below its
+    // tolerance and, while every pass of a frame that reads those images is
+    // pixel-local, the regular pass and the full-screen post passes onto
+    // "hdr" skip them (their fragments there fail a depth test). Without it
+    // the frame shades every pixel: a pass that gathers from neighbouring
+    // pixels would read skipped ones. Older hosts ignore it.
+    ST_PASS_PIXEL_LOCAL = 1u << 4,
 };
 
 // What a pass reads and writes, as comma-separated resource names. The

@@ -38,6 +38,7 @@ static bool create_targets(st_world *w, st_err *err) {
         snprintf(name, sizeof name, "camera.accum%d", i);
         glObjectLabel(GL_FRAMEBUFFER, c->accum[i].fbo, -1, name);
     }
+    if (w->opts.filter == ST_FILTER_BOX && !st_filter_mask_init(w, err)) return false;
     if (!st_target_create(&c->scene, c->width, c->height, 3, GL_RGBA32F, true, err) ||
         !st_target_create(&c->post[0], c->width, c->height, 1, GL_RGBA32F, false, err) ||
         !st_target_create(&c->post[1], c->width, c->height, 1, GL_RGBA32F, false, err))
@@ -137,6 +138,10 @@ st_world *st_world_create(const st_scene *scene, const st_world_opts *opts, st_e
             ok ? st_shader_load("common/fullscreen.vert", "common/accumulate.frag", NULL, err)
                : NULL;
         ok = ok && w->accumulate;
+        w->acc_prefill =
+            ok ? st_shader_load("common/fullscreen.vert", "common/still_mask.frag", NULL, err)
+               : NULL;
+        ok = ok && w->acc_prefill;
     }
     if (!ok) {
         st_world_destroy(w);
@@ -164,6 +169,8 @@ void st_world_destroy(st_world *w) {
     st_target_destroy(&w->cam.accum[0]);
     st_target_destroy(&w->cam.accum[1]);
     st_shader_destroy(w->accumulate);
+    st_shader_destroy(w->acc_prefill);
+    st_filter_mask_free(w);
     st_medium_gpu_destroy(&w->medium);
     free(w->acc_read);
     free(w->models);

@@ -85,6 +85,12 @@ bool st_world_progress(const st_world *w, st_progress *out);
 // Box filter: frames in the accumulated image (0 with the point filter) and
 // whether accumulation has stopped (converged or capped).
 uint32_t st_world_accumulated(const st_world *w, bool *done);
+// Box filter: where the still's estimated error sits, per pixel and channel:
+// |A - B| / 2 for the even frames' mean A and the odd frames' B (top row
+// first). At an even frame count its rms over the image's mean is the
+// estimated NRMSE (st_world_progress's error); ST_ERR_INPUT with the point
+// filter or before two frames are accumulated.
+bool st_world_read_error(st_world *w, st_image *out, st_err *err);
 // The still's pixel filter (st_world_opts.filter): box stills jitter their frames.
 st_pixel_filter st_world_filter(const st_world *w);
 // Moves point light i (relighting) in the world and in the scene it was

@@ -111,6 +111,12 @@ struct st_world {
     int acc_below;                               // consecutive estimates within the tolerance
     float *acc_read;                             // read-back buffer for the convergence test
     int acc_stats;                               // stats entry "world/accumulate"
+    // The adaptive mask (st_filter_mask.c): pixels that stopped accumulating.
+    st_shader *acc_prefill; // writes depth 0 where frozen
+    GLuint acc_mask;        // R8, 1 where frozen
+    uint8_t *acc_frozen;    // the same on the CPU
+    int acc_num_frozen;
+    bool acc_mask_ok; // this frame's passes allow skipping frozen pixels
 };
 
 enum { RES_HDR = 0 }; // interned first by st_graph_build
@@ -144,6 +150,17 @@ st_pass_stats *st_stats_entry(st_world *w, const char *module, const char *pass)
 // changed (no pass runs). After a frame: adds it to the sums.
 bool st_filter_begin(st_world *w);
 bool st_filter_accumulate(st_world *w, st_err *err);
+// st_filter_mask.c
+#define ST_FILTER_MASK_START 16   // frames before any pixel may stop
+#define ST_FILTER_MASK_SHARE 0.25 // a pixel stops at this share of the tolerance
+bool st_filter_mask_init(st_world *w, st_err *err);
+void st_filter_mask_free(st_world *w);
+void st_filter_mask_reset(st_world *w);
+bool st_filter_masked(const st_world *w);
+void st_filter_mask_update(st_world *w, const double *e2, double m, double tol);
+void st_filter_mask_prefill(st_world *w);
+void st_filter_mask_post(st_world *w, st_target *t, bool on);
+void st_filter_mask_gate(st_world *w);
 
 // st_passes.c: a module's passes, declared (ABI 1.3) or from its hooks.
 int st_passes_count(const st_module_inst *mi);

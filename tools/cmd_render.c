@@ -42,6 +42,9 @@ static const char help_text[] =
     "  --warmup W               frames not timed, 0..100000 (default 1 if N > 1, else 0)\n"
     "  --stats, --stats=json    print per-pass runs/skips/culls and median GPU/CPU times\n"
     "  --exposure EV            PNG exposure in stops, -64..64 (default 0)\n"
+    "  --error-map OUT.exr      box still: also write where its estimated error sits, per\n"
+    "                           pixel |A - B| / 2 of the even and odd frames' means (its rms\n"
+    "                           over the image's mean is the reported estimate)\n"
     "  --allow-outside-assets   let glTF buffer/image URIs and VDB files leave their folder\n"
     "                           (default: refused)\n" ST_CMD_SCENE_HELP
     "  -h, --help               this text\n"
@@ -153,7 +156,7 @@ static void print_stats(st_world *w, const float *frame_ms, int nframes, bool js
 
 typedef struct render_args {
     const char *scene_path, *filter_arg;
-    const char *outs[MAX_OUTS];
+    const char *outs[MAX_OUTS], *error_map;
     int num_outs;
     char *sets[MAX_SETS];
     int num_sets, width, height, stats; // stats: 0 off, 1 text, 2 JSON
@@ -171,6 +174,8 @@ static bool parse_value(void *ctx, const char *a, const char *v, bool *known, st
         if (r->num_outs == MAX_OUTS)
             return st_fail(err, ST_ERR_INPUT, "-o %s: at most %d outputs", v, MAX_OUTS);
         r->outs[r->num_outs++] = v;
+    } else if (!strcmp(a, "--error-map")) {
+        r->error_map = v;
     } else if (!strcmp(a, "--set")) {
         if (r->num_sets == MAX_SETS) return st_fail(err, ST_ERR_INPUT, "too many --set");
         r->sets[r->num_sets++] = (char *)v;
@@ -228,6 +233,24 @@ static bool check_output(const render_args *r, int i, st_err *err) {
     return true;
 }
 
+// --error-map: an EXR, not an input, not one of the -o outputs, and a box
+// still of at least two frames (the filter is checked once the scene is
+// loaded).
+static bool check_error_map(const render_args *r, st_err *err) {
+    static const char *const exts[] = {"exr", NULL};
+    const char *inputs[] = {r->scene_path, NULL};
+    if (!st_check_output("--error-map", r->error_map, exts, inputs, err)) return false;
+    for (int k = 0; k < r->num_outs; k++)
+        if (!strcmp(r->outs[k], r->error_map) || st_same_file(r->outs[k], r->error_map))
+            return st_fail(err, ST_ERR_INPUT, "--error-map %s: also given as -o", r->error_map);
+    if (r->filter_arg && strcmp(r->filter_arg, "box"))
+        return st_fail(err, ST_ERR_INPUT, "--error-map needs the box filter (--filter %s)",
+                       r->filter_arg);
+    if ((r->frames_given && r->frames < 2) || (r->max_frames_given && r->max_frames < 2))
+        return st_fail(err, ST_ERR_INPUT, "--error-map needs at least 2 frames");
+    return true;
+}
+
 // The still loop's options (st_still.h) of the command line.
 static st_still_opts still_opts(const render_args *r) {
     return (st_still_opts){.frames = r->frames,
@@ -248,6 +271,7 @@ static bool parse_args(render_args *r, int argc, char **argv, bool *help, st_err
                        "usage: strahl render SCENE.json -o OUT.exr|OUT.png [options] (see --help)");
     for (int i = 0; i < r->num_outs; i++)
         if (!check_output(r, i, err)) return false;
+    if (r->error_map && !check_error_map(r, err)) return false;
     st_still_opts s = still_opts(r);
     st_still_settle(&s, r->max_frames);
     r->frames = s.frames, r->warmup = s.warmup;
@@ -286,6 +310,19 @@ static bool write_images(const render_args *r, const st_image *img, st_pixel_fil
     return true;
 }
 
+// The output checks that need the loaded scene: no output is one of its
+// files, and an error map has a box still (the scene's filter or --filter).
+static bool check_scene_outputs(const render_args *r, const st_scene *scene, st_err *err) {
+    // Only the loaded scene knows its glTF, buffer and VDB files.
+    for (int i = 0; i < r->num_outs; i++)
+        if (!st_scene_check_output(scene, "-o", r->outs[i], err)) return false;
+    if (!r->error_map) return true;
+    if (scene->filter != ST_FILTER_BOX)
+        return st_fail(err, ST_ERR_INPUT, "--error-map needs the box filter (the scene's is %s)",
+                       st_filter_name(scene->filter));
+    return st_scene_check_output(scene, "--error-map", r->error_map, err);
+}
+
 int st_cmd_render(int argc, char **argv) {
     render_args r = {.frames = 1, .warmup = -1, .max_frames = 2000, .max_seconds = 600};
     st_err err = {0};
@@ -295,18 +332,16 @@ int st_cmd_render(int argc, char **argv) {
     st_scene scene = {0};
     if (!st_load_scene_with(r.scene_path, r.sets, r.num_sets, r.width, r.height, &scene, &err))
         return st_report("render", &err);
-    // Only the loaded scene knows its glTF, buffer and VDB files.
-    for (int i = 0; i < r.num_outs; i++)
-        if (!st_scene_check_output(&scene, "-o", r.outs[i], &err)) {
-            st_scene_free(&scene);
-            return st_report("render", &err);
-        }
     if (r.filter_arg) st_filter_parse(r.filter_arg, &scene.filter);
+    if (!check_scene_outputs(&r, &scene, &err)) {
+        st_scene_free(&scene);
+        return st_report("render", &err);
+    }
     st_context *ctx = st_context_create_headless(&err);
     st_world *w = NULL;
     st_still_opts still = still_opts(&r);
     st_still_result res = {.frame_ms = calloc((size_t)r.frames, sizeof *res.frame_ms)};
-    st_image img = {0};
+    st_image img = {0}, emap = {0};
     bool ok = ctx && res.frame_ms;
     if (ok) {
         st_world_opts opts = st_still_world_opts(&scene, &still, r.stats != 0);
@@ -316,7 +351,9 @@ int st_cmd_render(int argc, char **argv) {
     st_still_progress_begin(&progress.bar, r.quiet);
     still.on_frame = show_progress, still.user = &progress;
     ok = ok && w && st_still_run(w, &still, &res, &err) && st_world_read(w, &img, &err) &&
-         write_images(&r, &img, scene.filter, &err);
+         (!r.error_map || st_world_read_error(w, &emap, &err)) &&
+         write_images(&r, &img, scene.filter, &err) &&
+         (!r.error_map || st_image_write(r.error_map, &emap, 0, &err));
     st_still_progress_end(&progress.bar);
     char line[1024];
     st_still_status_line(&res.st, line, sizeof line);
@@ -327,6 +364,7 @@ int st_cmd_render(int argc, char **argv) {
         printf("strahl render: %s\n", line);
     int rc = ok ? ST_EXIT_OK : st_report("render", &err);
     st_image_free(&img);
+    st_image_free(&emap);
     st_world_destroy(w);
     st_context_destroy(ctx);
     st_scene_free(&scene);

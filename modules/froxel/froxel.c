@@ -108,7 +108,7 @@ static const st_pass_decl passes[] = {
     {{"integrate", ST_STAGE_POST, "froxel.inject", "froxel.integrated", ST_PASS_PLANE},
      .program = "integrate"},
     {{"compose", ST_STAGE_POST, "hdr,gbuffer,froxel.inject,froxel.integrated", "hdr",
-      ST_PASS_FULLSCREEN},
+      ST_PASS_FULLSCREEN | ST_PASS_PIXEL_LOCAL},
      .program = "compose"},
 };
 

@@ -75,15 +75,19 @@ static const st_pass_decl passes[] = {
      .count = ST_PER_LIGHT,
      .target = {GL_RGBA32F, 1, true, true},
      .scale_param = "resolution"},
-    {{"blur", ST_STAGE_POST, "hdr,mitchell.occlusion%d", "hdr", ST_PASS_FULLSCREEN},
+    {{"blur", ST_STAGE_POST, "hdr,mitchell.occlusion%d", "hdr",
+      ST_PASS_FULLSCREEN | ST_PASS_PIXEL_LOCAL},
      .frag = "mitchell/blur.frag",
      .count = ST_PER_LIGHT},
 };
 
+#define MAX_OCC 16 // lights whose occlusion image's offset is kept
+
 typedef struct mitchell {
     st_world *w;
     const double *p;
-    GLuint empty_vao; // the disc's quad has no vertex data
+    GLuint empty_vao;          // the disc's quad has no vertex data
+    float occ_jit[MAX_OCC][2]; // the sub-pixel offset each occlusion image was drawn at
 } mitchell;
 
 static void destroy(void *self) {
@@ -107,8 +111,14 @@ static bool needed(void *self, int pass, const st_frame *f) {
         return m->p[P_EXPOSURE] > 0 && st_godray_light_active(f, f->instance, m->p[P_FADE_MARGIN]);
     // The occlusion image depends on the view, the scene and our parameters;
     // it is only drawn when its blur is live (the world culls it otherwise).
-    return f->changes & (ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS |
-                         ST_CHANGE_CAMERA | ST_CHANGE_PARAMS | ST_CHANGE_SIZE);
+    // A box still's jittered frames keep the first frame's and the blur
+    // reads it at their own sample (on_pass): redrawn at a quarter of the
+    // resolution for each sub-pixel offset, it moved the shafts over whole
+    // regions, and few of their pixels could stop accumulating.
+    unsigned other =
+        ST_CHANGE_FIRST | ST_CHANGE_GEOMETRY | ST_CHANGE_LIGHTS | ST_CHANGE_PARAMS | ST_CHANGE_SIZE;
+    if ((f->changes & ST_CHANGE_JITTER) && !(f->changes & other)) return false;
+    return f->changes & (other | ST_CHANGE_CAMERA);
 }
 
 // The light's emitting region: a sphere of light_radius seen as a
@@ -217,6 +227,8 @@ static void after_pass(void *self, int pass, const st_frame *f) {
 static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     mitchell *m = self;
     if (f->row == OCCLUSION) { // the disc's program too, where a failure can be told
+        if (f->instance < MAX_OCC)
+            m->occ_jit[f->instance][0] = f->jitter[0], m->occ_jit[f->instance][1] = f->jitter[1];
         occlusion_clear(m, f);
         return st_world_program(m->w, m->p, PROG_DISC, err) &&
                st_gl_check("mitchell occlusion", err);
@@ -232,6 +244,11 @@ static bool on_pass(void *self, int pass, const st_frame *f, st_err *err) {
     st_shader_texture(sh, "u_occlusion", GL_TEXTURE_2D, occ->color[0]);
     st_shader_set_vec2(sh, "u_out_size", (float)f->width, (float)f->height);
     st_shader_set_vec2(sh, "u_light_uv", l.uv[0], l.uv[1]);
+    // This frame's sample in the occlusion image's frame (x right, y down in
+    // pixels; texture v up): 0 unless the image was drawn at another offset.
+    const float *o = f->instance < MAX_OCC ? m->occ_jit[f->instance] : f->jitter;
+    st_shader_set_vec2(sh, "u_shift", (f->jitter[0] - o[0]) / (float)f->width,
+                       -(f->jitter[1] - o[1]) / (float)f->height);
     st_shader_set_int(sh, "u_samples", (int)m->p[P_N]);
     st_shader_set_float(sh, "u_fade", l.fade);
     return st_gl_check("mitchell blur", err);

@@ -36,15 +36,17 @@ enum { MASK, BLUR1, BLUR2, BLUR3 }; // table rows
 // Fullscreen post passes. The mask and, per light, the outputs of blur 1 and
 // 2: `resolution` of the screen, taps outside reading 0 (no clamped edge
 // streaks). The world sets the parameters as uniforms u_taps, u_brightness.
-#define POST(name, reads, writes)                                                                  \
-    { name, ST_STAGE_POST, reads, writes, ST_PASS_FULLSCREEN }
+#define POST(name, reads, writes, local)                                                           \
+    { name, ST_STAGE_POST, reads, writes, ST_PASS_FULLSCREEN | (local) }
 #define TARGET .target = {GL_R32F, 1, false, true}, .scale_param = "resolution"
 #define BLUR .frag = "sousa/blur.frag", .count = ST_PER_LIGHT // one chain per light
 static const st_pass_decl passes[] = {
-    {POST("mask", "gbuffer", "sousa.mask"), .frag = "sousa/mask.frag", TARGET},
-    {POST("blur1", "sousa.mask", "sousa.blur1_%d"), BLUR, TARGET},
-    {POST("blur2", "sousa.blur1_%d", "sousa.blur2_%d"), BLUR, TARGET},
-    {POST("blur3", "hdr,sousa.blur2_%d", "hdr"), BLUR, .defines = "SOUSA_COMPOSE 1"},
+    // The mask samples the gbuffer at its own resolution: not pixel-local.
+    {POST("mask", "gbuffer", "sousa.mask", 0), .frag = "sousa/mask.frag", TARGET},
+    {POST("blur1", "sousa.mask", "sousa.blur1_%d", 0), BLUR, TARGET},
+    {POST("blur2", "sousa.blur1_%d", "sousa.blur2_%d", 0), BLUR, TARGET},
+    {POST("blur3", "hdr,sousa.blur2_%d", "hdr", ST_PASS_PIXEL_LOCAL), BLUR,
+     .defines = "SOUSA_COMPOSE 1"},
 };
 
 static bool needed(void *self, int pass, const st_frame *f) {

@@ -225,7 +225,7 @@ static const st_pass_decl passes[] = {
                     "toth.first", ST_PASS_FULLSCREEN}},
     [PASS_COMPOSE] = {{"compose", ST_STAGE_POST,
                        "hdr,gbuffer,toth.march,toth.gather,toth.refined,toth.first", "hdr",
-                       ST_PASS_FULLSCREEN},
+                       ST_PASS_FULLSCREEN | ST_PASS_PIXEL_LOCAL},
                       .program = "compose"},
 };
 

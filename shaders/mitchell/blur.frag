@@ -9,14 +9,17 @@ uniform sampler2D st_hdr_in;
 uniform sampler2D u_occlusion;
 uniform vec2 u_out_size; // target size in pixels
 uniform vec2 u_light_uv;
+uniform vec2 u_shift; // a box still's jittered frame: its sample in the occlusion image's frame
 uniform int u_samples;
 uniform float u_density, u_decay, u_weight, u_exposure, u_fade;
 layout(location = 0) out vec4 o_color;
 
 void main() {
     // Pixel centres exactly, so a plain C loop can reproduce every tap.
-    vec2 uv = gl_FragCoord.xy / u_out_size;
-    vec2 delta = (uv - u_light_uv) / (float(u_samples) * u_density);
+    // A jittered frame of a still reads its first frame's occlusion image:
+    // the sample and the light both shift by the offsets' difference.
+    vec2 uv = gl_FragCoord.xy / u_out_size + u_shift;
+    vec2 delta = (uv - (u_light_uv + u_shift)) / (float(u_samples) * u_density);
     vec3 sum = texture(u_occlusion, uv).rgb;
     float decay_i = 1.0;
     vec2 p = uv;

@@ -388,6 +388,63 @@ static void check_stopping(void) {
     E_ = &BIG;
 }
 
+// (f) The error map (--error-map): its rms over the image's mean is the
+// estimate render reports; it is exactly 0 where the pixel and its
+// neighbours are wholly inside or outside the emitter (every offset sees the
+// same), and it is not 0 on the edges. A point still or one frame is refused
+// before anything is written.
+static void check_error_map(void) {
+    static const para part = {{9.3, 22.6}, {11.45, 1.7}, {3.7, -10.35}};
+    char scene[512], out[512], map[512], extra[1100];
+    snprintf(scene, sizeof scene, "%s/small.json", ST_TEST_SCRATCH);
+    snprintf(map, sizeof map, "%s/error_map.exr", ST_TEST_SCRATCH);
+    E_ = &part;
+    write_emitter_scene(scene, NULL);
+    unlink(map);
+    snprintf(extra, sizeof extra, "--frames 64 --error-map %s", map);
+    long n;
+    double est;
+    bool conv;
+    still_nrmse(scene, extra, &n, &est, &conv);
+    snprintf(out, sizeof out, "%s/stop.exr", ST_TEST_SCRATCH);
+    st_image img = {0}, m = {0};
+    CHECK(st_test_read(out, &img) && st_test_read(map, &m), "read %s and %s", out, map);
+    double sq = 0, sum = 0;
+    int flat_nonzero = 0, edge_nonzero = 0;
+    for (int j = 0; img.data && m.data && j < H; j++)
+        for (int i = 0; i < W; i++) {
+            int lo = 0, hi = 0; // neighbours wholly outside / inside
+            for (int b = -1; b <= 1; b++)
+                for (int a = -1; a <= 1; a++) {
+                    int x = i + a, y = j + b;
+                    double c = x < 0 || y < 0 || x >= W || y >= H ? 0 : exact_coverage(x, y);
+                    lo += c == 0, hi += c == 1;
+                }
+            double e = st_image_px(&m, i, j)[0];
+            flat_nonzero += (lo == 9 || hi == 9) && e != 0;
+            edge_nonzero += lo < 9 && hi < 9 && e > 0;
+            for (int c = 0; c < 3; c++)
+                sq += pow(st_image_px(&m, i, j)[c], 2), sum += st_image_px(&img, i, j)[c];
+        }
+    double rms_over_mean = sqrt(sq / (3.0 * W * H)) / (sum / (3.0 * W * H));
+    printf("error map, 64 frames: rms / mean %.5f, reported %.5f, %d edge pixels non-zero\n",
+           rms_over_mean, est, edge_nonzero);
+    CHECK_REL(rms_over_mean, est, 2e-3, 0);
+    CHECK(flat_nonzero == 0 && edge_nonzero > 20, "%d flat pixels non-zero, %d edge pixels",
+          flat_nonzero, edge_nonzero);
+    st_image_free(&img);
+    st_image_free(&m);
+    // Refused, exit 2, nothing written.
+    unlink(map), unlink(out);
+    snprintf(extra, sizeof extra, "--filter point --error-map %s", map);
+    CHECK(render_as_is(scene, out, extra) == 2 && access(out, F_OK) != 0 && access(map, F_OK) != 0,
+          "--error-map with the point filter is not refused before rendering");
+    snprintf(extra, sizeof extra, "--frames 1 --error-map %s", map);
+    CHECK(render_as_is(scene, out, extra) == 2 && access(out, F_OK) != 0 && access(map, F_OK) != 0,
+          "--error-map of one frame is not refused before rendering");
+    E_ = &BIG;
+}
+
 static int pass_runs(cJSON *j, const char *module, const char *pass, int *skipped) {
     cJSON *p;
     cJSON_ArrayForEach(p, cJSON_GetObjectItem(j, "passes")) {
@@ -523,6 +580,7 @@ int main(void) {
     check_edges();
     st_context *ctx = st_test_context();
     check_stopping();
+    check_error_map();
     st_context_destroy(ctx);
     check_caching();
     check_header();
