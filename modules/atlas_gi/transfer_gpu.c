@@ -45,15 +45,18 @@ static void pack_link(const transfer *t, int receiver, uint64_t k, const double 
             if (cos(s->cone) > 0.9 && cs > 0.2 * dl) g[i] += s->n[i] / cs;
         }
     }
-    // The first-order term stands for the kernel only while it changes the
-    // link's value by little over the receiver node: where it would change
-    // it by more than TR_GPU_GRAD_MAX at the node's edge (a crease or a
-    // contact, the sender within a node's size of the receiver), the kernel
-    // there is far from linear and the term overshot, by 50-70 % on the
-    // crease under ds_cornell_front's light (issue 34): the node's mean,
-    // which the link's weight already is, stands alone.
-    double gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-    if (gl * r->rad > TR_GPU_GRAD_MAX) g[0] = g[1] = g[2] = 0;
+    // The first-order term stands for the kernel only while the kernel is
+    // near linear over the receiver node. Across a crease or a contact the
+    // sender lies close to the receiver's plane: cos_x changes by a large
+    // fraction of itself over the node (rad / (n . d) large) and the term
+    // overshot, by 50-70 % on the crease under ds_cornell_front's light
+    // (issue 34); there the node's mean, which the link's weight already is,
+    // stands alone. A bound on |g| rad instead (the full gradient) met the
+    // crease as well but also dropped the term for senders high above a
+    // large receiver, where it is right: test_atlas_gi_transfer's disk
+    // oracle fell 2 % short.
+    double cr = r->n[0] * d[0] + r->n[1] * d[1] + r->n[2] * d[2];
+    if (r->rad > TR_GPU_GRAD_MAX * fmax(cr, 0.0)) g[0] = g[1] = g[2] = 0;
     out[0] = t->link_node[k];
     memcpy(&out[1], &w, 4);
     float gt[2] = {(float)(g[0] * t1[0] + g[1] * t1[1] + g[2] * t1[2]),

@@ -69,8 +69,9 @@ typedef struct tr_gpu {
 // A node's tangents t1, t2 (unit, orthogonal to its mean normal and each
 // other; arbitrary for a node without one).
 void tr_gpu_tangents(const tr_node *n, double t1[3], double t2[3]);
-// The largest relative change the gradient may make over a receiver node's
-// radius (|g| rad); a link whose gradient exceeds it gets none (issue 34).
+// The largest receiver radius, relative to the sender's height above the
+// receiver's plane (rad / (n . d)), at which a link keeps its gradient: past
+// it (a crease, a contact) the kernel is far from linear over the node (issue 34).
 #define TR_GPU_GRAD_MAX 0.35
 // One link as uploaded: the four words above.
 void tr_gpu_pack_link(const transfer *t, int receiver, uint64_t k, uint32_t out[4]);

@@ -94,17 +94,18 @@ int main(void) {
     fprintf(f, "scene,setting,curve,x,frames,frame_ms_median,module_gpu_ms_median,module_cpu_ms_"
                "median,error_rmse,"
                "rmse\n");
-    // toth defaults: samples 64, interleave 1, resolution half.
-    const int samples[3] = {8, 64, 256};
-    const char *res[2] = {"full", "half"};
+    // toth defaults: samples 0 (32 equi-angular steps: x = 32), interleave 1,
+    // resolution third.
+    const int samples[3] = {8, 0, 256}, steps[3] = {8, 32, 256};
+    const char *res[2] = {"full", "third"};
     for (int r = 0; r < 2; r++)
         for (int il = 1; il <= 2; il++)
             for (int s = 0; s < 3; s++)
                 fprintf(f,
                         "scenes/w.json,toth.samples=%d toth.interleave=%d "
                         "toth.resolution=%s,c,%d,1,%g,1,1,%g,0\n",
-                        samples[s], il, res[r], samples[s], samples[s] * (r ? 0.3 : 1.0) / il,
-                        0.1 / samples[s] + 0.001 * il);
+                        samples[s], il, res[r], steps[s], steps[s] * (r ? 0.3 : 1.0) / il,
+                        0.1 / steps[s] + 0.001 * il);
     fclose(f);
     CHECK(
         st_test_sh(
@@ -117,7 +118,7 @@ int main(void) {
     char *svg = st_read_file(path, NULL, &err);
     CHECK(svg != NULL, "%s", err.msg);
     const char *want[] = {"interleave 1, resolution full",
-                          "interleave 2, resolution half",
+                          "interleave 2, resolution third",
                           "Pareto front",
                           "baseline (toth.samples=256",
                           "plugin defaults",

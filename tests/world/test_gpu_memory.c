@@ -146,10 +146,11 @@ static void check_complete(st_world *w, const char *what) {
 }
 
 // atlas_gi's targets at an A x A atlas in gather mode, by formula: eight
-// RGBA32F textures, RGBA16F albedo, R32F area, RGBA32F statistics with a full
-// mip chain; 1D tables of SAMPLES RG32F points and RGBA32F picks.
+// RGBA32F textures, RGBA16F albedo, R32F area, the resolve's R8 mask, RGBA32F
+// statistics with a full mip chain; 1D tables of SAMPLES RG32F points and
+// RGBA32F picks.
 static size_t atlas_formula(int a) {
-    size_t texel = 8 * 16 + 8 + 4, stats = 0;
+    size_t texel = 8 * 16 + 8 + 4 + 1, stats = 0;
     for (int s = a; s >= 1; s /= 2)
         stats += (size_t)s * s * 16;
     return texel * a * a + stats + SAMPLES * 8 + SAMPLES * 16;
