@@ -171,7 +171,12 @@ static void grid_map(const openvdb::math::Transform &xf, double map[12]) {
 static bool grid_values(const openvdb::FloatGrid &grid, unsigned long long total, const char *path,
                         const char *name, st_vdb_raw &g, st_err *err) {
     g.values = (float *)std::calloc(total, sizeof(float));
-    if (!g.values) return st_fail(err, ST_ERR_RUNTIME, "%s: out of memory", path);
+    // Within the voxel cap, so in the helper this is its RLIMIT_AS, which
+    // the file's own tree has used up: the file's doing, not the machine's.
+    if (!g.values)
+        return st_fail(err, ST_ERR_INPUT,
+                       "%s: grid '%s' needs more memory than the VDB reader's limit allows", path,
+                       name);
     openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
     for (int k = 1; k + 1 < g.n[2]; k++)
         for (int j = 1; j + 1 < g.n[1]; j++)

@@ -10,6 +10,15 @@
 #include <string.h>
 #include <sys/stat.h>
 
+// Sanitizer builds: the helper skips RLIMIT_AS.
+#if defined(__SANITIZE_ADDRESS__)
+#define ST_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ST_TEST_ASAN 1
+#endif
+#endif
+
 static char vdb[1024];
 
 static void script(const char *name, const char *body, char *path, size_t n) {
@@ -119,6 +128,16 @@ static void test_real_helper(void) {
     CHECK(!st_vdb_load(bad, "density", t, s, &g, &e) && e.kind == ST_ERR_INPUT &&
               strstr(e.msg, bad) == e.msg,
           "blosc overflow: %s", e.msg);
+    // RLIMIT_AS: with 16 MB of address space the helper cannot read even
+    // the small cloud (the same call succeeds with the default limits
+    // above). Sanitizer builds skip RLIMIT_AS (ASan's shadow).
+#ifndef ST_TEST_ASAN
+    st_vdb_limits tight = st_vdb_limits_for(1u << 20);
+    tight.as_bytes = 16u << 20;
+    CHECK(!st_vdb_load_via(exe, &tight, vdb, "density", t, s, &g, &e) && e.kind == ST_ERR_INPUT &&
+              strstr(e.msg, vdb) == e.msg,
+          "16 MB address space: %s", e.msg);
+#endif
     // A missing helper is an installation problem (exit 1), named.
     const st_vdb_limits l = st_vdb_limits_for(1u << 20);
     CHECK(!st_vdb_load_via("/nonexistent/strahl-vdb-read", &l, vdb, "density", t, s, &g, &e) &&
