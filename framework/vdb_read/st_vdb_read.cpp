@@ -228,7 +228,7 @@ extern "C" bool st_vdb_read_raw(int fd, const char *path, const char *grid, uint
         // reports itself): this is a size field read from a corrupt file.
         return st_fail(err, ST_ERR_INPUT,
                        "%s: not a readable OpenVDB file (corrupt or truncated: it asks for more "
-                       "memory than is available)",
+                       "memory than the VDB reader may use)",
                        path);
     } catch (const std::exception &x) {
         return st_fail(err, ST_ERR_INPUT, "%s: not a readable OpenVDB file: %s", path,
