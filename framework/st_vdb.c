@@ -66,6 +66,16 @@ static pid_t spawn_reader(const char *exe, int fd, const char *path, const char 
     if (pipe2(p, O_CLOEXEC) != 0)
         return st_fail(err, ST_ERR_RUNTIME, "%s: pipe: %s", path, strerror(errno)), -1;
     fcntl(p[0], F_SETPIPE_SZ, 1 << 20); // fewer wake-ups; a smaller pipe works too
+    // Above the standard descriptors (closed ones are reused by open and
+    // pipe), so that dup2 onto 0 and 1 cannot clobber one of them.
+    const int in = fcntl(fd, F_DUPFD_CLOEXEC, 3), w = fcntl(p[1], F_DUPFD_CLOEXEC, 3);
+    close(p[1]);
+    if (in < 0 || w < 0) {
+        if (in >= 0) close(in);
+        if (w >= 0) close(w);
+        close(p[0]);
+        return st_fail(err, ST_ERR_RUNTIME, "%s: fcntl: %s", path, strerror(errno)), -1;
+    }
     char vox[24], as[24], cpu[16];
     snprintf(vox, sizeof vox, "%llu", (unsigned long long)l->max_voxels);
     snprintf(as, sizeof as, "%llu", (unsigned long long)l->as_bytes);
@@ -74,8 +84,8 @@ static pid_t spawn_reader(const char *exe, int fd, const char *path, const char 
     posix_spawn_file_actions_t fa;
     posix_spawnattr_t at;
     posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, fd, 0);
-    posix_spawn_file_actions_adddup2(&fa, p[1], 1);
+    posix_spawn_file_actions_adddup2(&fa, in, 0);
+    posix_spawn_file_actions_adddup2(&fa, w, 1);
     posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addclosefrom_np(&fa, 3);
     posix_spawnattr_init(&at);
@@ -89,7 +99,8 @@ static pid_t spawn_reader(const char *exe, int fd, const char *path, const char 
     const int rc = posix_spawn(&pid, exe, &fa, &at, argv, environ);
     posix_spawn_file_actions_destroy(&fa);
     posix_spawnattr_destroy(&at);
-    close(p[1]);
+    close(in);
+    close(w);
     if (rc != 0) {
         close(p[0]);
         return st_fail(err, ST_ERR_RUNTIME, "%s: cannot start %s: %s", path, exe, strerror(rc)), -1;
