@@ -121,6 +121,14 @@ bool st_vdb_check_header(int fd, uint64_t size, const char *path, st_err *err) {
             c.why = "grid offsets past the end";
             break;
         }
+        // A grid follows its descriptor (io::Archive::writeGrid), so every
+        // descriptor moves forward: an offset pointing back would make this
+        // loop, and OpenVDB's, read the same descriptor up to 2^32 times
+        // (found by fuzz_vdb_guard: a hang).
+        if (grid_pos < c.at) {
+            c.why = "grid offsets point back before the grid's descriptor";
+            break;
+        }
         // The grid itself: compression flags, metadata, transform's map name.
         cursor at = {fd, grid_pos, size, NULL};
         if (version >= 222) u32(&at, "grid compression past the end");

@@ -267,6 +267,19 @@ static void test_vdb_files(void) {
     vdb_scene("rt.json", "rt.vdb", "density", 1);
     rc = run("reference rt.json -o c.exr --spp 1");
     BAD(rc, "rt.vdb", "root tiles or children", "VDB with a huge root tile count");
+    // OpenVDB 10.0's own heap overflow in bloscFromStream (docs/security.md,
+    // finding 6): main aborted (exit 134). OpenVDB runs in the helper
+    // strahl-vdb-read now, which dies; strahl names the file, exit 2.
+    snprintf(src, sizeof src, "%s/tests/fuzz/known_crashes/openvdb_blosc_overflow.vdb",
+             ST_TEST_SOURCE_DIR);
+    char *ov = st_read_file(src, &n, &e);
+    CHECK(ov != NULL, "reading %s: %s", src, e.msg);
+    if (ov) put_bytes("ov.vdb", ov, n);
+    free(ov);
+    vdb_scene("ov.json", "ov.vdb", "density", 1);
+    rc = run("reference ov.json -o c.exr --spp 1");
+    BAD(rc, "ov.vdb", "the VDB reader strahl-vdb-read crashed", "OpenVDB's blosc overflow");
+    CHECK(strchr(out, '\n') == out + strlen(out) - 1, "blosc overflow: not one line: %s", out);
     // Two voxels 400 apart: a 401^3 block, over the voxel cap; refused from
     // the grid's metadata before its voxels are read.
     st_test_vdb far = {.name = "density",
