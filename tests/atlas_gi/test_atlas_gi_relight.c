@@ -7,28 +7,14 @@
 // (gbuffer.c: L0, at the transfer's texels), so this is what keeps it from reading anything stale.
 // The closed boxes stand on the floor: buried and sealed texels.
 #include "gi_world.h"
+#include "st_test_support.h"
 
 static const char *scene_json =
     "{\"image\": {\"width\": 64, \"height\": 64},"
     " \"camera\": {\"position\": [0, 1, 3.4], \"target\": [0, 1, 0], \"up\": [0, 1, 0], \"fov_y\": "
     "40, \"near\": 0.05, \"far\": 100},"
     " \"lights\": [{\"type\": \"point\", \"position\": [0, 1.9, 0], \"intensity\": [3, 3, 3]}],"
-    " \"geometry\": ["
-    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}, \"albedo\": "
-    "[0.75, 0.75, 0.75]},"
-    "  {\"quad\": {\"corner\": [-1, 2, -1], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}, \"albedo\": "
-    "[0.75, 0.75, 0.75]},"
-    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}, \"albedo\": "
-    "[0.75, 0.75, 0.75]},"
-    "  {\"quad\": {\"corner\": [-1, 0, -1], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}, \"albedo\": "
-    "[0.75, 0.1, 0.1]},"
-    "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, \"albedo\": [0.1, "
-    "0.75, 0.1]},"
-    "  {\"box\": {\"min\": [0.1, 0, -0.1], \"max\": [0.7, 0.6, 0.5]}, \"albedo\": [0.75, 0.75, "
-    "0.75]},"
-    "  {\"box\": {\"min\": [-0.7, 0, -0.7], \"max\": [-0.1, 1.2, -0.1]}, \"albedo\": [0.75, 0.75, "
-    "0.75]}"
-    " ],"
+    " \"geometry\": [" ST_TEST_CORNELL_WALLS ST_TEST_CORNELL_BLOCKS " ],"
     " \"modules\": [{\"name\": \"shadow_map\", \"params\": {\"resolution\": 256}},"
     "  {\"name\": \"atlas_gi\", \"params\": {\"atlas_size\": 128}}]}";
 

@@ -6,26 +6,13 @@
 // (docs/security.md, finding 6) is reached here: strahl contains it by
 // running this code in the helper, so long runs use -fork with
 // -ignore_crashes and the crashes are sorted by their stacks.
-#define _GNU_SOURCE
+#include "fuzz_vdb_file.h"
 #include "st_vdb_proto.h"
-#include <stddef.h>
-#include <stdint.h>
-#include <stdlib.h>
-#include <sys/mman.h>
-#include <unistd.h>
-
-// The cap, lowered like the fuzzed scenes' triangle limit.
-#define FUZZ_VDB_MAX_VOXELS 4000000ull
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    static int fd = -1;
-    if (fd < 0) {
-        fd = memfd_create("fuzz.vdb", MFD_CLOEXEC);
-        if (fd < 0) abort();
-    }
-    if (ftruncate(fd, 0) != 0 || pwrite(fd, data, size, 0) != (ssize_t)size) abort();
+    int fd = fuzz_vdb_file(data, size);
     st_vdb_raw raw;
     st_err e = {0};
     if (!st_vdb_read_raw(fd, "fuzz.vdb", "density", FUZZ_VDB_MAX_VOXELS, &raw, &e)) return 0;

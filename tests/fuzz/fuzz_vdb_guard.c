@@ -4,26 +4,14 @@
 // (st_vdb_read_reply, st_vdb_place: a compromised helper may send anything),
 // both on the same arbitrary bytes. Must never crash, leak or hang; a reply
 // is bounded by the voxel cap before anything is allocated.
-#define _GNU_SOURCE
+#include "fuzz_vdb_file.h"
 #include "st_vdb_header.h"
 #include "st_vdb_proto.h"
-#include <stddef.h>
-#include <stdint.h>
-#include <stdlib.h>
-#include <sys/mman.h>
-#include <unistd.h>
-
-#define FUZZ_VDB_MAX_VOXELS 4000000ull
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    static int fd = -1;
-    if (fd < 0) {
-        fd = memfd_create("fuzz.vdb", MFD_CLOEXEC);
-        if (fd < 0) abort();
-    }
-    if (ftruncate(fd, 0) != 0 || pwrite(fd, data, size, 0) != (ssize_t)size) abort();
+    int fd = fuzz_vdb_file(data, size);
     st_err e = {0};
     st_vdb_check_header(fd, size, "fuzz.vdb", &e);
     if (lseek(fd, 0, SEEK_SET) != 0) abort();

@@ -62,5 +62,12 @@ bool st_test_add_disk(st_scene *sc, int ns, double R, double h, double (*poly)[3
     "\"albedo\": [0.75, 0.1, 0.1]},\n"                                                             \
     "  {\"quad\": {\"corner\": [1, 0, -1], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}, "                  \
     "\"albedo\": [0.1, 0.75, 0.1]},\n"
+// ... and its two blocks (the short and the tall one), grey, no trailing comma.
+#define ST_TEST_CORNELL_BLOCKS                                                                     \
+    "  {\"box\": {\"min\": [0.1, 0, -0.1], \"max\": [0.7, 0.6, 0.5]}, \"albedo\": [0.75, 0.75, "   \
+    "0.75]},\n"                                                                                    \
+    "  {\"box\": {\"min\": [-0.7, 0, -0.7], \"max\": [-0.1, 1.2, -0.1]}, \"albedo\": [0.75, "      \
+    "0.75, "                                                                                       \
+    "0.75]}\n"
 
 #endif
