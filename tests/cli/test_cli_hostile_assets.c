@@ -106,6 +106,24 @@ static void vdb_scene(const char *name, const char *vdb, const char *grid, doubl
     put(name, s);
 }
 
+// A crafted VDB from the source tree (REL) as NAME.vdb under NAME.json:
+// `reference` must exit 2 naming NAME.vdb with WHY.
+static void vdb_file_case(const char *rel, const char *name, const char *why, const char *what) {
+    char src[1200], vdb[64], scene[64];
+    snprintf(src, sizeof src, "%s/%s", ST_TEST_SOURCE_DIR, rel);
+    snprintf(vdb, sizeof vdb, "%s.vdb", name);
+    snprintf(scene, sizeof scene, "%s.json", name);
+    st_err e = {0};
+    size_t n = 0;
+    char *bytes = st_read_file(src, &n, &e);
+    CHECK(bytes != NULL, "reading %s: %s", src, e.msg);
+    if (bytes) put_bytes(vdb, bytes, n);
+    free(bytes);
+    vdb_scene(scene, vdb, "density", 1);
+    int rc = run("reference %s -o c.exr --spp 1", scene);
+    BAD(rc, vdb, why, what);
+}
+
 static const st_test_vdb small_box = {
     .name = "density", .n = {4, 4, 4}, .value = 0.5f, .voxel = 0.25, .single_grid = true};
 
@@ -237,48 +255,21 @@ static void test_vdb_files(void) {
     CHECK(child_peak_mib() < 1024, "peak memory of a bad length: %.0f MiB", child_peak_mib());
     // A blosc block whose size field asks for 56 PB (found by fuzz_vdb):
     // OpenVDB's new char[] throws, reported as a corrupt file.
-    snprintf(src, sizeof src, "%s/tests/fuzz/seeds/vdb/crash_blosc_size.vdb", ST_TEST_SOURCE_DIR);
-    char *bl = st_read_file(src, &n, &e);
-    CHECK(bl != NULL, "reading %s: %s", src, e.msg);
-    if (bl) put_bytes("blosc.vdb", bl, n);
-    free(bl);
-    vdb_scene("blosc.json", "blosc.vdb", "density", 1);
-    rc = run("reference blosc.json -o c.exr --spp 1");
-    BAD(rc, "blosc.vdb", "not a readable OpenVDB file", "VDB blosc size 56 PB");
+    vdb_file_case("tests/fuzz/seeds/vdb/crash_blosc_size.vdb", "blosc",
+                  "not a readable OpenVDB file", "VDB blosc size 56 PB");
     // A delayed-load mask shorter than the leaves: a clipped read asserted
     // inside OpenVDB (abort; found by fuzz_vdb). The whole grid is read.
-    snprintf(src, sizeof src, "%s/tests/fuzz/seeds/vdb/crash_delayed_load_mask.vdb",
-             ST_TEST_SOURCE_DIR);
-    char *dl = st_read_file(src, &n, &e);
-    CHECK(dl != NULL, "reading %s: %s", src, e.msg);
-    if (dl) put_bytes("dl.vdb", dl, n);
-    free(dl);
-    vdb_scene("dl.json", "dl.vdb", "density", 1);
-    rc = run("reference dl.json -o c.exr --spp 1");
-    BAD(rc, "dl.vdb", "not a readable OpenVDB file", "VDB with a short delayed-load mask");
+    vdb_file_case("tests/fuzz/seeds/vdb/crash_delayed_load_mask.vdb", "dl",
+                  "not a readable OpenVDB file", "VDB with a short delayed-load mask");
     // A root tile count of billions in a 14 KB file: OpenVDB looped for
     // minutes (found by fuzz_vdb); refused from the header.
-    snprintf(src, sizeof src, "%s/tests/fuzz/seeds/vdb/crash_root_tile_count.vdb",
-             ST_TEST_SOURCE_DIR);
-    char *rt = st_read_file(src, &n, &e);
-    CHECK(rt != NULL, "reading %s: %s", src, e.msg);
-    if (rt) put_bytes("rt.vdb", rt, n);
-    free(rt);
-    vdb_scene("rt.json", "rt.vdb", "density", 1);
-    rc = run("reference rt.json -o c.exr --spp 1");
-    BAD(rc, "rt.vdb", "root tiles or children", "VDB with a huge root tile count");
+    vdb_file_case("tests/fuzz/seeds/vdb/crash_root_tile_count.vdb", "rt", "root tiles or children",
+                  "VDB with a huge root tile count");
     // OpenVDB 10.0's own heap overflow in bloscFromStream (docs/security.md,
     // finding 6): main aborted (exit 134). OpenVDB runs in the helper
     // strahl-vdb-read now, which dies; strahl names the file, exit 2.
-    snprintf(src, sizeof src, "%s/tests/fuzz/known_crashes/openvdb_blosc_overflow.vdb",
-             ST_TEST_SOURCE_DIR);
-    char *ov = st_read_file(src, &n, &e);
-    CHECK(ov != NULL, "reading %s: %s", src, e.msg);
-    if (ov) put_bytes("ov.vdb", ov, n);
-    free(ov);
-    vdb_scene("ov.json", "ov.vdb", "density", 1);
-    rc = run("reference ov.json -o c.exr --spp 1");
-    BAD(rc, "ov.vdb", "the VDB reader strahl-vdb-read crashed", "OpenVDB's blosc overflow");
+    vdb_file_case("tests/fuzz/known_crashes/openvdb_blosc_overflow.vdb", "ov",
+                  "the VDB reader strahl-vdb-read crashed", "OpenVDB's blosc overflow");
     CHECK(strchr(out, '\n') == out + strlen(out) - 1, "blosc overflow: not one line: %s", out);
     // Two voxels 400 apart: a 401^3 block, over the voxel cap; refused from
     // the grid's metadata before its voxels are read.
