@@ -16,6 +16,6 @@ cmake --build --preset release
 ctest --preset release "$@"
 if [ "${STRAHL_SKIP_FUZZ:-0}" != 1 ]; then
   cmake --preset fuzz >/dev/null
-  cmake --build --preset fuzz --target fuzz_scene fuzz_gltf fuzz_exr fuzz_csv fuzz_vdb fuzz_vdb_guard
+  cmake --build --preset fuzz
   ctest --preset fuzz
 fi
