@@ -10,7 +10,6 @@
 // sums every pixel's, frozen or not. On spot_fog at 128x128, 97 % of the
 // squared error sits in 1 % of the pixels (edges, the spot's apex).
 #include "st_world_state.h"
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,8 +17,7 @@ bool st_filter_mask_init(st_world *w, st_err *err) {
     int px = w->cam.width * w->cam.height;
     st_filter_mask_free(w);
     w->acc_frozen = calloc((size_t)px, 1);
-    w->acc_bound = malloc((size_t)px * sizeof(double));
-    if (!w->acc_frozen || !w->acc_bound)
+    if (!w->acc_frozen)
         return st_fail(err, ST_ERR_RUNTIME, "out of memory for a %dx%d mask", w->cam.width,
                        w->cam.height);
     glCreateTextures(GL_TEXTURE_2D, 1, &w->acc_mask);
@@ -36,9 +34,7 @@ void st_filter_mask_free(st_world *w) {
     if (w->acc_mask) glDeleteTextures(1, &w->acc_mask);
     w->acc_mask = 0;
     free(w->acc_frozen);
-    free(w->acc_bound);
     w->acc_frozen = NULL;
-    w->acc_bound = NULL;
     w->acc_num_frozen = 0;
 }
 
@@ -51,7 +47,6 @@ void st_filter_mask_reset(st_world *w) {
     if (!w->acc_frozen || w->acc_num_frozen == 0) return;
     memset(w->acc_frozen, 0, (size_t)w->cam.width * w->cam.height);
     w->acc_num_frozen = 0;
-    w->acc_frozen_sum = 0;
     upload(w);
 }
 
@@ -79,30 +74,20 @@ void st_filter_mask_gate(st_world *w) {
 
 // At an even count n >= ST_FILTER_MASK_START: e2[p] is the larger of the
 // pixel's squared error estimate (the halves') and its frames' variance /
-// n^1.5 (st_filter.c), each summed over its channels; m the image's mean.
-// A pixel's bound is its 3x3 neighbourhood's largest e2 (for an edge that
-// only grazes a pixel). It freezes if the bound is within 3 (share tol m)^2,
-// or while the frozen pixels' bounds sum to at most ST_FILTER_MASK_BUDGET of
-// the image's squared error at the tolerance (3 px (tol m)^2), smallest
-// bounds first: on spot_fog the per-pixel limit alone left a tenth of the
-// pixels shading to the last frame, holding a few percent of the budget.
-// The variance, because at an edge the halves' counts of covered samples
-// often agree by chance (both quantised alike) while the mean is still off:
-// the emitter of tests/render/test_filter.c froze its edges at 32 frames and
+// n^1.5 (st_filter.c),
+// each summed over its channels; m the image's mean. Freezes the pixels
+// whose 3x3 neighbourhood's largest e2 is within 3 (share tol m)^2. The
+// variance, because at an edge the halves' counts of covered samples often
+// agree by chance (both quantised alike) while the mean is still off: the
+// emitter of tests/render/test_filter.c froze its edges at 32 frames and
 // stopped at an NRMSE of 0.030 against an estimate of 0.0098. The stratified
 // rate of a step overstates the Halton mean's error at an edge (n^-0.9) and
-// in smooth pixels (1 / n), so a frozen pixel errs on the safe side.
-#define BINS 48 // half octaves of the bound above the per-pixel limit
-
-static int bound_bin(double mx, double lim) {
-    if (mx <= lim) return 0;
-    double k = ceil(2 * log2(mx / lim));
-    return k < BINS ? (int)k : BINS; // BINS: never frozen by the budget
-}
-
-// Each active pixel's bound into w->acc_bound; its bin's sum into sums.
-static void bounds(st_world *w, const double *e2, double lim, double sums[BINS + 1]) {
-    int W_ = w->cam.width, H = w->cam.height;
+// in smooth pixels (1 / n), so a frozen pixel errs on the safe side; the
+// neighbourhood, for an edge that only grazes a pixel.
+void st_filter_mask_update(st_world *w, const double *e2, double m, double tol) {
+    if (!w->acc_frozen || w->opts.filter_tolerance < 0 || w->acc_n < ST_FILTER_MASK_START) return;
+    int W_ = w->cam.width, H = w->cam.height, added = 0;
+    double lim = 3 * (ST_FILTER_MASK_SHARE * tol * m) * (ST_FILTER_MASK_SHARE * tol * m);
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W_; x++) {
             if (w->acc_frozen[y * W_ + x]) continue;
@@ -110,24 +95,8 @@ static void bounds(st_world *w, const double *e2, double lim, double sums[BINS +
             for (int b = y > 0 ? y - 1 : 0; b <= y + 1 && b < H; b++)
                 for (int a = x > 0 ? x - 1 : 0; a <= x + 1 && a < W_; a++)
                     mx = e2[b * W_ + a] > mx ? e2[b * W_ + a] : mx;
-            w->acc_bound[y * W_ + x] = mx;
-            sums[bound_bin(mx, lim)] += mx;
+            if (mx <= lim) w->acc_frozen[y * W_ + x] = 1, added++;
         }
-}
-
-void st_filter_mask_update(st_world *w, const double *e2, double m, double tol) {
-    if (!w->acc_frozen || w->opts.filter_tolerance < 0 || w->acc_n < ST_FILTER_MASK_START) return;
-    int px = w->cam.width * w->cam.height, added = 0, top = 0;
-    double lim = 3 * (ST_FILTER_MASK_SHARE * tol * m) * (ST_FILTER_MASK_SHARE * tol * m);
-    double sums[BINS + 1] = {0};
-    bounds(w, e2, lim, sums);
-    double room = ST_FILTER_MASK_BUDGET * 3.0 * px * (tol * m) * (tol * m) - w->acc_frozen_sum;
-    double cum = sums[0];
-    while (top + 1 < BINS && cum + sums[top + 1] <= room)
-        cum += sums[++top];
-    for (int p = 0; p < px; p++)
-        if (!w->acc_frozen[p] && bound_bin(w->acc_bound[p], lim) <= top)
-            w->acc_frozen[p] = 1, added++, w->acc_frozen_sum += w->acc_bound[p];
     if (!added) return;
     w->acc_num_frozen += added;
     upload(w);

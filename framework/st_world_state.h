@@ -116,9 +116,7 @@ struct st_world {
     GLuint acc_mask;        // R8, 1 where frozen
     uint8_t *acc_frozen;    // the same on the CPU
     int acc_num_frozen;
-    double *acc_bound;     // per pixel: its error bound at the last update
-    double acc_frozen_sum; // the frozen pixels' bounds, summed
-    bool acc_mask_ok;      // this frame's passes allow skipping frozen pixels
+    bool acc_mask_ok; // this frame's passes allow skipping frozen pixels
 };
 
 enum { RES_HDR = 0 }; // interned first by st_graph_build
@@ -155,7 +153,6 @@ bool st_filter_accumulate(st_world *w, st_err *err);
 // st_filter_mask.c
 #define ST_FILTER_MASK_START 16   // frames before any pixel may stop
 #define ST_FILTER_MASK_SHARE 0.25 // a pixel stops at this share of the tolerance
-#define ST_FILTER_MASK_BUDGET 0.2 // or while the frozen ones' bounds fit this share of it^2
 bool st_filter_mask_init(st_world *w, st_err *err);
 void st_filter_mask_free(st_world *w);
 void st_filter_mask_reset(st_world *w);
