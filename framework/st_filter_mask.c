@@ -74,16 +74,15 @@ void st_filter_mask_gate(st_world *w) {
 
 // At an even count n >= ST_FILTER_MASK_START: e2[p] is the larger of the
 // pixel's squared error estimate (the halves') and its frames' variance /
-// n^1.5 (st_filter.c),
-// each summed over its channels; m the image's mean. Freezes the pixels
-// whose 3x3 neighbourhood's largest e2 is within 3 (share tol m)^2. The
-// variance, because at an edge the halves' counts of covered samples often
-// agree by chance (both quantised alike) while the mean is still off: the
-// emitter of tests/render/test_filter.c froze its edges at 32 frames and
-// stopped at an NRMSE of 0.030 against an estimate of 0.0098. The stratified
-// rate of a step overstates the Halton mean's error at an edge (n^-0.9) and
-// in smooth pixels (1 / n), so a frozen pixel errs on the safe side; the
-// neighbourhood, for an edge that only grazes a pixel.
+// n^1.5 (st_filter.c), each summed over its channels; m the image's mean.
+// Freezes the pixels whose 3x3 neighbourhood's largest e2 is within
+// 3 (share tol m)^2. The variance, because at an edge the halves' counts of
+// covered samples often agree by chance (both quantised alike) while the
+// mean is still off: the emitter of tests/render/test_filter.c froze its
+// edges at 32 frames and stopped at an NRMSE of 0.030 against an estimate of
+// 0.0098. The stratified rate of a step overstates the Halton mean's error
+// at an edge (n^-0.9) and in smooth pixels (1 / n), so a frozen pixel errs
+// on the safe side; the neighbourhood, for an edge that only grazes a pixel.
 void st_filter_mask_update(st_world *w, const double *e2, double m, double tol) {
     if (!w->acc_frozen || w->opts.filter_tolerance < 0 || w->acc_n < ST_FILTER_MASK_START) return;
     int W_ = w->cam.width, H = w->cam.height, added = 0;
