@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <strings.h>
 #include <sys/resource.h>
 
@@ -290,6 +291,13 @@ static void show_progress(void *user, const st_still_status *st) {
     st_still_progress_update(&p->bar, st, p->frames_given);
 }
 
+// A later write failed: the outputs written before it go too, so that a
+// failed render leaves no partial output.
+static void remove_outputs(const render_args *r, int n) {
+    for (int i = 0; i < n; i++)
+        unlink(r->outs[i]);
+}
+
 // The image to every output (EXR with the filter in its header, or PNG
 // with the exposure); nothing is written if a value is not finite.
 static bool write_images(const render_args *r, const st_image *img, st_pixel_filter filter,
@@ -305,7 +313,7 @@ static bool write_images(const render_args *r, const st_image *img, st_pixel_fil
         const char *out = r->outs[i], *dot = strrchr(out, '.');
         bool ok = strcasecmp(dot, ".exr") ? st_image_write(out, img, (float)r->exposure, err)
                                           : st_image_write_exr_meta(out, img, rgb, &meta, err);
-        if (!ok) return false;
+        if (!ok) return remove_outputs(r, i), false;
     }
     return true;
 }
@@ -352,8 +360,9 @@ int st_cmd_render(int argc, char **argv) {
     still.on_frame = show_progress, still.user = &progress;
     ok = ok && w && st_still_run(w, &still, &res, &err) && st_world_read(w, &img, &err) &&
          (!r.error_map || st_world_read_error(w, &emap, &err)) &&
-         write_images(&r, &img, scene.filter, &err) &&
-         (!r.error_map || st_image_write(r.error_map, &emap, 0, &err));
+         write_images(&r, &img, scene.filter, &err);
+    if (ok && r.error_map && !st_image_write(r.error_map, &emap, 0, &err))
+        ok = false, remove_outputs(&r, r.num_outs);
     st_still_progress_end(&progress.bar);
     char line[1024];
     st_still_status_line(&res.st, line, sizeof line);
